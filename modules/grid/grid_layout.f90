@@ -1,0 +1,102 @@
+!> Geometry and index ranges of a rank's block of the uniform Cartesian grid.
+!!
+!! Conventions (all indices are global, 1-based; arrays are always rank 3 `(i,j,k)`):
+!! * cell `i` spans `[lower + (i-1) dx, lower + i dx]`; owned cells `lo..hi`; cell fields are
+!!   allocated `lbc..ubc` = `lo-ng .. hi+ng` (ng = 0 in inactive dimensions);
+!! * node `i` sits at `lower + (i-1) dx`, nodes `1..ncells+1` in active dimensions and node 1 only in
+!!   inactive ones. A block owns nodes `nlo..nhi` = `lo..hi`, plus node `ncells+1` on the last block
+!!   of a non-periodic dimension (in a periodic one node `ncells+1` is node 1). Node fields are
+!!   allocated `lbn..ubn` = `lo-ng .. hi+1+ng`: the node `hi+1` of an inner block is a ghost copy;
+!! * face `i` in direction d is the low face of cell `i`, faces `1..ncells+1`; a face is owned like
+!!   the node of the same index; face fields use the node bounds in direction d and the cell
+!!   bounds in the other two.
+module grid_layout
+  use mpmice_kinds, only: wp
+  use parallel_domain, only: domain_t
+  implicit none
+  private
+
+  public :: grid_t, grid_init, cell_centre, node_position
+
+  !> Geometry and index ranges of one block.
+  type :: grid_t
+    integer :: ndim = 0                 !< number of active dimensions
+    logical :: active(3) = .false.      !< active dimensions (more than one cell)
+    logical :: periodic(3) = .false.    !< periodic dimensions
+    integer :: ncells(3) = 1            !< global cells per dimension
+    real(wp) :: lower(3) = 0.0_wp       !< low corner of the domain [m]
+    real(wp) :: upper(3) = 1.0_wp       !< high corner of the domain [m]
+    real(wp) :: dx(3) = 1.0_wp          !< cell size [m]
+    real(wp) :: cell_volume = 1.0_wp    !< dx(1) dx(2) dx(3) [m^3]
+    integer :: ng(3) = 0                !< ghost width per dimension
+    integer :: lo(3) = 1                !< first owned cell
+    integer :: hi(3) = 1                !< last owned cell
+    integer :: lbc(3) = 1               !< lower allocation bound of cell fields
+    integer :: ubc(3) = 1               !< upper allocation bound of cell fields
+    integer :: nlo(3) = 1               !< first owned node
+    integer :: nhi(3) = 1               !< last owned node
+    integer :: lbn(3) = 1               !< lower allocation bound of node fields
+    integer :: ubn(3) = 1               !< upper allocation bound of node fields
+    logical :: at_lower(3) = .false.    !< block touches the low boundary of the domain
+    logical :: at_upper(3) = .false.    !< block touches the high boundary of the domain
+  end type grid_t
+
+contains
+
+  !> Geometry and index ranges of this rank's block from the decomposition `dom`.
+  subroutine grid_init(grid, dom, lower, upper)
+    type(grid_t), intent(out) :: grid    !< block geometry to fill
+    type(domain_t), intent(in) :: dom    !< decomposition (already initialised)
+    real(wp), intent(in) :: lower(3)     !< low corner of the domain [m]
+    real(wp), intent(in) :: upper(3)     !< high corner of the domain [m]
+    integer :: d
+
+    grid%ndim = dom%ndim
+    grid%active = dom%active
+    grid%periodic = dom%periodic
+    grid%ncells = dom%ncells
+    grid%lower = lower
+    grid%upper = upper
+    grid%dx = (upper - lower) / real(dom%ncells, wp)
+    grid%cell_volume = grid%dx(1) * grid%dx(2) * grid%dx(3)
+    grid%ng = dom%ng
+    grid%lo = dom%lo
+    grid%hi = dom%hi
+    grid%lbc = dom%lo - dom%ng
+    grid%ubc = dom%hi + dom%ng
+    do d = 1, 3
+      grid%at_lower(d) = dom%coords(d) == 0
+      grid%at_upper(d) = dom%coords(d) == dom%dims(d) - 1
+      if (grid%active(d)) then
+        grid%nlo(d) = dom%lo(d)
+        grid%nhi(d) = dom%hi(d)
+        if (grid%at_upper(d) .and. .not. grid%periodic(d)) grid%nhi(d) = dom%hi(d) + 1
+        grid%lbn(d) = dom%lo(d) - dom%ng(d)
+        grid%ubn(d) = dom%hi(d) + 1 + dom%ng(d)
+      else
+        grid%nlo(d) = 1
+        grid%nhi(d) = 1
+        grid%lbn(d) = 1
+        grid%ubn(d) = 1
+      end if
+    end do
+  end subroutine grid_init
+
+  !> Coordinate [m] of the centre of cell `i` along dimension `d`.
+  pure elemental function cell_centre(grid, d, i) result(x)
+    type(grid_t), intent(in) :: grid  !< block geometry
+    integer, intent(in) :: d          !< dimension 1..3
+    integer, intent(in) :: i          !< global cell index
+    real(wp) :: x
+    x = grid%lower(d) + (real(i, wp) - 0.5_wp) * grid%dx(d)
+  end function cell_centre
+
+  !> Coordinate [m] of node `i` along dimension `d`.
+  pure elemental function node_position(grid, d, i) result(x)
+    type(grid_t), intent(in) :: grid  !< block geometry
+    integer, intent(in) :: d          !< dimension 1..3
+    integer, intent(in) :: i          !< global node index
+    real(wp) :: x
+    x = grid%lower(d) + real(i - 1, wp) * grid%dx(d)
+  end function node_position
+end module grid_layout

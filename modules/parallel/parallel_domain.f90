@@ -1,0 +1,148 @@
+!> Cartesian MPI decomposition of a uniform grid over its active dimensions.
+!!
+!! One block per rank. `MPI_Dims_create` splits the ranks over the active dimensions only; an
+!! inactive dimension (one cell) always has one block and no ghost layers. Library code receives
+!! the communicator through `domain_t` and never touches `MPI_COMM_WORLD`.
+module parallel_domain
+  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Dims_create, MPI_Cart_create, &
+    MPI_Cart_coords, MPI_Cart_shift, MPI_Comm_free, MPI_PROC_NULL, MPI_COMM_NULL, operator(/=)
+  use mpmice_errors, only: fatal
+  implicit none
+  private
+
+  public :: domain_t, domain_init, domain_free, block_range, choose_dims
+
+  !> A rank's place in the Cartesian decomposition.
+  type :: domain_t
+    type(MPI_Comm) :: comm                  !< Cartesian communicator (owned, freed by domain_free)
+    integer :: rank = 0                     !< rank in `comm`
+    integer :: nranks = 1                   !< size of `comm`
+    integer :: ndim = 0                     !< number of active dimensions
+    logical :: active(3) = .false.          !< dimension has more than one cell
+    logical :: periodic(3) = .false.        !< periodic in this dimension
+    integer :: dims(3) = 1                  !< blocks per dimension
+    integer :: coords(3) = 0                !< this block's 0-based coordinates
+    integer :: neighbour(2, 3) = -1         !< (low/high, dim) neighbour ranks, MPI_PROC_NULL at walls
+    integer :: ncells(3) = 1                !< global cells per dimension
+    integer :: lo(3) = 1                    !< first owned cell (global index, 1-based)
+    integer :: hi(3) = 1                    !< last owned cell (global index)
+    integer :: ng(3) = 0                    !< ghost width per dimension (0 where inactive)
+    logical :: initialized = .false.        !< set by domain_init
+  end type domain_t
+
+contains
+
+  !> Build the Cartesian decomposition of `ncells` cells over the ranks of `parent`.
+  !! `dims_request` (optional) fixes the number of blocks per dimension (0 = let MPI choose).
+  !! Aborts if a block would hold fewer cells than the ghost width (callers validate before).
+  subroutine domain_init(dom, parent, ncells, periodic, ghost_width, dims_request)
+    type(domain_t), intent(inout) :: dom           !< decomposition to build
+    type(MPI_Comm), intent(in) :: parent           !< communicator to decompose (e.g. a dup of world)
+    integer, intent(in) :: ncells(3)               !< global cells per dimension
+    logical, intent(in) :: periodic(3)             !< periodic dimensions
+    integer, intent(in) :: ghost_width             !< ghost layers in active dimensions
+    integer, intent(in), optional :: dims_request(3) !< blocks per dimension (0 = free)
+    integer :: nranks, d, dims_active(3), nact, map(3)
+    logical :: periods(3)
+
+    call domain_free(dom)
+    call MPI_Comm_size(parent, nranks)
+    dom%ncells = ncells
+    dom%active = ncells > 1
+    dom%ndim = count(dom%active)
+    dom%periodic = periodic .and. dom%active
+    dom%ng = 0
+    where (dom%active) dom%ng = ghost_width
+
+    dom%dims = choose_dims(nranks, dom%active, dims_request)
+    nact = 0
+    do d = 1, 3
+      if (dom%active(d)) then
+        nact = nact + 1
+        map(nact) = d
+        dims_active(nact) = dom%dims(d)
+        periods(nact) = dom%periodic(d)
+      end if
+    end do
+    if (nact == 0) then
+      nact = 1
+      map(1) = 1
+      dims_active(1) = 1
+      periods(1) = .false.
+    end if
+
+    call MPI_Cart_create(parent, nact, dims_active(1:nact), periods(1:nact), .false., dom%comm)
+    call MPI_Comm_rank(dom%comm, dom%rank)
+    call MPI_Comm_size(dom%comm, dom%nranks)
+    call MPI_Cart_coords(dom%comm, dom%rank, nact, dims_active(1:nact))
+    dom%coords = 0
+    dom%neighbour = MPI_PROC_NULL
+    do d = 1, nact
+      dom%coords(map(d)) = dims_active(d)
+      if (dom%active(map(d))) then
+        call MPI_Cart_shift(dom%comm, d - 1, 1, dom%neighbour(1, map(d)), dom%neighbour(2, map(d)))
+      end if
+    end do
+
+    do d = 1, 3
+      call block_range(ncells(d), dom%dims(d), dom%coords(d), dom%lo(d), dom%hi(d))
+      if (dom%active(d) .and. dom%hi(d) - dom%lo(d) + 1 < max(dom%ng(d), 1)) then
+        call fatal('domain_init: a block has fewer cells than the ghost width')
+      end if
+    end do
+    dom%initialized = .true.
+  end subroutine domain_init
+
+  !> Blocks per dimension for `nranks` ranks: `MPI_Dims_create` over the active dimensions only,
+  !! honouring the non-zero entries of `dims_request`. Used by `domain_init` and by input validation.
+  function choose_dims(nranks, active, dims_request) result(dims)
+    integer, intent(in) :: nranks                    !< number of ranks
+    logical, intent(in) :: active(3)                 !< active dimensions
+    integer, intent(in), optional :: dims_request(3) !< requested blocks per dimension (0 = free)
+    integer :: dims(3)
+    integer :: d, nact, dims_active(3), map(3)
+    nact = 0
+    dims_active = 0
+    do d = 1, 3
+      if (active(d)) then
+        nact = nact + 1
+        map(nact) = d
+        if (present(dims_request)) dims_active(nact) = dims_request(d)
+      end if
+    end do
+    dims = 1
+    if (nact == 0) then
+      if (nranks /= 1) call fatal('a single-cell grid can only run on one rank')
+      return
+    end if
+    call MPI_Dims_create(nranks, nact, dims_active(1:nact))
+    do d = 1, nact
+      dims(map(d)) = dims_active(d)
+    end do
+  end function choose_dims
+
+  !> Cells `lo..hi` owned by block `coord` of `nblocks` along a dimension of `n` cells: the first
+  !! `mod(n, nblocks)` blocks get one extra cell.
+  pure subroutine block_range(n, nblocks, coord, lo, hi)
+    integer, intent(in) :: n        !< cells along the dimension
+    integer, intent(in) :: nblocks  !< blocks along the dimension
+    integer, intent(in) :: coord    !< 0-based block coordinate
+    integer, intent(out) :: lo      !< first owned cell
+    integer, intent(out) :: hi      !< last owned cell
+    integer :: base, extra
+    base = n / nblocks
+    extra = mod(n, nblocks)
+    lo = coord * base + min(coord, extra) + 1
+    hi = lo + base - 1
+    if (coord < extra) hi = hi + 1
+  end subroutine block_range
+
+  !> Release the Cartesian communicator.
+  subroutine domain_free(dom)
+    type(domain_t), intent(inout) :: dom  !< decomposition to release
+    if (dom%initialized) then
+      if (dom%comm /= MPI_COMM_NULL) call MPI_Comm_free(dom%comm)
+    end if
+    dom%initialized = .false.
+  end subroutine domain_free
+end module parallel_domain
