@@ -1,0 +1,95 @@
+!> Run configuration: one parameter type per namelist group, every component defaulted.
+!!
+!! The defaults written here are the documented defaults (docs/namelists.md): the loader presets
+!! the namelist variables from a default-initialised `config_t`, so changing a default here changes
+!! it everywhere. Validation lives in `config_validate`, reading in `config_load`, the echo in
+!! `config_echo`.
+module config_types
+  use mpmice_kinds, only: wp, name_len, path_len
+  implicit none
+  private
+
+  public :: config_t, run_params_t, grid_params_t, time_params_t, numerics_params_t
+  public :: solver_params_t, output_params_t, heat_params_t
+  public :: scene_names, shape_function_names
+
+  !> Scenes the driver knows (the allowed values of `&run scene`). Later issues append to it.
+  character(len=*), parameter :: scene_names(1) = [character(len=name_len) :: 'heat_conduction']
+  !> Allowed values of `&numerics shape_function`.
+  character(len=*), parameter :: shape_function_names(2) = [character(len=name_len) :: &
+    'linear', 'gimp']
+
+  !> `&run`: what to run, where to write, when to stop.
+  type :: run_params_t
+    character(len=name_len) :: name = 'mpmice'             !< case name (prefix of output files)
+    character(len=name_len) :: scene = 'heat_conduction'   !< scene to set up (one of scene_names)
+    character(len=path_len) :: output_dir = 'output'       !< directory for dumps, echo and log
+    real(wp) :: end_time = 1.0_wp                          !< simulated end time [s]
+    real(wp) :: output_interval = 0.0_wp                   !< dump interval [s] (0: first and last)
+    real(wp) :: checkpoint_interval = 0.0_wp               !< checkpoint interval [s] (0: none)
+    integer :: max_steps = 0                               !< step limit (0: unlimited)
+    real(wp) :: wall_time_limit = 0.0_wp                   !< wall-clock budget [s] (0: none)
+    real(wp) :: progress_interval = 10.0_wp                !< progress line interval [s wall time]
+    integer :: verbosity = 1                               !< 0 quiet, 1 normal, 2 debug
+  end type run_params_t
+
+  !> `&grid`: the uniform Cartesian grid and its decomposition.
+  type :: grid_params_t
+    integer :: ncells(3) = [10, 1, 1]                      !< cells per dimension (1: inactive)
+    real(wp) :: lower(3) = [0.0_wp, 0.0_wp, 0.0_wp]        !< low corner of the domain [m]
+    real(wp) :: upper(3) = [1.0_wp, 1.0_wp, 1.0_wp]        !< high corner of the domain [m]
+    logical :: periodic(3) = [.false., .false., .false.]   !< periodic dimensions
+    integer :: ghost_width = 2                             !< ghost layers in active dimensions
+    integer :: dims(3) = [0, 0, 0]                         !< ranks per dimension (0: automatic)
+  end type grid_params_t
+
+  !> `&time`: time-step control.
+  type :: time_params_t
+    real(wp) :: cfl = 0.5_wp                               !< Courant number (safety factor)
+    real(wp) :: dt_init = 1.0e-3_wp                        !< first time step [s]
+    real(wp) :: dt_max = 1.0e-3_wp                         !< largest time step [s]
+    real(wp) :: dt_min = 1.0e-12_wp                        !< smallest time step [s] (below: stop)
+    real(wp) :: dt_growth = 1.1_wp                         !< largest ratio of successive steps
+  end type time_params_t
+
+  !> `&numerics`: discretisation choices.
+  type :: numerics_params_t
+    integer :: advection_order = 2                         !< 1 first order, 2 limited second order
+    character(len=name_len) :: shape_function = 'gimp'     !< MPM shape functions: linear or gimp
+    real(wp) :: time_theta = 1.0_wp                        !< implicit weight (1 BE, 0.5 CN)
+  end type numerics_params_t
+
+  !> `&solver`: linear solver controls.
+  type :: solver_params_t
+    real(wp) :: tolerance = 1.0e-10_wp                     !< relative residual tolerance
+    integer :: max_iterations = 200                        !< iteration limit
+    integer :: print_level = 0                             !< solver diagnostics 0..3
+  end type solver_params_t
+
+  !> `&output`: what the dumps contain.
+  type :: output_params_t
+    logical :: xdmf = .true.                               !< write XDMF files next to the dumps
+    character(len=path_len) :: fields = 'all'              !< fields to dump ('all' or a list)
+  end type output_params_t
+
+  !> `&heat`: heat conduction scene, dT/dt = div(k grad T) / (rho c).
+  type :: heat_params_t
+    real(wp) :: conductivity = 1.0_wp                      !< thermal conductivity k [W/m/K]
+    real(wp) :: density = 1.0_wp                           !< density rho [kg/m^3]
+    real(wp) :: heat_capacity = 1.0_wp                     !< specific heat capacity c [J/kg/K]
+    real(wp) :: base_temperature = 300.0_wp                !< base and wall temperature [K]
+    real(wp) :: amplitude = 1.0_wp                         !< initial perturbation amplitude [K]
+    integer :: modes(3) = [1, 1, 1]                        !< initial mode numbers per dimension
+  end type heat_params_t
+
+  !> The whole configuration of a run: one component per namelist group.
+  type :: config_t
+    type(run_params_t) :: run            !< `&run`
+    type(grid_params_t) :: grid          !< `&grid`
+    type(time_params_t) :: time          !< `&time`
+    type(numerics_params_t) :: numerics  !< `&numerics`
+    type(solver_params_t) :: solver      !< `&solver`
+    type(output_params_t) :: output      !< `&output`
+    type(heat_params_t) :: heat          !< `&heat`
+  end type config_t
+end module config_types
