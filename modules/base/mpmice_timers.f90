@@ -1,0 +1,106 @@
+!> Wall-clock timers per pipeline stage, with an end-of-run summary (rank 0 prints).
+!!
+!! Stages are registered once (`timer_register` returns an id) and timed with `timer_start` /
+!! `timer_stop`; nothing is allocated after registration. The summary reports, per stage, the number
+!! of calls and the maximum and mean total time over ranks.
+module mpmice_timers
+  use mpi_f08, only: MPI_Comm, MPI_Wtime, MPI_Allreduce, MPI_MAX, MPI_SUM, MPI_DOUBLE_PRECISION, &
+    MPI_Comm_size
+  use mpmice_kinds, only: wp, name_len
+  use mpmice_errors, only: fatal
+  use mpmice_log, only: log_info
+  implicit none
+  private
+
+  public :: timer_set_t, timer_register, timer_start, timer_stop, timer_total, timer_calls, &
+    timer_summary
+
+  integer, parameter :: max_stages = 48  !< capacity of a timer set
+
+  !> A set of named stage timers.
+  type :: timer_set_t
+    integer :: nstages = 0                         !< registered stages
+    character(len=name_len) :: names(max_stages) = ''  !< stage names
+    real(wp) :: total_s(max_stages) = 0.0_wp       !< accumulated wall time [s]
+    real(wp) :: started_s(max_stages) = -1.0_wp    !< start time of a running stage [s], -1 idle
+    integer :: calls(max_stages) = 0               !< completed start/stop pairs
+  end type timer_set_t
+
+contains
+
+  !> Register a stage (or find it if already registered) and return its id.
+  function timer_register(timers, name) result(id)
+    type(timer_set_t), intent(inout) :: timers  !< timer set
+    character(len=*), intent(in) :: name        !< stage name
+    integer :: id
+    do id = 1, timers%nstages
+      if (timers%names(id) == name) return
+    end do
+    if (timers%nstages == max_stages) call fatal('timer_register: too many stages')
+    timers%nstages = timers%nstages + 1
+    id = timers%nstages
+    timers%names(id) = name
+  end function timer_register
+
+  !> Start timing stage `id`.
+  subroutine timer_start(timers, id)
+    type(timer_set_t), intent(inout) :: timers  !< timer set
+    integer, intent(in) :: id                   !< stage id from timer_register
+    timers%started_s(id) = MPI_Wtime()
+  end subroutine timer_start
+
+  !> Stop timing stage `id` and accumulate the elapsed time.
+  subroutine timer_stop(timers, id)
+    type(timer_set_t), intent(inout) :: timers  !< timer set
+    integer, intent(in) :: id                   !< stage id from timer_register
+    if (timers%started_s(id) < 0.0_wp) return
+    timers%total_s(id) = timers%total_s(id) + (MPI_Wtime() - timers%started_s(id))
+    timers%started_s(id) = -1.0_wp
+    timers%calls(id) = timers%calls(id) + 1
+  end subroutine timer_stop
+
+  !> Accumulated time [s] of stage `id` on this rank.
+  pure function timer_total(timers, id) result(seconds)
+    type(timer_set_t), intent(in) :: timers  !< timer set
+    integer, intent(in) :: id                !< stage id
+    real(wp) :: seconds
+    seconds = timers%total_s(id)
+  end function timer_total
+
+  !> Completed calls of stage `id`.
+  pure function timer_calls(timers, id) result(n)
+    type(timer_set_t), intent(in) :: timers  !< timer set
+    integer, intent(in) :: id                !< stage id
+    integer :: n
+    n = timers%calls(id)
+  end function timer_calls
+
+  !> Print the per-stage table (collective over `comm`; rank 0 prints). `run_s` is the wall time of the
+  !! whole run used for the percentage column.
+  subroutine timer_summary(timers, comm, run_s)
+    type(timer_set_t), intent(in) :: timers  !< timer set (same stages on every rank)
+    type(MPI_Comm), intent(in) :: comm       !< communicator of the run
+    real(wp), intent(in) :: run_s            !< wall time of the run [s]
+    real(wp) :: tmax(max_stages), tsum(max_stages)
+    integer :: id, nranks, n
+    character(len=160) :: line
+    n = timers%nstages
+    if (n == 0) return
+    call MPI_Comm_size(comm, nranks)
+    call MPI_Allreduce(timers%total_s, tmax, n, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
+    call MPI_Allreduce(timers%total_s, tsum, n, MPI_DOUBLE_PRECISION, MPI_SUM, comm)
+    call log_info('timers (wall seconds; max and mean over ranks)')
+    write(line, '(a32, a10, a12, a12, a8, a14)') 'stage', 'calls', 'max [s]', 'mean [s]', '%', &
+      'per call [ms]'
+    call log_info(line)
+    do id = 1, n
+      write(line, '(a32, i10, f12.4, f12.4, f8.1, f14.4)') adjustr(timers%names(id)(1:32)), &
+        timers%calls(id), tmax(id), tsum(id) / real(nranks, wp), &
+        100.0_wp * tmax(id) / max(run_s, tiny(1.0_wp)), &
+        1000.0_wp * tmax(id) / real(max(timers%calls(id), 1), wp)
+      call log_info(line)
+    end do
+    write(line, '(a32, 10x, f12.4)') adjustr('total run'), run_s
+    call log_info(line)
+  end subroutine timer_summary
+end module mpmice_timers
