@@ -1,0 +1,121 @@
+!> Simulated-time bookkeeping of a run: time, step, the next time step, and the output and
+!! checkpoint events the steps are clipped to land on exactly.
+!!
+!! The clock is the part of the run state a checkpoint must carry so that a restarted run takes the
+!! very same steps (bitwise-identical continuation): `time`, `step`, `dt_next`, `output_index`,
+!! `checkpoint_index`.
+module driver_clock
+  use mpmice_kinds, only: wp
+  implicit none
+  private
+
+  public :: clock_t, clock_init, clock_propose_dt, clock_advance, clock_finished
+
+  real(wp), parameter :: event_slack = 1.0e-9_wp  !< relative slack for landing on an event time
+
+  !> Run clock.
+  type :: clock_t
+    real(wp) :: time = 0.0_wp                 !< simulated time [s]
+    integer :: step = 0                       !< steps taken
+    real(wp) :: dt = 0.0_wp                   !< last step taken [s]
+    real(wp) :: dt_next = 0.0_wp              !< step proposed before event clipping [s]
+    real(wp) :: end_time = 0.0_wp             !< simulated end time [s]
+    real(wp) :: output_interval = 0.0_wp      !< dump interval [s] (0: none between first and last)
+    real(wp) :: checkpoint_interval = 0.0_wp  !< checkpoint interval [s] (0: none)
+    integer :: output_index = 0               !< dumps written at interval times so far
+    integer :: checkpoint_index = 0           !< checkpoints written at interval times so far
+    integer :: max_steps = 0                  !< step limit (0: none)
+    real(wp) :: dt_max = huge(1.0_wp)         !< largest step [s]
+    real(wp) :: dt_growth = 1.1_wp            !< largest ratio of successive proposed steps
+    logical :: output_due = .false.           !< the last step landed on an output time
+    logical :: checkpoint_due = .false.       !< the last step landed on a checkpoint time
+  end type clock_t
+
+contains
+
+  !> Start a clock at t = 0.
+  subroutine clock_init(clock, end_time, output_interval, checkpoint_interval, max_steps, dt_init, &
+      dt_max, dt_growth)
+    type(clock_t), intent(out) :: clock          !< clock to start
+    real(wp), intent(in) :: end_time             !< simulated end time [s]
+    real(wp), intent(in) :: output_interval      !< dump interval [s]
+    real(wp), intent(in) :: checkpoint_interval  !< checkpoint interval [s]
+    integer, intent(in) :: max_steps             !< step limit (0: none)
+    real(wp), intent(in) :: dt_init              !< first step [s]
+    real(wp), intent(in) :: dt_max               !< largest step [s]
+    real(wp), intent(in) :: dt_growth            !< largest ratio of successive steps
+    clock%end_time = end_time
+    clock%output_interval = output_interval
+    clock%checkpoint_interval = checkpoint_interval
+    clock%max_steps = max_steps
+    clock%dt_next = min(dt_init, dt_max)
+    clock%dt_max = dt_max
+    clock%dt_growth = dt_growth
+  end subroutine clock_init
+
+  !> The next step [s]: the proposed step limited by `dt_limit` (stability limit of the scene, pass
+  !! huge when none), then shortened to land exactly on the next output, checkpoint or end time.
+  pure function clock_propose_dt(clock, dt_limit) result(dt)
+    type(clock_t), intent(in) :: clock  !< run clock
+    real(wp), intent(in) :: dt_limit    !< scene stability limit [s]
+    real(wp) :: dt
+    dt = min(clock%dt_next, dt_limit)
+    dt = min(dt, next_event_time(clock) - clock%time)
+  end function clock_propose_dt
+
+  !> Time of the next event (output, checkpoint or end) after the current time [s].
+  pure function next_event_time(clock) result(t_event)
+    type(clock_t), intent(in) :: clock  !< run clock
+    real(wp) :: t_event
+    t_event = clock%end_time
+    if (clock%output_interval > 0.0_wp) then
+      t_event = min(t_event, real(clock%output_index + 1, wp) * clock%output_interval)
+    end if
+    if (clock%checkpoint_interval > 0.0_wp) then
+      t_event = min(t_event, real(clock%checkpoint_index + 1, wp) * clock%checkpoint_interval)
+    end if
+  end function next_event_time
+
+  !> Account for a step of `dt` [s] (as returned by clock_propose_dt, possibly reduced by the
+  !! scene) whose unclipped value was limited by `dt_limit`; sets `output_due`/`checkpoint_due`.
+  subroutine clock_advance(clock, dt, dt_limit)
+    type(clock_t), intent(inout) :: clock  !< run clock
+    real(wp), intent(in) :: dt             !< step taken [s]
+    real(wp), intent(in) :: dt_limit       !< scene stability limit used for this step [s]
+    real(wp) :: t_event, unclipped
+    t_event = next_event_time(clock)
+    unclipped = min(clock%dt_next, dt_limit)
+    clock%step = clock%step + 1
+    clock%dt = dt
+    if (t_event - (clock%time + dt) <= event_slack * dt) then
+      clock%time = t_event
+    else
+      clock%time = clock%time + dt
+    end if
+    clock%output_due = .false.
+    clock%checkpoint_due = .false.
+    if (clock%output_interval > 0.0_wp) then
+      if (clock%time >= real(clock%output_index + 1, wp) * clock%output_interval) then
+        clock%output_index = clock%output_index + 1
+        clock%output_due = .true.
+      end if
+    end if
+    if (clock%checkpoint_interval > 0.0_wp) then
+      if (clock%time >= real(clock%checkpoint_index + 1, wp) * clock%checkpoint_interval) then
+        clock%checkpoint_index = clock%checkpoint_index + 1
+        clock%checkpoint_due = .true.
+      end if
+    end if
+    ! Grow from the step the scene allowed, not from an event-clipped one.
+    clock%dt_next = min(clock%dt_max, clock%dt_growth * max(unclipped, dt))
+    if (dt < unclipped) clock%dt_next = min(clock%dt_next, unclipped)
+  end subroutine clock_advance
+
+  !> True when the end time or the step limit is reached.
+  pure function clock_finished(clock) result(finished)
+    type(clock_t), intent(in) :: clock  !< run clock
+    logical :: finished
+    finished = clock%time >= clock%end_time
+    if (clock%max_steps > 0) finished = finished .or. clock%step >= clock%max_steps
+  end function clock_finished
+end module driver_clock

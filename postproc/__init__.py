@@ -1,0 +1,1 @@
+"""MPMICE postprocessing: read dumps, analytic solutions, comparisons and plots."""

@@ -1,0 +1,55 @@
+"""Minimal reader for the namelist text MPMICE echoes (``<name>.used.nml`` and the ``namelist``
+attribute of dumps and checkpoints).
+
+Only what the program writes is supported: ``&group name = value, ... /`` with scalars, arrays,
+quoted strings and logicals. Returns ``{group: {variable: value}}`` with lower-case keys; arrays
+are lists.
+"""
+from __future__ import annotations
+
+import re
+
+_TOKEN = re.compile(r"""'(?:[^']|'')*'|"(?:[^"]|"")*"|[^\s,]+""")
+
+
+def _convert(token: str):
+    if token[0] in "'\"":
+        return token[1:-1].replace(token[0] * 2, token[0])
+    low = token.lower()
+    if low in (".true.", "t", ".t.", "true"):
+        return True
+    if low in (".false.", "f", ".f.", "false"):
+        return False
+    if "*" in token:  # repeat count r*value
+        count, value = token.split("*", 1)
+        return [_convert(value)] * int(count)
+    try:
+        return int(token)
+    except ValueError:
+        return float(low.replace("d", "e"))
+
+
+def parse_namelist_text(text: str) -> dict[str, dict[str, object]]:
+    """Parse namelist text into nested dictionaries."""
+    groups: dict[str, dict[str, object]] = {}
+    for match in re.finditer(r"&(\w+)(.*?)(?:^\s*/\s*$|/\s*$|/\s*\n)", text, re.S | re.M):
+        group = match.group(1).lower()
+        body = match.group(2)
+        values: dict[str, object] = {}
+        # split into "name = values" assignments
+        parts = re.split(r"(?:^|[\s,])([A-Za-z_]\w*(?:\(\s*\d+\s*\))?)\s*=", body)
+        for name, raw in zip(parts[1::2], parts[2::2]):
+            tokens = [_convert(t) for t in _TOKEN.findall(raw)]
+            flat: list[object] = []
+            for t in tokens:
+                flat.extend(t if isinstance(t, list) else [t])
+            key = re.sub(r"\(.*", "", name).lower()
+            values[key] = flat[0] if len(flat) == 1 else flat
+        groups[group] = values
+    return groups
+
+
+def read_namelist_file(path: str) -> dict[str, dict[str, object]]:
+    """Parse a namelist file."""
+    with open(path, encoding="utf-8") as handle:
+        return parse_namelist_text(handle.read())
