@@ -1,0 +1,164 @@
+!> Load a run's configuration: case file, then `--set` overrides, then validation; rank 0 does the
+!! work and every rank ends with the identical configuration or the identical failure status.
+module config_load
+  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Bcast, MPI_INTEGER, &
+    MPI_CHARACTER
+  use mpmice_kinds, only: msg_len
+  use mpmice_errors, only: input_error_text, fatal
+  use config_types, only: config_t
+  use config_parse, only: config_load_text, config_origin_t, origin_source, group_error_text
+  use config_validate, only: config_error_t, config_check
+  use config_echo, only: config_to_text
+  implicit none
+  private
+
+  public :: config_load_file, config_read_text_file, config_resolve, config_load_run
+  public :: config_bcast
+
+contains
+
+  !> The whole content of the file `path`. `stat` /= 0 and `errmsg` (one input-error line) when
+  !! it cannot be read.
+  subroutine config_read_text_file(path, text, stat, errmsg)
+    character(len=*), intent(in) :: path                   !< file to read
+    character(len=:), allocatable, intent(out) :: text     !< its content
+    integer, intent(out) :: stat                           !< 0 ok, 1 error
+    character(len=:), allocatable, intent(out) :: errmsg   !< error line
+    character(len=msg_len) :: iomsg
+    integer :: unit, ios, nbytes
+    logical :: exists
+
+    stat = 1
+    text = ''
+    errmsg = ''
+    inquire(file=path, exist=exists)
+    if (.not. exists) then
+      errmsg = group_error_text(path, '', 'cannot read the file: no such file')
+      return
+    end if
+    open(newunit=unit, file=path, status='old', action='read', access='stream', &
+      form='unformatted', iostat=ios, iomsg=iomsg)
+    if (ios /= 0) then
+      errmsg = group_error_text(path, '', 'cannot read the file: ' // trim(iomsg))
+      return
+    end if
+    inquire(unit=unit, size=nbytes)
+    if (nbytes < 0) then
+      close(unit)
+      errmsg = group_error_text(path, '', 'cannot read the file: not a regular file')
+      return
+    end if
+    deallocate(text)
+    allocate(character(len=nbytes) :: text)
+    if (nbytes > 0) read(unit, iostat=ios, iomsg=iomsg) text
+    close(unit)
+    if (ios /= 0) then
+      errmsg = group_error_text(path, '', 'cannot read the file: ' // trim(iomsg))
+      return
+    end if
+    stat = 0
+  end subroutine config_read_text_file
+
+  !> Apply the namelist file `path` to `cfg` (variables it does not set keep their values).
+  subroutine config_load_file(cfg, path, stat, errmsg, origin)
+    type(config_t), intent(inout) :: cfg                    !< configuration to update
+    character(len=*), intent(in) :: path                    !< namelist file
+    integer, intent(out) :: stat                            !< 0 ok, 1 input error
+    character(len=:), allocatable, intent(out) :: errmsg    !< error line
+    type(config_origin_t), intent(inout), optional :: origin !< provenance of each variable
+    character(len=:), allocatable :: text
+    call config_read_text_file(path, text, stat, errmsg)
+    if (stat /= 0) return
+    call config_load_text(cfg, text, path, stat, errmsg, origin)
+  end subroutine config_load_file
+
+  !> Resolve a configuration on one rank: defaults, then the case file `source`, then each
+  !! `sets(i)` in order, then validation for a run on `nranks` ranks. With `base_text` that text
+  !! replaces the file's content (a restart passes the text stored in the checkpoint, with the
+  !! checkpoint's path as `source`). Error lines name the input that set the bad variable.
+  subroutine config_resolve(cfg, source, sets, nranks, stat, errmsg, base_text)
+    type(config_t), intent(out) :: cfg                     !< resolved configuration
+    character(len=*), intent(in) :: source                 !< case file (or checkpoint) name
+    character(len=*), intent(in) :: sets(:)                !< `--set` texts, applied in order
+    integer, intent(in) :: nranks                          !< ranks of the run
+    integer, intent(out) :: stat                           !< 0 ok, 1 input error
+    character(len=:), allocatable, intent(out) :: errmsg   !< error line
+    character(len=*), intent(in), optional :: base_text    !< configuration text to use instead
+    type(config_origin_t) :: origin
+    type(config_error_t) :: err
+    integer :: i
+
+    if (present(base_text)) then
+      call config_load_text(cfg, base_text, source, stat, errmsg, origin)
+    else
+      call config_load_file(cfg, source, stat, errmsg, origin)
+    end if
+    if (stat /= 0) return
+    do i = 1, size(sets)
+      call config_load_text(cfg, sets(i), '--set', stat, errmsg, origin)
+      if (stat /= 0) return
+    end do
+    call config_check(cfg, nranks, err)
+    if (err%found) then
+      stat = 1
+      errmsg = input_error_text(origin_source(origin, err%group, err%variable, source), &
+        err%group, err%variable, err%value, err%allowed)
+    end if
+  end subroutine config_resolve
+
+  !> Collective over `comm`: rank 0 resolves the configuration (`config_resolve`) for a run on
+  !! the ranks of `comm` and broadcasts the outcome; every rank returns the same `stat` and
+  !! `errmsg` and, on success, the same configuration (broadcast as its resolved namelist text).
+  !! Nothing is printed: the caller reports `errmsg` from rank 0 and exits.
+  subroutine config_load_run(cfg, source, sets, comm, stat, errmsg, base_text)
+    type(config_t), intent(out) :: cfg                     !< resolved configuration
+    character(len=*), intent(in) :: source                 !< case file (or checkpoint) name
+    character(len=*), intent(in) :: sets(:)                !< `--set` texts, applied in order
+    type(MPI_Comm), intent(in) :: comm                     !< communicator of the run
+    integer, intent(out) :: stat                           !< 0 ok, 1 input error
+    character(len=:), allocatable, intent(out) :: errmsg   !< error line (all ranks)
+    character(len=*), intent(in), optional :: base_text    !< text to use instead of the file
+    integer :: rank, nranks
+    call MPI_Comm_rank(comm, rank)
+    call MPI_Comm_size(comm, nranks)
+    errmsg = ''
+    if (rank == 0) call config_resolve(cfg, source, sets, nranks, stat, errmsg, base_text)
+    call MPI_Bcast(stat, 1, MPI_INTEGER, 0, comm)
+    call bcast_text(errmsg, comm)
+    if (stat == 0) call config_bcast(cfg, comm)
+  end subroutine config_load_run
+
+  !> Give every rank of `comm` rank 0's configuration (sent as its namelist text, which reads
+  !! back bitwise identical). Collective.
+  subroutine config_bcast(cfg, comm)
+    type(config_t), intent(inout) :: cfg  !< configuration (significant on rank 0)
+    type(MPI_Comm), intent(in) :: comm    !< communicator
+    character(len=:), allocatable :: text, errmsg
+    type(config_t) :: fresh
+    integer :: rank, stat
+    call MPI_Comm_rank(comm, rank)
+    if (rank == 0) text = config_to_text(cfg)
+    call bcast_text(text, comm)
+    if (rank /= 0) then
+      call config_load_text(fresh, text, 'broadcast configuration', stat, errmsg)
+      if (stat /= 0) call fatal('config_bcast: ' // errmsg)
+      cfg = fresh
+    end if
+  end subroutine config_bcast
+
+  !> Broadcast a deferred-length string from rank 0.
+  subroutine bcast_text(text, comm)
+    character(len=:), allocatable, intent(inout) :: text  !< string (significant on rank 0)
+    type(MPI_Comm), intent(in) :: comm                    !< communicator
+    integer :: rank, n
+    call MPI_Comm_rank(comm, rank)
+    n = 0
+    if (rank == 0) n = len(text)
+    call MPI_Bcast(n, 1, MPI_INTEGER, 0, comm)
+    if (rank /= 0) then
+      if (allocated(text)) deallocate(text)
+      allocate(character(len=n) :: text)
+    end if
+    if (n > 0) call MPI_Bcast(text, n, MPI_CHARACTER, 0, comm)
+  end subroutine bcast_text
+end module config_load

@@ -1,0 +1,371 @@
+!> Parse namelist text into a `config_t`, with one precise error line for any bad input.
+!!
+!! The text is split into groups (`&name ... /`) and each group into `variable = value`
+!! assignments by a small scanner that honours quoted strings and `!` comments. Each assignment is
+!! then read on its own through the group's real namelist read (`config_namelist`), in order, which
+!! is what a whole-group read does, but a failure names the exact variable and value, which the
+!! compiler's `iomsg` does not always do. Checked here: unknown groups, repeated groups, text
+!! outside groups, unterminated groups, unknown variables, missing values, unquoted or too long
+!! strings and values the compiler cannot read. Range checks are in `config_validate`.
+module config_parse
+  use mpmice_kinds, only: msg_len
+  use mpmice_errors, only: input_error_text
+  use config_types, only: config_t
+  use config_namelist, only: group_names, variables, find_variable, group_variable_names, &
+    describe_value, namelist_assign
+  use config_text, only: lower_case, is_identifier_char, join_names, unquoted
+  implicit none
+  private
+
+  public :: config_load_text, config_origin_t, origin_source, group_error_text
+
+  integer, parameter :: key_len = 40   !< length of `group variable` keys
+
+  !> Which input (file or `--set`) last assigned each variable.
+  type :: config_origin_t
+    integer :: n = 0                                      !< keys in use
+    character(len=key_len), allocatable :: key(:)         !< `group variable`
+    character(len=msg_len), allocatable :: source(:)      !< file name or `--set`
+  end type config_origin_t
+
+contains
+
+  !> Apply the namelist text `text` to `cfg`: variables it assigns change, all others keep the
+  !! value `cfg` has (the defaults for a fresh `config_t`). `stat` is 0 on success; otherwise 1 and
+  !! `errmsg` is the one-line input error naming `source`, group, variable and value. `cfg` may be
+  !! partly updated on failure. `origin`, when given, records the source of every assignment.
+  subroutine config_load_text(cfg, text, source, stat, errmsg, origin)
+    type(config_t), intent(inout) :: cfg                    !< configuration to update
+    character(len=*), intent(in) :: text                    !< namelist text (may hold newlines)
+    character(len=*), intent(in) :: source                  !< name of the input for messages
+    integer, intent(out) :: stat                            !< 0 ok, 1 input error
+    character(len=:), allocatable, intent(out) :: errmsg    !< the error line when stat /= 0
+    type(config_origin_t), intent(inout), optional :: origin !< provenance of each variable
+    character(len=len(text)) :: s
+    character(len=:), allocatable :: group
+    integer :: n, i, j, seen(size(group_names)), g, body_end
+
+    stat = 0
+    errmsg = ''
+    seen = 0
+    call clean_text(text, s)
+    n = len(s)
+    i = 1
+    do
+      do while (i <= n)
+        if (s(i:i) /= ' ') exit
+        i = i + 1
+      end do
+      if (i > n) exit
+      if (s(i:i) /= '&') then
+        call fail(group_error_text(source, '', 'text outside a namelist group: ' // &
+          excerpt(s(i:))))
+        return
+      end if
+      j = i + 1
+      do while (j <= n)
+        if (.not. is_identifier_char(s(j:j))) exit
+        j = j + 1
+      end do
+      group = lower_case(s(i + 1:j - 1))
+      g = findloc_name(group)
+      if (g == 0) then
+        call fail(group_error_text(source, group, 'unknown namelist group; known: ' // &
+          join_names(group_names, ', ', '&')))
+        return
+      end if
+      seen(g) = seen(g) + 1
+      if (seen(g) > 1) then
+        call fail(group_error_text(source, group, 'group given more than once; allowed: once'))
+        return
+      end if
+      call find_group_end(s, j, body_end)
+      if (body_end <= 0) then
+        call fail(group_error_text(source, group, 'group not terminated by ''/'''))
+        return
+      end if
+      call apply_group(cfg, group, s(j:body_end - 1), source, stat, errmsg, origin)
+      if (stat /= 0) return
+      i = body_end + 1
+    end do
+
+  contains
+
+    subroutine fail(message)
+      character(len=*), intent(in) :: message
+      stat = 1
+      errmsg = message
+    end subroutine fail
+  end subroutine config_load_text
+
+  !> Index of `group` in `group_names`, 0 if unknown.
+  pure integer function findloc_name(group)
+    character(len=*), intent(in) :: group  !< lower-case group name
+    integer :: k
+    findloc_name = 0
+    if (len(group) == 0) return
+    do k = 1, size(group_names)
+      if (group_names(k) == group) findloc_name = k
+    end do
+  end function findloc_name
+
+  !> `text` with comments and line ends turned into blanks (quoted strings kept intact).
+  pure subroutine clean_text(text, s)
+    character(len=*), intent(in) :: text        !< raw namelist text
+    character(len=len(text)), intent(out) :: s  !< cleaned text, same length
+    character :: q, c
+    integer :: k
+    logical :: in_comment
+    s = text
+    q = ' '
+    in_comment = .false.
+    do k = 1, len(text)
+      c = text(k:k)
+      if (in_comment) then
+        if (c == achar(10)) in_comment = .false.
+        s(k:k) = ' '
+      else if (q /= ' ') then
+        if (c == q) q = ' '
+      else if (c == '!') then
+        in_comment = .true.
+        s(k:k) = ' '
+      else if (c == "'" .or. c == '"') then
+        q = c
+      end if
+      if (.not. in_comment .and. q == ' ') then
+        if (iachar(s(k:k)) < 32) s(k:k) = ' '
+      end if
+    end do
+  end subroutine clean_text
+
+  !> Position of the `/` that ends the group body starting at `start` (outside strings); 0 if the
+  !! text ends first or another group starts first.
+  pure subroutine find_group_end(s, start, pos)
+    character(len=*), intent(in) :: s  !< cleaned text
+    integer, intent(in) :: start       !< first character after the group name
+    integer, intent(out) :: pos        !< position of the terminator, 0 if none
+    character :: q
+    integer :: k
+    q = ' '
+    pos = 0
+    do k = start, len(s)
+      if (q /= ' ') then
+        if (s(k:k) == q) q = ' '
+      else if (s(k:k) == "'" .or. s(k:k) == '"') then
+        q = s(k:k)
+      else if (s(k:k) == '&') then
+        return
+      else if (s(k:k) == '/') then
+        pos = k
+        return
+      end if
+    end do
+  end subroutine find_group_end
+
+  !> Split a group body into `name = value` assignments and apply them one by one.
+  subroutine apply_group(cfg, group, body, source, stat, errmsg, origin)
+    type(config_t), intent(inout) :: cfg                    !< configuration to update
+    character(len=*), intent(in) :: group                   !< lower-case group name
+    character(len=*), intent(in) :: body                    !< text between name and `/`
+    character(len=*), intent(in) :: source                  !< input name for messages
+    integer, intent(out) :: stat                            !< 0 ok, 1 input error
+    character(len=:), allocatable, intent(inout) :: errmsg  !< the error line
+    type(config_origin_t), intent(inout), optional :: origin !< provenance
+    integer :: k, neq, eqs(len(body) + 1), starts(len(body) + 1), name_end
+    character :: q
+
+    stat = 0
+    ! positions of '=' outside strings, and where the name before each starts
+    neq = 0
+    q = ' '
+    do k = 1, len(body)
+      if (q /= ' ') then
+        if (body(k:k) == q) q = ' '
+      else if (body(k:k) == "'" .or. body(k:k) == '"') then
+        q = body(k:k)
+      else if (body(k:k) == '=') then
+        neq = neq + 1
+        eqs(neq) = k
+        starts(neq) = name_start(body, k)
+      end if
+    end do
+    if (neq == 0) then
+      if (len_trim(body) > 0) then
+        stat = 1
+        errmsg = group_error_text(source, group, 'expected ''variable = value'', found: ' // &
+          excerpt(adjustl(body)))
+      end if
+      return
+    end if
+    if (len_trim(body(1:starts(1) - 1)) > 0) then
+      stat = 1
+      errmsg = group_error_text(source, group, 'expected ''variable = value'', found: ' // &
+        excerpt(adjustl(body(1:starts(1) - 1))))
+      return
+    end if
+    starts(neq + 1) = len(body) + 1
+    eqs(neq + 1) = len(body) + 1
+    do k = 1, neq
+      name_end = eqs(k) - 1
+      call apply_assignment(cfg, group, trim(adjustl(body(starts(k):name_end))), &
+        value_text(body(eqs(k) + 1:starts(k + 1) - 1)), source, stat, errmsg, origin)
+      if (stat /= 0) return
+    end do
+  end subroutine apply_group
+
+  !> Start of the variable name (with optional subscript) that ends just before `body(eq:eq)`.
+  pure integer function name_start(body, eq)
+    character(len=*), intent(in) :: body  !< group body
+    integer, intent(in) :: eq             !< position of `=`
+    integer :: k
+    k = eq - 1
+    do while (k >= 1)
+      if (body(k:k) /= ' ') exit
+      k = k - 1
+    end do
+    if (k >= 1) then
+      if (body(k:k) == ')') then
+        do while (k >= 1)
+          if (body(k:k) == '(') exit
+          k = k - 1
+        end do
+        k = k - 1
+      end if
+    end if
+    do while (k >= 1)
+      if (.not. is_identifier_char(body(k:k))) exit
+      k = k - 1
+    end do
+    name_start = k + 1
+  end function name_start
+
+  !> The value text of an assignment: blanks and one trailing separator comma removed.
+  function value_text(raw) result(text)
+    character(len=*), intent(in) :: raw  !< text between `=` and the next name
+    character(len=:), allocatable :: text
+    integer :: n
+    text = trim(adjustl(raw))
+    n = len(text)
+    if (n > 0) then
+      if (text(n:n) == ',') text = trim(text(1:n - 1))
+    end if
+  end function value_text
+
+  !> Check and apply one assignment `name = value` of `group`.
+  subroutine apply_assignment(cfg, group, name, value, source, stat, errmsg, origin)
+    type(config_t), intent(inout) :: cfg                    !< configuration to update
+    character(len=*), intent(in) :: group                   !< lower-case group name
+    character(len=*), intent(in) :: name                    !< variable as written (maybe subscripted)
+    character(len=*), intent(in) :: value                   !< value text
+    character(len=*), intent(in) :: source                  !< input name for messages
+    integer, intent(out) :: stat                            !< 0 ok, 1 input error
+    character(len=:), allocatable, intent(inout) :: errmsg  !< the error line
+    type(config_origin_t), intent(inout), optional :: origin !< provenance
+    character(len=:), allocatable :: base, content
+    character(len=msg_len) :: iomsg
+    integer :: v, p, ios
+    logical :: ok
+
+    stat = 1
+    p = index(name, '(')
+    if (p > 0) then
+      base = lower_case(trim(name(1:p - 1)))
+    else
+      base = lower_case(name)
+    end if
+    v = find_variable(group, base)
+    if (v == 0) then
+      errmsg = input_error_text(source, group, name, value, &
+        'unknown variable; known: ' // group_variable_names(group))
+      return
+    end if
+    if (len(value) == 0) then
+      errmsg = input_error_text(source, group, name, '', 'missing value; expected ' // &
+        describe_value(variables(v)))
+      return
+    end if
+    if (variables(v)%kind == 'c') then
+      call unquoted(value, content, ok)
+      if (.not. ok .or. len(content) > variables(v)%length) then
+        errmsg = input_error_text(source, group, name, value, describe_value(variables(v)))
+        return
+      end if
+    end if
+    call namelist_assign(cfg, group, '&' // group // ' ' // name // ' = ' // value // ' /', &
+      ios, iomsg)
+    if (ios /= 0) then
+      errmsg = input_error_text(source, group, name, value, describe_value(variables(v)))
+      return
+    end if
+    stat = 0
+    if (present(origin)) call origin_record(origin, group // ' ' // base, source)
+  end subroutine apply_assignment
+
+  !> Remember that `source` assigned `key` (the latest assignment wins).
+  subroutine origin_record(origin, key, source)
+    type(config_origin_t), intent(inout) :: origin  !< provenance
+    character(len=*), intent(in) :: key             !< `group variable`
+    character(len=*), intent(in) :: source          !< input name
+    character(len=key_len), allocatable :: keys(:)
+    character(len=msg_len), allocatable :: sources(:)
+    integer :: k
+    if (.not. allocated(origin%key)) then
+      allocate(origin%key(size(variables)), origin%source(size(variables)))
+    end if
+    do k = 1, origin%n
+      if (origin%key(k) == key) then
+        origin%source(k) = source
+        return
+      end if
+    end do
+    if (origin%n == size(origin%key)) then
+      allocate(keys(2 * origin%n), sources(2 * origin%n))
+      keys(1:origin%n) = origin%key(1:origin%n)
+      sources(1:origin%n) = origin%source(1:origin%n)
+      call move_alloc(keys, origin%key)
+      call move_alloc(sources, origin%source)
+    end if
+    origin%n = origin%n + 1
+    origin%key(origin%n) = key
+    origin%source(origin%n) = source
+  end subroutine origin_record
+
+  !> The input that last assigned `variable` of `group`, or `default` if none did.
+  function origin_source(origin, group, variable, default) result(source)
+    type(config_origin_t), intent(in) :: origin  !< provenance
+    character(len=*), intent(in) :: group        !< group name
+    character(len=*), intent(in) :: variable     !< variable name
+    character(len=*), intent(in) :: default      !< answer for unassigned variables
+    character(len=:), allocatable :: source
+    integer :: k
+    source = default
+    do k = 1, origin%n
+      if (origin%key(k) == group // ' ' // variable) source = trim(origin%source(k))
+    end do
+  end function origin_source
+
+  !> One-line input error about a group or the file as a whole:
+  !! `mpmice: input error: FILE: &GROUP: PROBLEM` (or `FILE: PROBLEM` without a group).
+  pure function group_error_text(source, group, problem) result(text)
+    character(len=*), intent(in) :: source   !< file name or `--set`
+    character(len=*), intent(in) :: group    !< group name without `&`, may be empty
+    character(len=*), intent(in) :: problem  !< what is wrong and what is allowed
+    character(len=:), allocatable :: text
+    if (len_trim(group) > 0) then
+      text = 'mpmice: input error: ' // trim(source) // ': &' // trim(group) // ': ' // trim(problem)
+    else
+      text = 'mpmice: input error: ' // trim(source) // ': ' // trim(problem)
+    end if
+  end function group_error_text
+
+  !> The start of `s` (at most 40 characters), quoted, for messages.
+  pure function excerpt(s) result(text)
+    character(len=*), intent(in) :: s  !< text
+    character(len=:), allocatable :: text
+    integer :: n
+    n = min(len_trim(s), 40)
+    text = '''' // s(1:n)
+    if (len_trim(s) > 40) text = text // '...'
+    text = text // ''''
+  end function excerpt
+end module config_parse

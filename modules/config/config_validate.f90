@@ -1,0 +1,330 @@
+!> Range and consistency checks of a configuration.
+!!
+!! `config_check` finds the first invalid variable (groups in echo order, variables in table
+!! order) and describes it in a `config_error_t`: group, variable, value as text and the allowed
+!! range. Checks that depend on the number of ranks (cells per block, `dims`) use the same
+!! `choose_dims` as the decomposition, so a configuration that passes can be decomposed.
+module config_validate
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use mpmice_kinds, only: wp, i8
+  use parallel_domain, only: choose_dims
+  use config_types, only: config_t, scene_names, shape_function_names
+  use config_text, only: real_repr, reals_repr, ints_repr, quoted, join_names
+  implicit none
+  private
+
+  public :: config_error_t, config_check, ghost_width_needed
+
+  !> The first problem found in a configuration.
+  type :: config_error_t
+    logical :: found = .false.                  !< a problem was found
+    character(len=:), allocatable :: group      !< group name without `&`
+    character(len=:), allocatable :: variable   !< variable name
+    character(len=:), allocatable :: value      !< offending value as namelist text
+    character(len=:), allocatable :: allowed    !< allowed range or values
+  end type config_error_t
+
+contains
+
+  !> Check every variable of `cfg` for a run on `nranks` ranks; `err%found` tells if one is bad.
+  !! Calls `MPI_Dims_create` (through `choose_dims`) when `nranks > 1`: MPI must be initialised.
+  subroutine config_check(cfg, nranks, err)
+    type(config_t), intent(in) :: cfg          !< configuration to check
+    integer, intent(in) :: nranks              !< number of ranks of the run
+    type(config_error_t), intent(out) :: err   !< first problem, if any
+    call check_run(cfg, err)
+    if (err%found) return
+    call check_grid(cfg, nranks, err)
+    if (err%found) return
+    call check_time(cfg, err)
+    if (err%found) return
+    call check_numerics(cfg, err)
+    if (err%found) return
+    call check_solver(cfg, err)
+    if (err%found) return
+    call check_output(cfg, err)
+    if (err%found) return
+    call check_heat(cfg, err)
+  end subroutine config_check
+
+  !> Ghost layers the numerics need: `advection_order` cells for advection, 2 for GIMP and 1 for
+  !! linear shape functions.
+  pure integer function ghost_width_needed(cfg)
+    type(config_t), intent(in) :: cfg  !< configuration
+    ghost_width_needed = max(cfg%numerics%advection_order, 1)
+    if (cfg%numerics%shape_function == 'gimp') ghost_width_needed = max(ghost_width_needed, 2)
+  end function ghost_width_needed
+
+  !> Record a problem.
+  subroutine set_error(err, group, variable, value, allowed)
+    type(config_error_t), intent(inout) :: err  !< problem record
+    character(len=*), intent(in) :: group       !< group name
+    character(len=*), intent(in) :: variable    !< variable name
+    character(len=*), intent(in) :: value       !< value as text
+    character(len=*), intent(in) :: allowed     !< allowed range
+    err%found = .true.
+    err%group = group
+    err%variable = variable
+    err%value = value
+    err%allowed = allowed
+  end subroutine set_error
+
+  !> Check a real scalar: finite and inside the given bounds (`*_open` excludes the bound).
+  subroutine check_real(err, group, variable, x, allowed, min_value, max_value, min_open, max_open)
+    type(config_error_t), intent(inout) :: err   !< problem record
+    character(len=*), intent(in) :: group        !< group name
+    character(len=*), intent(in) :: variable     !< variable name
+    real(wp), intent(in) :: x                    !< value
+    character(len=*), intent(in) :: allowed      !< allowed range as text
+    real(wp), intent(in), optional :: min_value  !< lower bound
+    real(wp), intent(in), optional :: max_value  !< upper bound
+    logical, intent(in), optional :: min_open    !< lower bound excluded
+    logical, intent(in), optional :: max_open    !< upper bound excluded
+    logical :: ok
+    if (err%found) return
+    ok = ieee_is_finite(x)
+    if (ok .and. present(min_value)) then
+      if (present(min_open)) then
+        if (min_open) ok = x > min_value
+      end if
+      ok = ok .and. x >= min_value
+    end if
+    if (ok .and. present(max_value)) then
+      if (present(max_open)) then
+        if (max_open) ok = x < max_value
+      end if
+      ok = ok .and. x <= max_value
+    end if
+    if (.not. ok) then
+      if (ieee_is_finite(x)) then
+        call set_error(err, group, variable, real_repr(x), allowed)
+      else
+        call set_error(err, group, variable, real_repr(x), 'a finite number, ' // allowed)
+      end if
+    end if
+  end subroutine check_real
+
+  !> Check an integer scalar against inclusive bounds.
+  subroutine check_int(err, group, variable, n, allowed, min_value, max_value)
+    type(config_error_t), intent(inout) :: err  !< problem record
+    character(len=*), intent(in) :: group       !< group name
+    character(len=*), intent(in) :: variable    !< variable name
+    integer, intent(in) :: n                    !< value
+    character(len=*), intent(in) :: allowed     !< allowed range as text
+    integer, intent(in), optional :: min_value  !< lower bound
+    integer, intent(in), optional :: max_value  !< upper bound
+    logical :: ok
+    if (err%found) return
+    ok = .true.
+    if (present(min_value)) ok = ok .and. n >= min_value
+    if (present(max_value)) ok = ok .and. n <= max_value
+    if (.not. ok) call set_error(err, group, variable, ints_repr([n]), allowed)
+  end subroutine check_int
+
+  !> Check that `value` (trimmed) is one of `names`.
+  subroutine check_choice(err, group, variable, value, names)
+    type(config_error_t), intent(inout) :: err  !< problem record
+    character(len=*), intent(in) :: group       !< group name
+    character(len=*), intent(in) :: variable    !< variable name
+    character(len=*), intent(in) :: value       !< value
+    character(len=*), intent(in) :: names(:)    !< allowed values
+    if (err%found) return
+    if (.not. any(names == value)) then
+      call set_error(err, group, variable, quoted(value), 'one of ' // join_names(names, ', ', ''))
+    end if
+  end subroutine check_choice
+
+  !> `&run`.
+  subroutine check_run(cfg, err)
+    type(config_t), intent(in) :: cfg           !< configuration
+    type(config_error_t), intent(inout) :: err  !< problem record
+    character(len=*), parameter :: name_chars = 'abcdefghijklmnopqrstuvwxyz' // &
+      'ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.'
+    associate (p => cfg%run)
+      if (len_trim(p%name) == 0 .or. verify(trim(p%name), name_chars) > 0) then
+        call set_error(err, 'run', 'name', quoted(p%name), &
+          'non-empty, letters, digits, ''_'', ''-'' and ''.'' only (a file name prefix)')
+        return
+      end if
+      call check_choice(err, 'run', 'scene', p%scene, scene_names)
+      if (err%found) return
+      if (len_trim(p%output_dir) == 0) then
+        call set_error(err, 'run', 'output_dir', quoted(p%output_dir), 'a non-empty path')
+        return
+      end if
+      call check_real(err, 'run', 'end_time', p%end_time, '>= 0 [s]', min_value=0.0_wp)
+      call check_real(err, 'run', 'output_interval', p%output_interval, &
+        '>= 0 [s] (0: first and last state only)', min_value=0.0_wp)
+      call check_real(err, 'run', 'checkpoint_interval', p%checkpoint_interval, &
+        '>= 0 [s] (0: no checkpoints)', min_value=0.0_wp)
+      call check_int(err, 'run', 'max_steps', p%max_steps, '>= 0 (0: unlimited)', min_value=0)
+      call check_real(err, 'run', 'wall_time_limit', p%wall_time_limit, &
+        '>= 0 [s] (0: no limit)', min_value=0.0_wp)
+      call check_real(err, 'run', 'progress_interval', p%progress_interval, &
+        '>= 0 [s of wall time]', min_value=0.0_wp)
+      call check_int(err, 'run', 'verbosity', p%verbosity, '0, 1 or 2', min_value=0, max_value=2)
+    end associate
+  end subroutine check_run
+
+  !> `&grid`, including the checks that depend on the number of ranks.
+  subroutine check_grid(cfg, nranks, err)
+    type(config_t), intent(in) :: cfg           !< configuration
+    integer, intent(in) :: nranks               !< number of ranks
+    type(config_error_t), intent(inout) :: err  !< problem record
+    logical :: active(3)
+    integer :: dims(3), d, requested, need
+    logical :: ok
+    character(len=:), allocatable :: ranks_text
+
+    ok = .false.
+    associate (p => cfg%grid)
+      if (any(p%ncells < 1)) then
+        call set_error(err, 'grid', 'ncells', ints_repr(p%ncells), 'each entry >= 1')
+        return
+      end if
+      if (.not. all(ieee_is_finite(p%lower))) then
+        call set_error(err, 'grid', 'lower', reals_repr(p%lower), 'finite numbers [m]')
+        return
+      end if
+      if (all(ieee_is_finite(p%upper))) then
+        if (all(p%upper > p%lower)) ok = .true.
+      end if
+      if (.not. ok) then
+        call set_error(err, 'grid', 'upper', reals_repr(p%upper), &
+          'each entry > lower (' // reals_repr(p%lower) // ') [m]')
+        return
+      end if
+      need = ghost_width_needed(cfg)
+      if (p%ghost_width < need .or. p%ghost_width > 4) then
+        call set_error(err, 'grid', 'ghost_width', ints_repr([p%ghost_width]), &
+          ints_repr([need]) // '..4 (advection_order = ' // &
+          ints_repr([cfg%numerics%advection_order]) // ', shape_function = ' // &
+          quoted(cfg%numerics%shape_function) // ')')
+        return
+      end if
+
+      active = p%ncells > 1
+      ranks_text = ints_repr([nranks]) // ' ranks'
+      if (any(p%dims < 0) .or. any(.not. active .and. p%dims > 1)) then
+        call set_error(err, 'grid', 'dims', ints_repr(p%dims), &
+          'each entry >= 0 (0: automatic), 0 or 1 where ncells is 1')
+        return
+      end if
+      requested = product(merge(p%dims, 1, active .and. p%dims > 0))
+      if (all(.not. active .or. p%dims > 0) .and. requested /= nranks .and. any(active)) then
+        call set_error(err, 'grid', 'dims', ints_repr(p%dims), &
+          'product over active dimensions = number of ranks (' // ranks_text // ')')
+        return
+      end if
+      if (mod(nranks, requested) /= 0) then
+        call set_error(err, 'grid', 'dims', ints_repr(p%dims), &
+          'product of the non-zero entries divides the number of ranks (' // ranks_text // ')')
+        return
+      end if
+      if (.not. any(active) .and. nranks > 1) then
+        call set_error(err, 'grid', 'ncells', ints_repr(p%ncells), &
+          'a single-cell grid runs on 1 rank, not ' // ranks_text)
+        return
+      end if
+      if (product(int(p%ncells, i8)) < int(nranks, i8)) then
+        call set_error(err, 'grid', 'ncells', ints_repr(p%ncells), &
+          'at least one cell per rank (' // ranks_text // ')')
+        return
+      end if
+      dims = 1
+      if (nranks > 1) dims = choose_dims(nranks, active, p%dims)
+      do d = 1, 3
+        if (.not. active(d)) cycle
+        if (p%ncells(d) / dims(d) < p%ghost_width) then
+          call set_error(err, 'grid', 'ncells', ints_repr(p%ncells), &
+            'at least ghost_width (' // ints_repr([p%ghost_width]) // &
+            ') cells per block along each active dimension (' // ranks_text // ' split ' // &
+            ints_repr(dims(1:1)) // ' x ' // ints_repr(dims(2:2)) // ' x ' // &
+            ints_repr(dims(3:3)) // '; use fewer ranks or set &grid dims)')
+          return
+        end if
+      end do
+    end associate
+  end subroutine check_grid
+
+  !> `&time`.
+  subroutine check_time(cfg, err)
+    type(config_t), intent(in) :: cfg           !< configuration
+    type(config_error_t), intent(inout) :: err  !< problem record
+    associate (p => cfg%time)
+      call check_real(err, 'time', 'cfl', p%cfl, '0 < cfl <= 1', min_value=0.0_wp, &
+        max_value=1.0_wp, min_open=.true.)
+      call check_real(err, 'time', 'dt_init', p%dt_init, '> 0 [s]', min_value=0.0_wp, &
+        min_open=.true.)
+      if (err%found) return
+      call check_real(err, 'time', 'dt_max', p%dt_max, '>= dt_init (' // real_repr(p%dt_init) &
+        // ') [s]', min_value=p%dt_init)
+      call check_real(err, 'time', 'dt_min', p%dt_min, '0 < dt_min <= dt_init (' // &
+        real_repr(p%dt_init) // ') [s]', min_value=0.0_wp, max_value=p%dt_init, min_open=.true.)
+      call check_real(err, 'time', 'dt_growth', p%dt_growth, '>= 1', min_value=1.0_wp)
+    end associate
+  end subroutine check_time
+
+  !> `&numerics`.
+  subroutine check_numerics(cfg, err)
+    type(config_t), intent(in) :: cfg           !< configuration
+    type(config_error_t), intent(inout) :: err  !< problem record
+    associate (p => cfg%numerics)
+      call check_int(err, 'numerics', 'advection_order', p%advection_order, '1 or 2', &
+        min_value=1, max_value=2)
+      call check_choice(err, 'numerics', 'shape_function', p%shape_function, &
+        shape_function_names)
+      call check_real(err, 'numerics', 'time_theta', p%time_theta, &
+        '0.5 <= time_theta <= 1 (1: backward Euler, 0.5: Crank-Nicolson)', min_value=0.5_wp, &
+        max_value=1.0_wp)
+    end associate
+  end subroutine check_numerics
+
+  !> `&solver`.
+  subroutine check_solver(cfg, err)
+    type(config_t), intent(in) :: cfg           !< configuration
+    type(config_error_t), intent(inout) :: err  !< problem record
+    associate (p => cfg%solver)
+      call check_real(err, 'solver', 'tolerance', p%tolerance, '0 < tolerance < 1 (relative)', &
+        min_value=0.0_wp, max_value=1.0_wp, min_open=.true., max_open=.true.)
+      call check_int(err, 'solver', 'max_iterations', p%max_iterations, '>= 1', min_value=1)
+      call check_int(err, 'solver', 'print_level', p%print_level, '0..3', min_value=0, &
+        max_value=3)
+    end associate
+  end subroutine check_solver
+
+  !> `&output`.
+  subroutine check_output(cfg, err)
+    type(config_t), intent(in) :: cfg           !< configuration
+    type(config_error_t), intent(inout) :: err  !< problem record
+    if (len_trim(cfg%output%fields) == 0) then
+      call set_error(err, 'output', 'fields', quoted(cfg%output%fields), &
+        '''all'' or a list of field names')
+    end if
+  end subroutine check_output
+
+  !> `&heat`.
+  subroutine check_heat(cfg, err)
+    type(config_t), intent(in) :: cfg           !< configuration
+    type(config_error_t), intent(inout) :: err  !< problem record
+    associate (p => cfg%heat)
+      call check_real(err, 'heat', 'conductivity', p%conductivity, '> 0 [W/m/K]', &
+        min_value=0.0_wp, min_open=.true.)
+      call check_real(err, 'heat', 'density', p%density, '> 0 [kg/m^3]', min_value=0.0_wp, &
+        min_open=.true.)
+      call check_real(err, 'heat', 'heat_capacity', p%heat_capacity, '> 0 [J/kg/K]', &
+        min_value=0.0_wp, min_open=.true.)
+      call check_real(err, 'heat', 'base_temperature', p%base_temperature, '> 0 [K]', &
+        min_value=0.0_wp, min_open=.true.)
+      if (err%found) return
+      call check_real(err, 'heat', 'amplitude', p%amplitude, '|amplitude| < base_temperature (' &
+        // real_repr(p%base_temperature) // ') [K]', min_value=-p%base_temperature, &
+        max_value=p%base_temperature, min_open=.true., max_open=.true.)
+      if (err%found) return
+      if (any(cfg%grid%ncells > 1 .and. p%modes < 1)) then
+        call set_error(err, 'heat', 'modes', ints_repr(p%modes), &
+          'each entry >= 1 along active dimensions')
+      end if
+    end associate
+  end subroutine check_heat
+end module config_validate
