@@ -1,7 +1,15 @@
-!> Run driver entry point. Placeholder: the lead developer replaces this file with the time loop.
+!> Run driver: decomposition, output directory and input echo, scene dispatch, final status.
 module driver_run_mod
+  use mpi_f08, only: MPI_Comm, MPI_COMM_WORLD, MPI_Comm_dup, MPI_Comm_free, MPI_Bcast, MPI_INTEGER
+  use mpmice_kinds, only: msg_len
+  use mpmice_errors, only: exit_cleanly, int_text
+  use mpmice_log, only: log_info, log_is_root
   use config_types, only: config_t
-  use mpmice_log, only: log_info
+  use config_echo, only: config_to_text, config_write_used, config_used_path
+  use parallel_domain, only: domain_t, domain_init, domain_free
+  use grid_layout, only: grid_t, grid_init
+  use io_files, only: io_make_directory
+  use driver_heat, only: run_heat, run_status_t
   implicit none
   private
 
@@ -10,13 +18,58 @@ module driver_run_mod
 contains
 
   !> Run the scene described by `cfg` (read from `source_file`), or continue it from
-  !! `restart_file` ('' when not restarting). Placeholder: only logs what it would run.
+  !! `restart_file` ('' when not restarting). Ends the process with status 3 if the run failed.
   subroutine driver_run(cfg, source_file, restart_file)
     type(config_t), intent(in) :: cfg                  !< validated configuration
     character(len=*), intent(in) :: source_file        !< case file the configuration came from
     character(len=*), intent(in) :: restart_file       !< checkpoint to continue, '' if none
-    call log_info('mpmice: scene ''' // trim(cfg%run%scene) // ''' from ' // trim(source_file) &
-      // ': the time loop is not available in this build')
-    if (len_trim(restart_file) > 0) call log_info('mpmice: restart from ' // trim(restart_file))
+    type(MPI_Comm) :: world
+    type(domain_t) :: dom
+    type(grid_t) :: grid
+    type(run_status_t) :: status
+    character(len=:), allocatable :: text
+    character(len=msg_len) :: errmsg
+    integer :: stat
+
+    call MPI_Comm_dup(MPI_COMM_WORLD, world)
+    call domain_init(dom, world, cfg%grid%ncells, cfg%grid%periodic, cfg%grid%ghost_width, &
+      cfg%grid%dims)
+    call grid_init(grid, dom, cfg%grid%lower, cfg%grid%upper)
+    text = config_to_text(cfg)
+
+    ! Output directory and the echo of the resolved input (rank 0), failure reported on all ranks.
+    stat = 0
+    errmsg = ''
+    if (dom%rank == 0) then
+      call io_make_directory(trim(cfg%run%output_dir), stat)
+      if (stat == 0) call config_write_used(cfg, config_used_path(cfg), stat, errmsg)
+    end if
+    call MPI_Bcast(stat, 1, MPI_INTEGER, 0, dom%comm)
+    if (stat /= 0) then
+      if (log_is_root()) call log_info('mpmice: error: cannot write to &run output_dir = ''' // &
+        trim(cfg%run%output_dir) // ''' ' // trim(errmsg))
+      call exit_cleanly(1)
+    end if
+
+    call log_info('mpmice: scene ' // trim(cfg%run%scene) // ' from ' // trim(source_file) // &
+      ' on ' // int_text(dom%nranks) // ' ranks, blocks ' // int_text(dom%dims(1)) // ' x ' // &
+      int_text(dom%dims(2)) // ' x ' // int_text(dom%dims(3)) // ', cells ' // &
+      int_text(grid%ncells(1)) // ' x ' // int_text(grid%ncells(2)) // ' x ' // &
+      int_text(grid%ncells(3)))
+    call log_info('mpmice: output in ' // trim(cfg%run%output_dir) // ', resolved input ' // &
+      config_used_path(cfg))
+
+    select case (trim(cfg%run%scene))
+    case ('heat_conduction')
+      call run_heat(cfg, text, dom, grid, restart_file, status)
+    end select
+
+    call domain_free(dom)
+    call MPI_Comm_free(world)
+    if (status%exit_code /= 0) then
+      if (log_is_root()) call log_info('mpmice: run failed: ' // trim(status%reason))
+      call exit_cleanly(status%exit_code)
+    end if
+    call log_info('mpmice: ' // trim(status%reason))
   end subroutine driver_run
 end module driver_run_mod
