@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# MPMICE test command: set up whatever is missing, build, run every test.
+#
+#   scripts/test.sh            set up + build (scripts/setup.sh, incremental), ctest, pytest
+#   scripts/test.sh --unit     set up + build, ctest only (unit, MPI and harness tests)
+#   scripts/test.sh --quick    as the default, but skip ctest tests labelled `slow` and
+#                              pytest tests marked `slow`
+#   scripts/test.sh -- ARGS    pass ARGS on to pytest (e.g. -- -k heat -x)
+#
+# Exit status: 0 when every test passed, 1 otherwise (2 for a usage error). pytest's "no tests
+# collected" (exit 5) counts as success. See docs/testing.md.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+
+unit_only=0
+quick=0
+pytest_args=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --unit) unit_only=1 ;;
+    --quick) quick=1 ;;
+    --) shift; pytest_args=("$@"); break ;;
+    -h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "test.sh: unknown option $1 (try --help)" >&2; exit 2 ;;
+  esac
+  shift
+done
+
+# Open MPI: allow running as root (containers, CI) and more ranks than cores (MPI tests use 4).
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_rmaps_base_oversubscribe=1
+export MPMICE_EXE="${MPMICE_EXE:-$root/build/bin/mpmice}"
+
+start=$(date +%s)
+echo "== test.sh: set up and build (scripts/setup.sh)"
+"$root/scripts/setup.sh"
+
+ctest_args=(--test-dir "$root/build" --output-on-failure -j2)
+[ "$quick" -eq 1 ] && ctest_args+=(-LE slow)
+echo "== test.sh: ctest ${ctest_args[*]}"
+ctest_status=0
+ctest "${ctest_args[@]}" || ctest_status=$?
+
+pytest_status=0
+if [ "$unit_only" -eq 0 ]; then
+  marker=()
+  [ "$quick" -eq 1 ] && marker=(-m "not slow")
+  echo "== test.sh: pytest tests/validation"
+  "$root/.venv/bin/python" -m pytest "$root/tests/validation" -q "${marker[@]}" \
+    "${pytest_args[@]}" || pytest_status=$?
+  if [ "$pytest_status" -eq 5 ]; then
+    echo "test.sh: pytest collected no tests (counted as success)"
+    pytest_status=0
+  fi
+fi
+
+elapsed=$(( $(date +%s) - start ))
+echo "== test.sh: ctest exit ${ctest_status}, pytest exit ${pytest_status}, ${elapsed} s in all"
+if [ "$ctest_status" -ne 0 ] || [ "$pytest_status" -ne 0 ]; then
+  echo "test.sh: FAILED"
+  exit 1
+fi
+echo "test.sh: all tests passed"
