@@ -34,7 +34,10 @@ export MPMICE_EXE="${MPMICE_EXE:-$root/build/bin/mpmice}"
 
 start=$(date +%s)
 echo "== test.sh: set up and build (scripts/setup.sh)"
-"$root/scripts/setup.sh"
+if ! "$root/scripts/setup.sh"; then
+  echo "test.sh: FAILED (set-up or build, see above)"
+  exit 1
+fi
 
 ctest_args=(--test-dir "$root/build" --output-on-failure -j2)
 [ "$quick" -eq 1 ] && ctest_args+=(-LE slow)
