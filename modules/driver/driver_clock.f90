@@ -24,7 +24,8 @@ module driver_clock
     real(wp) :: checkpoint_interval = 0.0_wp  !< checkpoint interval [s] (0: none)
     integer :: output_index = 0               !< dumps written at interval times so far
     integer :: checkpoint_index = 0           !< checkpoints written at interval times so far
-    integer :: max_steps = 0                  !< step limit (0: none)
+    integer :: max_steps = 0                  !< steps allowed in this invocation (0: no limit)
+    integer :: first_step = 0                 !< step number at the start of this invocation
     real(wp) :: dt_max = huge(1.0_wp)         !< largest step [s]
     real(wp) :: dt_growth = 1.1_wp            !< largest ratio of successive proposed steps
     logical :: output_due = .false.           !< the last step landed on an output time
@@ -111,11 +112,13 @@ contains
     if (dt < unclipped) clock%dt_next = min(clock%dt_next, unclipped)
   end subroutine clock_advance
 
-  !> True when the end time or the step limit is reached.
+  !> True when the end time or this invocation's step limit is reached.
   pure function clock_finished(clock) result(finished)
     type(clock_t), intent(in) :: clock  !< run clock
     logical :: finished
     finished = clock%time >= clock%end_time
-    if (clock%max_steps > 0) finished = finished .or. clock%step >= clock%max_steps
+    if (clock%max_steps > 0) then
+      finished = finished .or. clock%step - clock%first_step >= clock%max_steps
+    end if
   end function clock_finished
 end module driver_clock

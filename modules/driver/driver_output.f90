@@ -130,6 +130,7 @@ contains
       ' was written for another grid (&grid ncells cannot change on restart)')
     call h5_read_attribute(file, 'time', clock%time)
     call h5_read_attribute(file, 'step', clock%step)
+    clock%first_step = clock%step
     call h5_read_attribute(file, 'dt', clock%dt)
     call h5_read_attribute(file, 'dt_next', clock%dt_next)
     call h5_read_attribute(file, 'output_index', clock%output_index)

@@ -1,0 +1,119 @@
+"""Heat-conduction scene against its exact solution.
+
+Usage:  python -m postproc.heat_conduction OUTPUT_DIR [--name NAME] [--png FILE]
+
+Reads the last dump of the run in OUTPUT_DIR, prints the relative L2 error of the temperature
+perturbation, ``||T - T_exact||_2 / ||T_exact - T_base||_2``, and writes a comparison PNG.
+"""
+from __future__ import annotations
+
+import argparse
+import glob
+import os
+import re
+
+import h5py
+import numpy as np
+
+from postproc.analytic import heat_mode_solution
+from postproc.namelist import parse_namelist_text
+
+
+def dump_files(output_dir: str, name: str | None = None) -> list[str]:
+    """Dump files of a run (not checkpoints or failure dumps), sorted by step."""
+    pattern = f"{name}_*.h5" if name else "*_*.h5"
+    files = [f for f in glob.glob(os.path.join(output_dir, pattern))
+             if re.search(r"_\d{6,}\.h5$", f) and "_checkpoint_" not in f and "_failed_" not in f]
+    return sorted(files, key=lambda f: int(re.search(r"_(\d+)\.h5$", f).group(1)))
+
+
+def read_temperature(path: str) -> dict:
+    """Temperature [i, j, k], grid attributes and the resolved input of one dump."""
+    with h5py.File(path, "r") as f:
+        attrs = {k: f.attrs[k] for k in f.attrs}
+        temperature = np.asarray(f["cell/temperature"][...]).T  # file is [k, j, i]
+    text = attrs["namelist"]
+    if isinstance(text, bytes):
+        text = text.decode()
+    nml = parse_namelist_text(str(text))
+    ncells = np.asarray(attrs["ncells"]).astype(int)
+    lower = np.asarray(attrs["lower"], dtype=float)
+    dx = np.asarray(attrs["dx"], dtype=float)
+    centres = [lower[d] + (np.arange(ncells[d]) + 0.5) * dx[d] for d in range(3)]
+    return {"time": float(attrs["time"]), "step": int(attrs["step"]), "T": temperature,
+            "centres": centres, "ncells": ncells, "lower": lower, "upper": lower + ncells * dx,
+            "nml": nml}
+
+
+def exact_temperature(dump: dict) -> np.ndarray:
+    """Exact solution at the dump's cell centres and time."""
+    grid = dump["nml"]["grid"]
+    periodic = grid.get("periodic", [False, False, False])
+    active = [n > 1 for n in dump["ncells"]]
+    return heat_mode_solution(dump["centres"], dump["lower"], dump["upper"], periodic, active,
+                              dump["nml"].get("heat", {}), dump["time"])
+
+
+def relative_error(dump: dict) -> float:
+    """||T - T_exact||_2 / ||T_exact - T_base||_2 over all cells."""
+    exact = exact_temperature(dump)
+    base = dump["nml"].get("heat", {}).get("base_temperature", 300.0)
+    return float(np.linalg.norm(dump["T"] - exact) / np.linalg.norm(exact - base))
+
+
+def plot_comparison(dump: dict, png: str) -> None:
+    """Profile along x through the middle of the other dimensions: computed vs exact."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    exact = exact_temperature(dump)
+    j = dump["ncells"][1] // 2
+    k = dump["ncells"][2] // 2
+    x = dump["centres"][0]
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    axes[0].plot(x, exact[:, j, k], "k-", label="exact")
+    axes[0].plot(x, dump["T"][:, j, k], "o", ms=3, label="MPMICE")
+    axes[0].set_xlabel("x [m]")
+    axes[0].set_ylabel("T [K]")
+    axes[0].set_title(f"t = {dump['time']:.4g} s, cut at j={j + 1}, k={k + 1}")
+    axes[0].legend()
+    if dump["ncells"][1] > 1:
+        err = (dump["T"] - exact)[:, :, k]
+        im = axes[1].imshow(err.T, origin="lower", aspect="auto",
+                            extent=[dump["lower"][0], dump["upper"][0], dump["lower"][1],
+                                    dump["upper"][1]])
+        fig.colorbar(im, ax=axes[1], label="T - T_exact [K]")
+        axes[1].set_xlabel("x [m]")
+        axes[1].set_ylabel("y [m]")
+    else:
+        axes[1].plot(x, dump["T"][:, j, k] - exact[:, j, k])
+        axes[1].set_xlabel("x [m]")
+        axes[1].set_ylabel("T - T_exact [K]")
+    axes[1].set_title(f"relative L2 error {relative_error(dump):.3e}")
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("output_dir")
+    parser.add_argument("--name", default=None)
+    parser.add_argument("--png", default=None)
+    args = parser.parse_args(argv)
+    files = dump_files(args.output_dir, args.name)
+    if not files:
+        parser.error(f"no dumps in {args.output_dir}")
+    dump = read_temperature(files[-1])
+    error = relative_error(dump)
+    png = args.png or os.path.join(args.output_dir, "heat_conduction_vs_exact.png")
+    plot_comparison(dump, png)
+    print(f"{os.path.basename(files[-1])}: t = {dump['time']:.6g} s, "
+          f"relative L2 error of the perturbation = {error:.4e}")
+    print(f"plot: {png}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
