@@ -1,0 +1,235 @@
+"""Input handling of the ``mpmice`` executable: every class of bad input stops the run with exit
+status 1 and exactly one line on standard error naming the file (or ``--set``), the namelist
+group, the variable and the value, before anything is written, on 1 and 2 ranks; ``--check``
+prints the resolved input (every group, defaults included) and writes nothing; ``--set`` overrides
+the file in order.
+
+Uses the ``run_mpmice(args, nranks=1, cwd=None, timeout=300)`` fixture of ``conftest.py``.
+"""
+from __future__ import annotations
+
+import pathlib
+import sys
+
+import pytest
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO))
+from postproc.namelist import parse_namelist_text  # noqa: E402
+
+GROUPS = ("run", "grid", "time", "numerics", "solver", "output", "heat")
+
+#: A valid case that runs on 1 and 2 ranks; its output would go to ``out/``.
+GOOD = """! a small heat-conduction case
+&run
+  name = 'good'
+  output_dir = 'out'      ! relative to the working directory
+  end_time = 0.01         ! s
+/
+&grid
+  ncells = 16, 1, 1
+  upper = 2.0, 1.0, 1.0   ! m
+/
+&time
+  dt_init = 1.0e-4
+  dt_max = 1.0e-3
+/
+&heat
+  amplitude = 0.5
+/
+"""
+
+#: (id, case file text, --set texts, pieces the error line must contain)
+BAD_INPUTS = [
+    ("ncells_negative", "&grid ncells = -5, 1, 1 /", [],
+     ["case.nml", "&grid", "ncells", "-5, 1, 1", ">= 1"]),
+    ("ncells_not_integer", "&grid ncells = 'abc' /", [],
+     ["case.nml", "&grid", "ncells", "'abc'"]),
+    ("real_malformed", "&run end_time = 1.0.0 /", [],
+     ["case.nml", "&run", "end_time", "1.0.0"]),
+    ("integer_given_real", "&run max_steps = 2.5 /", [],
+     ["case.nml", "&run", "max_steps", "2.5"]),
+    ("logical_malformed", "&output xdmf = yes /", [],
+     ["case.nml", "&output", "xdmf", "yes"]),
+    ("unknown_variable", "&time cfl = 0.4, dt_inti = 1e-4 /", [],
+     ["case.nml", "&time", "dt_inti", "1e-4", "unknown"]),
+    ("too_many_values", "&grid lower = 0, 0, 0, 0 /", [],
+     ["case.nml", "&grid", "lower", "0, 0, 0, 0"]),
+    ("missing_value", "&time cfl = /", [],
+     ["case.nml", "&time", "cfl", "missing value"]),
+    ("unquoted_string", "&run scene = heat_conduction /", [],
+     ["case.nml", "&run", "scene", "heat_conduction", "quoted"]),
+    ("cfl_out_of_range", "&time cfl = 1.5 /", [],
+     ["case.nml", "&time", "cfl", "1.5", "<= 1"]),
+    ("dt_max_below_dt_init", "&time dt_init = 0.01 dt_max = 0.001 /", [],
+     ["case.nml", "&time", "dt_max", "0.001", "dt_init"]),
+    ("unknown_scene", "&run scene = 'volcano' /", [],
+     ["case.nml", "&run", "scene", "'volcano'", "heat_conduction"]),
+    ("overflow", "&run end_time = 1e400 /", [],
+     ["case.nml", "&run", "end_time", "Infinity", "finite"]),
+    ("nan", "&heat conductivity = NaN /", [],
+     ["case.nml", "&heat", "conductivity", "NaN"]),
+    ("ghost_width_too_small", "&grid ghost_width = 1 /", [],
+     ["case.nml", "&grid", "ghost_width", "= 1", "2..4"]),
+    ("modes_zero", "&heat modes = 0, 1, 1 /", [],
+     ["case.nml", "&heat", "modes", "0, 1, 1"]),
+    ("repeated_group", "&time cfl = 0.4 /\n&time cfl = 0.3 /", [],
+     ["case.nml", "&time", "more than once"]),
+    ("unknown_group", "&gird ncells = 4 /", [], ["case.nml", "&gird", "unknown"]),
+    ("unterminated_group", "&grid ncells = 4, 1, 1", [], ["case.nml", "&grid", "terminated"]),
+    ("set_out_of_range", "", ["&grid ncells = 0, 1, 1 /"],
+     ["--set", "&grid", "ncells", "0, 1, 1"]),
+    ("set_malformed", "", ["&time cfl = 0.3 /", "&time cfl = abc /"],
+     ["--set", "&time", "cfl", "abc"]),
+    ("set_unknown_variable", "", ["&run bogus = 1 /"], ["--set", "&run", "bogus", "1"]),
+]
+
+
+@pytest.fixture(autouse=True)
+def quiet_launcher(monkeypatch):
+    """Open MPI's mpirun adds a multi-line report on standard error whenever a rank exits with a
+    non-zero status; ``orte_execute_quiet`` (what ``mpirun -q`` sets) turns it off, so standard
+    error holds only what mpmice itself prints. Other MPI launchers ignore the variable."""
+    monkeypatch.setenv("OMPI_MCA_orte_execute_quiet", "1")
+
+
+def text_of(stream) -> str:
+    """Standard output or error of a CompletedProcess as text."""
+    if stream is None:
+        return ""
+    return stream if isinstance(stream, str) else stream.decode("utf-8", "replace")
+
+
+def write_case(directory: pathlib.Path, body: str) -> pathlib.Path:
+    """A case file whose output directory is ``out/`` followed by ``body``."""
+    path = directory / "case.nml"
+    if body.lstrip().lower().startswith("&run"):
+        path.write_text(body + "\n")
+    else:
+        path.write_text("&run output_dir = 'out' /\n" + body + "\n")
+    return path
+
+
+def assert_input_error(result, pieces, directory: pathlib.Path) -> None:
+    """Exit status 1, one stderr line holding every piece, nothing written."""
+    stderr = text_of(result.stderr)
+    lines = [line for line in stderr.splitlines() if line.strip()]
+    assert result.returncode == 1, stderr
+    assert len(lines) == 1, f"expected one error line, got:\n{stderr}"
+    assert lines[0].startswith("mpmice: input error: "), lines[0]
+    for piece in pieces:
+        assert piece in lines[0], f"{piece!r} missing from: {lines[0]}"
+    assert text_of(result.stdout).strip() == "", text_of(result.stdout)
+    assert sorted(p.name for p in directory.iterdir()) == ["case.nml"]
+
+
+@pytest.mark.parametrize("nranks", [1, 2])
+@pytest.mark.parametrize("case_id, body, sets, pieces", BAD_INPUTS, ids=[b[0] for b in BAD_INPUTS])
+def test_bad_input_stops_with_one_line(run_mpmice, tmp_case_dir, nranks, case_id, body, sets, pieces):
+    write_case(tmp_case_dir, body)
+    args = ["case.nml"]
+    for text in sets:
+        args += ["--set", text]
+    result = run_mpmice(args, nranks=nranks, cwd=tmp_case_dir)
+    assert_input_error(result, pieces, tmp_case_dir)
+
+
+@pytest.mark.parametrize("nranks", [1, 2])
+def test_missing_file(run_mpmice, tmp_case_dir, nranks):
+    (tmp_case_dir / "case.nml").write_text(GOOD)
+    result = run_mpmice(["nothere.nml"], nranks=nranks, cwd=tmp_case_dir)
+    assert_input_error(result, ["nothere.nml", "cannot read"], tmp_case_dir)
+
+
+@pytest.mark.parametrize("nranks", [1, 2])
+def test_missing_restart_file(run_mpmice, tmp_case_dir, nranks):
+    (tmp_case_dir / "case.nml").write_text(GOOD)
+    result = run_mpmice(["--restart", "nothere.h5"], nranks=nranks, cwd=tmp_case_dir)
+    assert_input_error(result, ["nothere.h5"], tmp_case_dir)
+
+
+def test_too_many_ranks_for_the_grid(run_mpmice, tmp_case_dir):
+    """3 cells make one valid block but not two blocks of 2 ghost layers."""
+    write_case(tmp_case_dir, "&grid ncells = 3, 1, 1 /")
+    assert run_mpmice(["--check", "case.nml"], nranks=1, cwd=tmp_case_dir).returncode == 0
+    result = run_mpmice(["case.nml"], nranks=2, cwd=tmp_case_dir)
+    assert_input_error(result, ["case.nml", "&grid", "ncells", "3, 1, 1", "2 ranks"], tmp_case_dir)
+
+
+def test_dims_must_match_ranks(run_mpmice, tmp_case_dir):
+    write_case(tmp_case_dir, "&grid ncells = 16, 16, 1, dims = 1, 1, 0 /")
+    result = run_mpmice(["case.nml"], nranks=2, cwd=tmp_case_dir)
+    assert_input_error(result, ["case.nml", "&grid", "dims", "1, 1, 0"], tmp_case_dir)
+
+
+@pytest.mark.parametrize("args", [[], ["a.nml", "b.nml"], ["case.nml", "--frobnicate"],
+                                  ["case.nml", "--set"]])
+def test_usage_errors(run_mpmice, tmp_case_dir, args):
+    (tmp_case_dir / "case.nml").write_text(GOOD)
+    result = run_mpmice(args, nranks=1, cwd=tmp_case_dir)
+    lines = text_of(result.stderr).strip().splitlines()
+    assert result.returncode == 1
+    assert len(lines) == 1 and lines[0].startswith("mpmice: usage error: "), lines
+
+
+@pytest.mark.parametrize("nranks", [1, 2])
+def test_check_prints_every_group_and_writes_nothing(run_mpmice, tmp_case_dir, nranks):
+    (tmp_case_dir / "case.nml").write_text(GOOD)
+    result = run_mpmice(["--check", "case.nml"], nranks=nranks, cwd=tmp_case_dir)
+    stdout = text_of(result.stdout)
+    assert result.returncode == 0, text_of(result.stderr)
+    assert text_of(result.stderr).strip() == ""
+    assert stdout.count("&run") == 1  # printed by one rank only
+    groups = parse_namelist_text(stdout)
+    assert set(groups) == set(GROUPS)
+    assert groups["run"]["name"] == "good"
+    assert groups["grid"]["ncells"] == [16, 1, 1]
+    assert groups["grid"]["upper"] == [2.0, 1.0, 1.0]
+    assert groups["time"]["dt_init"] == 1.0e-4
+    assert groups["heat"]["amplitude"] == 0.5
+    # defaults of variables the file does not set are printed too
+    assert groups["time"]["cfl"] == 0.5
+    assert groups["solver"]["max_iterations"] == 200
+    assert groups["output"]["xdmf"] is True
+    assert groups["numerics"]["shape_function"] == "gimp"
+    assert sorted(p.name for p in tmp_case_dir.iterdir()) == ["case.nml"]
+
+
+def test_check_output_is_a_fixed_point(run_mpmice, tmp_case_dir):
+    """The printed input, read back, resolves to the same text."""
+    (tmp_case_dir / "case.nml").write_text(GOOD)
+    first = text_of(run_mpmice(["--check", "case.nml"], cwd=tmp_case_dir).stdout)
+    (tmp_case_dir / "resolved.nml").write_text(first)
+    second = run_mpmice(["--check", "resolved.nml"], cwd=tmp_case_dir)
+    assert second.returncode == 0, text_of(second.stderr)
+    assert text_of(second.stdout) == first
+
+
+def test_set_overrides_in_order(run_mpmice, tmp_case_dir):
+    (tmp_case_dir / "case.nml").write_text(GOOD)
+    result = run_mpmice(["--check", "case.nml", "--set", "&grid ncells = 200, 1, 1 /",
+                         "--set=&time cfl = 0.3 / &run end_time = 2.0 /",
+                         "--set", "&time cfl = 0.25 /"], cwd=tmp_case_dir)
+    assert result.returncode == 0, text_of(result.stderr)
+    groups = parse_namelist_text(text_of(result.stdout))
+    assert groups["grid"]["ncells"] == [200, 1, 1]
+    assert groups["run"]["end_time"] == 2.0
+    assert groups["time"]["cfl"] == 0.25
+    assert groups["grid"]["upper"] == [2.0, 1.0, 1.0]  # from the file, untouched
+
+
+@pytest.mark.parametrize("path", sorted((REPO / "namelists").glob("*.nml")),
+                         ids=lambda p: p.name)
+def test_shipped_namelists_are_valid(run_mpmice, tmp_case_dir, path):
+    result = run_mpmice(["--check", str(path)], nranks=1, cwd=tmp_case_dir)
+    assert result.returncode == 0, text_of(result.stderr)
+    assert set(parse_namelist_text(text_of(result.stdout))) == set(GROUPS)
+
+
+def test_help_and_version(run_mpmice, tmp_case_dir):
+    help_result = run_mpmice(["--help"], cwd=tmp_case_dir)
+    assert help_result.returncode == 0
+    assert "--check" in text_of(help_result.stdout) and "--set" in text_of(help_result.stdout)
+    version = run_mpmice(["--version"], cwd=tmp_case_dir)
+    assert version.returncode == 0
+    assert text_of(version.stdout).startswith("mpmice ")
