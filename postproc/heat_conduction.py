@@ -68,14 +68,15 @@ def plot_comparison(dump: dict, png: str) -> None:
     import matplotlib.pyplot as plt
 
     exact = exact_temperature(dump)
+    base = dump["nml"].get("heat", {}).get("base_temperature", 300.0)
     j = dump["ncells"][1] // 2
     k = dump["ncells"][2] // 2
     x = dump["centres"][0]
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
-    axes[0].plot(x, exact[:, j, k], "k-", label="exact")
-    axes[0].plot(x, dump["T"][:, j, k], "o", ms=3, label="MPMICE")
+    axes[0].plot(x, exact[:, j, k] - base, "k-", label="exact")
+    axes[0].plot(x, dump["T"][:, j, k] - base, "o", ms=3, label="MPMICE")
     axes[0].set_xlabel("x [m]")
-    axes[0].set_ylabel("T [K]")
+    axes[0].set_ylabel(f"T - {base:g} K [K]")
     axes[0].set_title(f"t = {dump['time']:.4g} s, cut at j={j + 1}, k={k + 1}")
     axes[0].legend()
     if dump["ncells"][1] > 1:

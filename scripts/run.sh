@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Run a scene (default: the README's default scene), setting up and building first if needed, then
+# compare it with its reference solution and write the comparison plot.
+#
+#   scripts/run.sh                         default scene on 2 ranks
+#   scripts/run.sh namelists/X.nml [N]     scene X on N ranks (default 2), extra mpmice
+#                                          arguments after N (e.g. --set '&grid ncells=...')
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+
+case_file="${1:-namelists/heat_conduction_2d.nml}"
+nranks="${2:-2}"
+shift $(( $# > 2 ? 2 : $# )) || true
+
+"$root/scripts/setup.sh"
+
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_rmaps_base_oversubscribe=1
+
+mpirun -n "$nranks" "$root/build/bin/mpmice" "$case_file" "$@"
+
+# Postprocess: the output directory and scene come from the resolved input.
+output_dir=$("$root/build/bin/mpmice" --check "$case_file" "$@" | \
+  sed -n "s/^ *output_dir *= *['\"]\(.*\)['\"].*/\1/p" | head -n 1)
+scene=$("$root/build/bin/mpmice" --check "$case_file" "$@" | \
+  sed -n "s/^ *scene *= *['\"]\(.*\)['\"].*/\1/p" | head -n 1)
+case "$scene" in
+  heat_conduction)
+    PYTHONPATH="$root" "$root/.venv/bin/python" -m postproc.heat_conduction "$output_dir" ;;
+  *)
+    echo "run.sh: no postprocessing script for scene '$scene'; output is in $output_dir" ;;
+esac
