@@ -38,7 +38,8 @@ contains
       '       mpmice [--check] --restart CHECKPOINT.h5 [--set ...]...' // nl // &
       '       mpmice --help | --version' // nl // nl // &
       '  CASE.nml            namelist file describing the scene (see docs/namelists.md)' // nl // &
-      '  --check             read and validate only; print the resolved input; write nothing' // nl // &
+      '  --check             read and validate only; print the resolved input; write nothing' &
+      // nl // &
       '  --set TEXT          namelist text applied after the file, in order (repeatable)' // nl // &
       '  --restart FILE      continue the run stored in checkpoint FILE' // nl // &
       '  --help, -h          print this help' // nl // &

@@ -255,7 +255,7 @@ contains
   subroutine apply_assignment(cfg, group, name, value, source, stat, errmsg, origin)
     type(config_t), intent(inout) :: cfg                    !< configuration to update
     character(len=*), intent(in) :: group                   !< lower-case group name
-    character(len=*), intent(in) :: name                    !< variable as written (maybe subscripted)
+    character(len=*), intent(in) :: name                    !< variable as written (with subscript)
     character(len=*), intent(in) :: value                   !< value text
     character(len=*), intent(in) :: source                  !< input name for messages
     integer, intent(out) :: stat                            !< 0 ok, 1 input error
@@ -352,7 +352,8 @@ contains
     character(len=*), intent(in) :: problem  !< what is wrong and what is allowed
     character(len=:), allocatable :: text
     if (len_trim(group) > 0) then
-      text = 'mpmice: input error: ' // trim(source) // ': &' // trim(group) // ': ' // trim(problem)
+      text = 'mpmice: input error: ' // trim(source) // ': &' // trim(group) // ': ' // &
+        trim(problem)
     else
       text = 'mpmice: input error: ' // trim(source) // ': ' // trim(problem)
     end if

@@ -125,7 +125,8 @@ def assert_input_error(result, pieces, directory: pathlib.Path) -> None:
 
 @pytest.mark.parametrize("nranks", [1, 2])
 @pytest.mark.parametrize("case_id, body, sets, pieces", BAD_INPUTS, ids=[b[0] for b in BAD_INPUTS])
-def test_bad_input_stops_with_one_line(run_mpmice, tmp_case_dir, nranks, case_id, body, sets, pieces):
+def test_bad_input_stops_with_one_line(run_mpmice, tmp_case_dir, nranks, case_id, body, sets,
+                                       pieces):
     write_case(tmp_case_dir, body)
     args = ["case.nml"]
     for text in sets:
@@ -146,6 +147,37 @@ def test_missing_restart_file(run_mpmice, tmp_case_dir, nranks):
     (tmp_case_dir / "case.nml").write_text(GOOD)
     result = run_mpmice(["--restart", "nothere.h5"], nranks=nranks, cwd=tmp_case_dir)
     assert_input_error(result, ["nothere.h5"], tmp_case_dir)
+
+
+@pytest.mark.parametrize("nranks", [1, 2])
+def test_restart_file_not_hdf5(run_mpmice, tmp_case_dir, nranks):
+    (tmp_case_dir / "case.nml").write_text(GOOD)
+    result = run_mpmice(["--restart", "case.nml"], nranks=nranks, cwd=tmp_case_dir)
+    assert_input_error(result, ["case.nml", "not an HDF5"], tmp_case_dir)
+
+
+def test_restart_configuration_comes_from_the_checkpoint(run_mpmice, tmp_case_dir):
+    """--check --restart prints the input stored in the checkpoint, with --set applied."""
+    (tmp_case_dir / "case.nml").write_text(
+        GOOD.replace("end_time = 0.01", "end_time = 0.002, checkpoint_interval = 0.001"))
+    run = run_mpmice(["case.nml"], nranks=1, cwd=tmp_case_dir)
+    assert run.returncode == 0, text_of(run.stderr)
+    checkpoints = sorted((tmp_case_dir / "out").glob("good_checkpoint_*.h5"))
+    assert checkpoints, sorted(p.name for p in (tmp_case_dir / "out").iterdir())
+    (tmp_case_dir / "case.nml").unlink()  # the restart must not need the case file
+    result = run_mpmice(["--check", "--restart", str(checkpoints[-1]),
+                         "--set", "&run end_time = 0.004 /"], nranks=2, cwd=tmp_case_dir)
+    assert result.returncode == 0, text_of(result.stderr)
+    groups = parse_namelist_text(text_of(result.stdout))
+    assert groups["run"]["name"] == "good"
+    assert groups["run"]["end_time"] == 0.004
+    assert groups["run"]["checkpoint_interval"] == 0.001
+    assert groups["grid"]["upper"] == [2.0, 1.0, 1.0]
+    bad = run_mpmice(["--check", "--restart", str(checkpoints[-1]),
+                      "--set", "&time cfl = -1 /"], nranks=1, cwd=tmp_case_dir)
+    assert bad.returncode == 1
+    expected = "mpmice: input error: --set: &time cfl = -1.0: 0 < cfl <= 1"
+    assert text_of(bad.stderr).strip() == expected
 
 
 def test_too_many_ranks_for_the_grid(run_mpmice, tmp_case_dir):
