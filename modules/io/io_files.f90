@@ -1,0 +1,180 @@
+!> File-system helpers for the output layer: directories, names of dump files, atomic renames.
+!!
+!! Directory creation and renames go through the C library (`mkdir`, `access`, `rename`) because
+!! Fortran 2008 has no portable way to do either. These routines act on the calling rank only;
+!! in a parallel run rank 0 calls them and the other ranks wait at the next collective operation
+!! (e.g. the collective `h5_create` of the first dump).
+module io_files
+  use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char
+  use mpmice_errors, only: fatal
+  implicit none
+  private
+
+  public :: io_make_directory, io_directory_exists, io_file_exists, io_rename, io_select_mpiio
+  public :: io_dump_stem, io_join_path, io_basename, io_dirname
+
+  integer(c_int), parameter :: directory_mode = int(o'755', c_int)  !< permissions of new folders
+  integer(c_int), parameter :: access_exists = 0_c_int              !< `F_OK` of `access(2)`
+
+  interface
+    !> `int mkdir(const char *path, mode_t mode)` (mode_t is a 32-bit unsigned int on Linux).
+    function c_mkdir(path, mode) result(status) bind(c, name='mkdir')
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: mode
+      integer(c_int) :: status
+    end function c_mkdir
+
+    !> `int access(const char *path, int mode)`.
+    function c_access(path, mode) result(status) bind(c, name='access')
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: mode
+      integer(c_int) :: status
+    end function c_access
+
+    !> `int setenv(const char *name, const char *value, int overwrite)`.
+    function c_setenv(name, value, overwrite) result(status) bind(c, name='setenv')
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: name(*)
+      character(kind=c_char), intent(in) :: value(*)
+      integer(c_int), value :: overwrite
+      integer(c_int) :: status
+    end function c_setenv
+
+    !> `int rename(const char *old, const char *new)`.
+    function c_rename(old, new) result(status) bind(c, name='rename')
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: old(*)
+      character(kind=c_char), intent(in) :: new(*)
+      integer(c_int) :: status
+    end function c_rename
+  end interface
+
+contains
+
+  !> Create the folder `path` and any missing parents (like `mkdir -p`). An existing folder is
+  !! fine. On failure: `stat` /= 0 if present, otherwise `fatal` naming the path.
+  subroutine io_make_directory(path, stat)
+    character(len=*), intent(in) :: path           !< folder to create (absolute or relative)
+    integer, intent(out), optional :: stat         !< 0 on success
+    character(len=:), allocatable :: full
+    integer :: i
+    integer(c_int) :: ignored
+
+    if (present(stat)) stat = 0
+    full = trim(path)
+    if (len(full) == 0) full = '.'
+    ! Create every prefix ending before a '/', then the full path; failures of intermediate
+    ! calls (already exists, permission on a parent that exists) are judged by the final check.
+    do i = 2, len(full)
+      if (full(i:i) == '/' .and. full(i - 1:i - 1) /= '/') then
+        ignored = c_mkdir(c_string(full(1:i - 1)), directory_mode)
+      end if
+    end do
+    ignored = c_mkdir(c_string(full), directory_mode)
+    if (.not. io_directory_exists(full)) then
+      if (present(stat)) then
+        stat = 1
+      else
+        call fatal('io_make_directory: cannot create folder ' // full)
+      end if
+    end if
+  end subroutine io_make_directory
+
+  !> True if `path` names an existing folder.
+  function io_directory_exists(path) result(exists)
+    character(len=*), intent(in) :: path  !< folder to test
+    logical :: exists
+    ! "path/." resolves only when path is a folder.
+    exists = c_access(c_string(trim(path) // '/.'), access_exists) == 0_c_int
+  end function io_directory_exists
+
+  !> True if `path` names an existing file or folder.
+  function io_file_exists(path) result(exists)
+    character(len=*), intent(in) :: path  !< file to test
+    logical :: exists
+    exists = c_access(c_string(trim(path)), access_exists) == 0_c_int
+  end function io_file_exists
+
+  !> Choose the MPI-IO implementation for HDF5 output; call it before `MPI_Init`. Under Open MPI
+  !! it sets `OMPI_MCA_io=^ompio` (use ROMIO) unless `OMPI_MCA_io` is already set, because
+  !! collective writes through OMPIO's default module corrupted HDF5 datasets in our tests (see
+  !! `docs/io.md`); other MPI libraries ignore the variable. Without it the output layer still
+  !! writes correct files, with independent instead of collective MPI-IO transfers.
+  subroutine io_select_mpiio()
+    integer(c_int) :: ignored
+    ignored = c_setenv(c_string('OMPI_MCA_io'), c_string('^ompio'), 0_c_int)
+  end subroutine io_select_mpiio
+
+  !> Rename `old` to `new` (atomic within one file system; replaces `new`). Fatal on failure.
+  subroutine io_rename(old, new)
+    character(len=*), intent(in) :: old  !< existing file
+    character(len=*), intent(in) :: new  !< new name
+    if (c_rename(c_string(trim(old)), c_string(trim(new))) /= 0_c_int) then
+      call fatal('io_rename: cannot rename ' // trim(old) // ' to ' // trim(new))
+    end if
+  end subroutine io_rename
+
+  !> Stem of a dump file: `<name>_<step:06d>` (more digits when step >= 10^6).
+  function io_dump_stem(name, step) result(stem)
+    character(len=*), intent(in) :: name  !< run name (`&run name`)
+    integer, intent(in) :: step           !< time step number (>= 0)
+    character(len=:), allocatable :: stem
+    character(len=24) :: digits
+    write(digits, '(i6.6)') step
+    if (step >= 1000000) write(digits, '(i0)') step
+    stem = trim(name) // '_' // trim(digits)
+  end function io_dump_stem
+
+  !> `dir/file`, or `file` alone when `dir` is empty.
+  function io_join_path(dir, file) result(path)
+    character(len=*), intent(in) :: dir   !< folder
+    character(len=*), intent(in) :: file  !< name inside it
+    character(len=:), allocatable :: path
+    integer :: n
+    n = len_trim(dir)
+    if (n == 0) then
+      path = trim(file)
+    else if (dir(n:n) == '/') then
+      path = dir(1:n) // trim(file)
+    else
+      path = dir(1:n) // '/' // trim(file)
+    end if
+  end function io_join_path
+
+  !> Last component of a path (`a/b/c.h5` -> `c.h5`).
+  function io_basename(path) result(base)
+    character(len=*), intent(in) :: path  !< file path
+    character(len=:), allocatable :: base
+    integer :: slash
+    slash = index(trim(path), '/', back=.true.)
+    base = trim(path(slash + 1:))
+  end function io_basename
+
+  !> Folder part of a path (`a/b/c.h5` -> `a/b`, `c.h5` -> `.`).
+  function io_dirname(path) result(dir)
+    character(len=*), intent(in) :: path  !< file path
+    character(len=:), allocatable :: dir
+    integer :: slash
+    slash = index(trim(path), '/', back=.true.)
+    if (slash == 0) then
+      dir = '.'
+    else if (slash == 1) then
+      dir = '/'
+    else
+      dir = path(1:slash - 1)
+    end if
+  end function io_dirname
+
+  !> A Fortran string as a NUL-terminated C character array.
+  pure function c_string(text) result(cs)
+    character(len=*), intent(in) :: text  !< text without trailing NUL
+    character(kind=c_char) :: cs(len(text) + 1)
+    integer :: i
+    do i = 1, len(text)
+      cs(i) = text(i:i)
+    end do
+    cs(len(text) + 1) = c_null_char
+  end function c_string
+end module io_files
