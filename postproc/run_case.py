@@ -1,37 +1,68 @@
-"""Run the mpmice executable from Python (validations, studies, benchmarks)."""
+"""Run the mpmice executable under mpirun from Python (validations, studies, benchmarks, and the
+pytest fixtures in tests/validation/conftest.py)."""
 from __future__ import annotations
 
+import functools
 import os
 import shutil
 import subprocess
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
+#: Open MPI settings for containers and small machines: allow root, allow more ranks than cores.
+OMPI_ENV = {
+    "OMPI_ALLOW_RUN_AS_ROOT": "1",
+    "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
+    "OMPI_MCA_rmaps_base_oversubscribe": "1",
+}
+
 
 def mpmice_executable() -> str:
     """Path of the executable: $MPMICE_EXE, else build/bin/mpmice in the repository."""
-    return os.path.abspath(os.environ.get("MPMICE_EXE", os.path.join(ROOT, "build", "bin", "mpmice")))
+    return os.path.abspath(os.environ.get("MPMICE_EXE")
+                           or os.path.join(ROOT, "build", "bin", "mpmice"))
+
+
+def mpirun_executable() -> str:
+    """The MPI launcher: ``$MPIEXEC`` if set, else ``mpirun`` from the PATH."""
+    return os.environ.get("MPIEXEC") or shutil.which("mpirun") or "mpirun"
+
+
+@functools.lru_cache(maxsize=None)
+def is_open_mpi(launcher: str) -> bool:
+    """True when ``launcher`` belongs to Open MPI (which needs --oversubscribe beyond the cores)."""
+    try:
+        out = subprocess.run([launcher, "--version"], capture_output=True, text=True, timeout=30,
+                             check=False)
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+    return "Open MPI" in out.stdout + out.stderr or "OpenRTE" in out.stdout + out.stderr
+
+
+def mpirun_command(exe: str, args, nranks: int) -> list[str]:
+    """Command line that runs ``exe args`` on ``nranks`` ranks."""
+    launcher = mpirun_executable()
+    command = [launcher, "-n", str(nranks)]
+    if nranks > 2 and is_open_mpi(launcher):
+        command.append("--oversubscribe")
+    return command + [str(exe)] + [str(a) for a in args]
 
 
 def mpi_environment() -> dict[str, str]:
-    """Environment for mpirun as root and oversubscribed on small machines."""
+    """The current environment plus OMPI_ENV (existing values win)."""
     env = dict(os.environ)
-    env.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
-    env.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-    env.setdefault("OMPI_MCA_rmaps_base_oversubscribe", "1")
+    for key, value in OMPI_ENV.items():
+        env.setdefault(key, value)
     return env
 
 
-def run_mpmice(args: list[str], nranks: int = 1, cwd: str | None = None,
-               timeout: float = 600, check: bool = True) -> subprocess.CompletedProcess:
-    """Run ``mpirun -n nranks mpmice ARGS`` and return the completed process."""
-    mpirun = shutil.which("mpirun") or "mpirun"
-    command = [mpirun, "-n", str(nranks)]
-    if nranks > 2:
-        command.append("--oversubscribe")
-    command += [mpmice_executable()] + list(args)
+def run_mpmice(args, nranks: int = 1, cwd: str | None = None, timeout: float = 600,
+               check: bool = True, exe: str | None = None) -> subprocess.CompletedProcess:
+    """Run ``mpirun -n nranks mpmice ARGS`` (text mode, output captured); with ``check`` a non-zero
+    exit raises RuntimeError with the output."""
+    command = mpirun_command(exe or mpmice_executable(), args, nranks)
     result = subprocess.run(command, cwd=cwd, env=mpi_environment(), capture_output=True,
-                            text=True, timeout=timeout)
+                            text=True, timeout=timeout, check=False)
     if check and result.returncode != 0:
         raise RuntimeError(f"{' '.join(command)} failed ({result.returncode}):\n"
                            f"{result.stdout}\n{result.stderr}")

@@ -7,47 +7,15 @@
 * ``tmp_case_dir``: an empty directory per test, the default working directory of ``run_mpmice``.
 """
 
-import functools
 import os
-import shutil
 import subprocess
 from pathlib import Path
 
 import pytest
 
+from postproc.run_case import mpi_environment, mpirun_command
+
 REPO_ROOT = Path(__file__).resolve().parents[2]
-
-#: Open MPI settings for containers and small machines: allow root, allow more ranks than cores.
-OMPI_ENV = {
-    'OMPI_ALLOW_RUN_AS_ROOT': '1',
-    'OMPI_ALLOW_RUN_AS_ROOT_CONFIRM': '1',
-    'OMPI_MCA_rmaps_base_oversubscribe': '1',
-}
-
-
-def mpirun_executable():
-    """The MPI launcher: ``$MPIEXEC`` if set, else ``mpirun`` from the PATH."""
-    return os.environ.get('MPIEXEC') or shutil.which('mpirun') or 'mpirun'
-
-
-@functools.lru_cache(maxsize=None)
-def is_open_mpi(launcher):
-    """True when ``launcher`` belongs to Open MPI (which needs --oversubscribe beyond the cores)."""
-    try:
-        out = subprocess.run([launcher, '--version'], capture_output=True, text=True, timeout=30,
-                             check=False)
-    except (OSError, subprocess.TimeoutExpired):
-        return False
-    return 'Open MPI' in out.stdout + out.stderr or 'OpenRTE' in out.stdout + out.stderr
-
-
-def mpirun_command(exe, args, nranks):
-    """Command line that runs ``exe args`` on ``nranks`` ranks."""
-    launcher = mpirun_executable()
-    command = [launcher, '-n', str(nranks)]
-    if nranks > 2 and is_open_mpi(launcher):
-        command.append('--oversubscribe')
-    return command + [str(exe)] + [str(a) for a in args]
 
 
 @pytest.fixture(scope='session')
@@ -73,9 +41,7 @@ def run_mpmice(mpmice_exe, tmp_case_dir):
     """Function running mpmice under mpirun; see the module docstring."""
 
     def run(args, nranks=1, cwd=None, timeout=300):
-        env = os.environ.copy()
-        for key, value in OMPI_ENV.items():
-            env.setdefault(key, value)
+        env = mpi_environment()
         command = mpirun_command(mpmice_exe, args, nranks)
         try:
             return subprocess.run(command, cwd=str(cwd or tmp_case_dir), env=env, text=True,
