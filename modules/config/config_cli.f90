@@ -167,17 +167,18 @@ contains
     type(cli_t), intent(out) :: cli                       !< interpretation
     integer, intent(out) :: stat                          !< 0 ok, 1 usage error
     character(len=:), allocatable, intent(out) :: errmsg  !< error line
-    character(len=:), allocatable :: args(:)
-    integer :: i, n, length, longest
+    character(len=msg_len), allocatable :: args(:)
+    integer :: i, n, length
     n = command_argument_count()
-    longest = 1
+    allocate(args(n))
     do i = 1, n
-      call get_command_argument(i, length=length)
-      longest = max(longest, length)
-    end do
-    allocate(character(len=longest) :: args(n))
-    do i = 1, n
-      call get_command_argument(i, args(i))
+      call get_command_argument(i, args(i), length=length)
+      if (length > msg_len) then
+        stat = 1
+        errmsg = 'mpmice: usage error: argument ' // int_str(i) // ' is longer than ' // &
+          int_str(msg_len) // ' characters (see mpmice --help)'
+        return
+      end if
     end do
     call cli_parse(args, cli, stat, errmsg)
   end subroutine cli_from_command_line
