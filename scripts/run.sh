@@ -17,6 +17,8 @@ shift $(( $# > 2 ? 2 : $# )) || true
 
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
+# ROMIO for MPI-IO: Open MPI 4.1 OMPIO collective writes corrupted data here (docs/io.md)
+export OMPI_MCA_io="${OMPI_MCA_io:-^ompio}"
 
 mpirun -n "$nranks" "$root/build/bin/mpmice" "$case_file" "$@"
 
