@@ -17,6 +17,7 @@ module mpmice_app
   use config_load, only: config_load_run
   use config_echo, only: config_to_text
   use driver_run_mod, only: driver_run
+  use io_files, only: io_select_mpiio
   use driver_output, only: read_namelist_text
   implicit none
   private
@@ -34,6 +35,8 @@ contains
     integer :: rank, stat
     logical :: root
 
+    ! ROMIO for MPI-IO unless the user chose: Open MPI 4.1 OMPIO corrupted collective writes (docs/io.md)
+    call io_select_mpiio()
     call MPI_Init()
     call MPI_Comm_dup(MPI_COMM_WORLD, comm)
     call MPI_Comm_rank(comm, rank)

@@ -21,7 +21,7 @@ REPO_ROOT = Path(__file__).resolve().parents[2]
 @pytest.fixture(scope='session')
 def mpmice_exe():
     """Path of the mpmice executable; skips the test when it has not been built."""
-    path = Path(os.environ.get('MPMICE_EXE') or REPO_ROOT / 'build' / 'bin' / 'mpmice')
+    path = Path(os.environ.get('MPMICE_EXE') or REPO_ROOT / 'build' / 'bin' / 'mpmice').resolve()
     if not (path.is_file() and os.access(path, os.X_OK)):
         pytest.skip(f'mpmice executable not found at {path}: build it with scripts/setup.sh '
                     'or point MPMICE_EXE at it')
