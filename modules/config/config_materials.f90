@@ -1,0 +1,162 @@
+!> Parameter types of the multiphase scenes (`ice`, `mpm`): the singleton groups `&physics`,
+!! `&ice`, `&mpm` and the repeated groups `&fluid`, `&solid`, `&region`, `&boundary`.
+!!
+!! As in `config_types`, the default initialisers are the documented defaults (docs/namelists.md).
+!! A repeated group may appear several times; each occurrence is one element of an array of
+!! `config_t` (at most `max_fluids`, ... elements), and every occurrence starts from the type's
+!! defaults. `config_types` re-exports everything public here.
+module config_materials
+  use mpmice_kinds, only: wp, name_len
+  implicit none
+  private
+
+  public :: physics_params_t, ice_params_t, mpm_params_t
+  public :: fluid_params_t, solid_params_t, region_params_t, boundary_params_t
+  public :: max_fluids, max_solids, max_regions, max_boundaries, max_polygon_points
+  public :: eos_names, solid_model_names, solid_shape_names, face_names
+  public :: boundary_fluid_names, boundary_thermal_names, boundary_solid_names
+  public :: particles_per_cell_used
+
+  integer, parameter :: max_fluids = 8        !< most `&fluid` groups in one input
+  integer, parameter :: max_solids = 8        !< most `&solid` groups in one input
+  integer, parameter :: max_regions = 32      !< most `&region` groups in one input
+  integer, parameter :: max_boundaries = 6    !< most `&boundary` groups (one per face)
+  integer, parameter :: max_polygon_points = 32  !< most vertices of a `&solid` polygon
+
+  !> Allowed values of `&fluid eos`.
+  character(len=*), parameter :: eos_names(3) = [character(len=name_len) :: &
+    'ideal_gas', 'linear_water', 'stiffened_gas']
+  !> Allowed values of `&solid model`.
+  character(len=*), parameter :: solid_model_names(4) = [character(len=name_len) :: &
+    'linear_elastic', 'neo_hookean', 'mohr_coulomb', 'rigid']
+  !> Allowed values of `&solid shape`.
+  character(len=*), parameter :: solid_shape_names(3) = [character(len=name_len) :: &
+    'box', 'polygon', 'half_space']
+  !> Faces of the domain, in `face_index` order 1..6.
+  character(len=*), parameter :: face_names(6) = [character(len=2) :: &
+    'x-', 'x+', 'y-', 'y+', 'z-', 'z+']
+  !> Allowed values of `&boundary fluid`.
+  character(len=*), parameter :: boundary_fluid_names(5) = [character(len=name_len) :: &
+    'wall', 'free_slip', 'pressure', 'inflow', 'outflow']
+  !> Allowed values of `&boundary thermal`.
+  character(len=*), parameter :: boundary_thermal_names(2) = [character(len=name_len) :: &
+    'adiabatic', 'fixed']
+  !> Allowed values of `&boundary solid`.
+  character(len=*), parameter :: boundary_solid_names(4) = [character(len=name_len) :: &
+    'fixed', 'roller', 'free', 'velocity']
+
+  !> `&physics`: body force and reference state shared by all materials.
+  type :: physics_params_t
+    real(wp) :: gravity(3) = [0.0_wp, 0.0_wp, 0.0_wp]  !< gravitational acceleration [m/s^2]
+    real(wp) :: reference_pressure = 101325.0_wp       !< reference (top) pressure [Pa]
+    logical :: hydrostatic_init = .false.              !< initial p, rho in hydrostatic balance
+  end type physics_params_t
+
+  !> `&ice`: controls of the ICE multi-fluid solver.
+  type :: ice_params_t
+    real(wp) :: outer_tolerance = 1.0e-7_wp          !< outer-iteration tolerance (volume fractions)
+    integer :: max_outer_iterations = 20             !< outer-iteration limit
+    real(wp) :: exchange_coefficient = 1.0e15_wp     !< momentum exchange K [kg/m^3/s]
+    real(wp) :: heat_exchange_coefficient = 0.0_wp   !< heat exchange H [W/m^3/K]
+    logical :: smagorinsky = .false.                 !< Smagorinsky turbulence model on
+    real(wp) :: smagorinsky_constant = 0.17_wp       !< Smagorinsky constant C_s
+    real(wp) :: equilibration_tolerance = 1.0e-10_wp !< pressure equilibration tolerance
+    integer :: max_equilibration_iterations = 100    !< pressure equilibration iteration limit
+  end type ice_params_t
+
+  !> `&mpm`: controls of the MPM solid solver.
+  type :: mpm_params_t
+    real(wp) :: flip_fraction = 0.99_wp              !< 1 pure FLIP, 0 pure PIC
+    real(wp) :: gravity_ramp_time = 0.0_wp           !< gravity grows linearly over this time [s]
+    real(wp) :: local_damping = 0.0_wp               !< local (Cundall) damping factor 0..1
+  end type mpm_params_t
+
+  !> `&fluid` (repeated): one fluid material, its equation of state and initial state.
+  type :: fluid_params_t
+    character(len=name_len) :: name = ''                 !< unique identifier (required)
+    character(len=name_len) :: eos = 'ideal_gas'        !< one of eos_names
+    real(wp) :: gamma = 1.4_wp                           !< ratio of specific heats
+    real(wp) :: heat_capacity_cv = 717.5_wp              !< c_v [J/kg/K]
+    real(wp) :: reference_density = 999.8_wp             !< rho_ref [kg/m^3]
+    real(wp) :: reference_pressure = 101325.0_wp         !< p_ref [Pa]
+    real(wp) :: reference_temperature = 283.15_wp        !< T_ref [K]
+    real(wp) :: bulk_modulus = 2.0e9_wp                  !< K [Pa]
+    real(wp) :: thermal_expansion = 0.18_wp              !< alpha [kg/m^3/K] (linear water EOS)
+    real(wp) :: stiffened_pressure = 0.0_wp              !< p_inf [Pa] (stiffened gas)
+    real(wp) :: viscosity = 0.0_wp                       !< dynamic viscosity [Pa s]
+    real(wp) :: conductivity = 0.0_wp                    !< thermal conductivity [W/m/K]
+    real(wp) :: volume_fraction = 0.0_wp                 !< initial volume fraction everywhere
+    real(wp) :: velocity(3) = [0.0_wp, 0.0_wp, 0.0_wp]   !< initial velocity [m/s]
+    real(wp) :: temperature = 300.0_wp                   !< initial temperature [K]
+    real(wp) :: pressure = 101325.0_wp                   !< initial pressure [Pa]
+  end type fluid_params_t
+
+  !> `&region` (repeated): initial state of one material inside a box (later regions win).
+  type :: region_params_t
+    character(len=name_len) :: material = ''             !< name of a &fluid or &solid
+    real(wp) :: lower(3) = [0.0_wp, 0.0_wp, 0.0_wp]      !< low corner [m]
+    real(wp) :: upper(3) = [0.0_wp, 0.0_wp, 0.0_wp]      !< high corner [m]
+    real(wp) :: volume_fraction = 1.0_wp                 !< volume fraction inside
+    real(wp) :: velocity(3) = [0.0_wp, 0.0_wp, 0.0_wp]   !< velocity inside [m/s]
+    real(wp) :: temperature = 300.0_wp                   !< temperature inside [K]
+    real(wp) :: pressure = 101325.0_wp                   !< pressure inside [Pa]
+  end type region_params_t
+
+  !> `&solid` (repeated): one solid body: constitutive model, geometry, particles, initial state.
+  type :: solid_params_t
+    character(len=name_len) :: name = ''                 !< unique identifier (required)
+    character(len=name_len) :: model = 'linear_elastic'  !< one of solid_model_names
+    real(wp) :: density = 2650.0_wp                      !< grain/solid density [kg/m^3]
+    real(wp) :: youngs_modulus = 1.0e7_wp                !< E [Pa]
+    real(wp) :: poisson_ratio = 0.3_wp                   !< nu
+    real(wp) :: cohesion = 0.0_wp                        !< c [Pa]
+    real(wp) :: friction_angle = 30.0_wp                 !< phi [deg]
+    real(wp) :: dilation_angle = 0.0_wp                  !< psi [deg]
+    logical :: tension_cutoff = .true.                   !< tension cut-off on
+    real(wp) :: tensile_strength = 0.0_wp                !< tensile strength [Pa]
+    real(wp) :: k0 = -1.0_wp                             !< lateral stress ratio (-1: nu/(1-nu))
+    logical :: geostatic = .false.                       !< geostatic initial stress
+    character(len=name_len) :: shape = 'box'             !< one of solid_shape_names
+    real(wp) :: lower(3) = [0.0_wp, 0.0_wp, 0.0_wp]      !< box low corner [m]
+    real(wp) :: upper(3) = [0.0_wp, 0.0_wp, 0.0_wp]      !< box high corner [m]
+    integer :: npoints = 0                               !< polygon vertices in use
+    real(wp) :: polygon_x(max_polygon_points) = 0.0_wp   !< polygon vertex x [m]
+    real(wp) :: polygon_y(max_polygon_points) = 0.0_wp   !< polygon vertex y [m]
+    real(wp) :: plane_point(3) = [0.0_wp, 0.0_wp, 0.0_wp]   !< half-space plane point [m]
+    real(wp) :: plane_normal(3) = [0.0_wp, 0.0_wp, 1.0_wp]  !< half-space outward normal
+    real(wp) :: rotation_deg = 0.0_wp                    !< box rotation about z [deg]
+    integer :: particles_per_cell(3) = [2, 2, 2]         !< particles per cell per dimension
+    real(wp) :: velocity(3) = [0.0_wp, 0.0_wp, 0.0_wp]   !< initial velocity [m/s]
+    real(wp) :: temperature = 300.0_wp                   !< initial temperature [K]
+    real(wp) :: heat_capacity = 800.0_wp                 !< specific heat [J/kg/K]
+    real(wp) :: conductivity = 0.4_wp                    !< thermal conductivity [W/m/K]
+    real(wp) :: porosity = 0.0_wp                        !< porosity n
+    real(wp) :: grain_size = 1.0e-3_wp                   !< grain diameter [m]
+    real(wp) :: prescribed_velocity(3) = [0.0_wp, 0.0_wp, 0.0_wp]    !< rigid velocity [m/s]
+    real(wp) :: acceleration_amplitude(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< rigid A [m/s^2]
+    real(wp) :: acceleration_frequency = 0.0_wp          !< rigid f [Hz]
+  end type solid_params_t
+
+  !> `&boundary` (repeated, at most one per face): conditions on one face of the domain.
+  type :: boundary_params_t
+    character(len=name_len) :: face = ''                 !< one of face_names (required)
+    character(len=name_len) :: fluid = 'wall'            !< one of boundary_fluid_names
+    real(wp) :: pressure = 101325.0_wp                   !< for fluid = 'pressure' [Pa]
+    real(wp) :: velocity(3) = [0.0_wp, 0.0_wp, 0.0_wp]   !< for fluid = 'inflow' [m/s]
+    character(len=name_len) :: thermal = 'adiabatic'     !< one of boundary_thermal_names
+    real(wp) :: temperature = 300.0_wp                   !< for thermal = 'fixed' [K]
+    character(len=name_len) :: solid = 'fixed'           !< one of boundary_solid_names
+    real(wp) :: solid_velocity(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< for solid = 'velocity' [m/s]
+  end type boundary_params_t
+
+contains
+
+  !> Particles per cell the solver uses for solid `s` on a grid of `ncells` cells: the
+  !! configured numbers along active dimensions, 1 along inactive ones (enforced silently).
+  pure function particles_per_cell_used(s, ncells) result(ppc)
+    type(solid_params_t), intent(in) :: s  !< solid
+    integer, intent(in) :: ncells(3)       !< `&grid ncells`
+    integer :: ppc(3)
+    ppc = merge(s%particles_per_cell, 1, ncells > 1)
+  end function particles_per_cell_used
+end module config_materials
