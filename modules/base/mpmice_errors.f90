@@ -17,7 +17,7 @@ module mpmice_errors
   private
 
   public :: fatal, fatal_handler_t, set_fatal_handler, reset_fatal_handler
-  public :: input_error_text, exit_cleanly, real_text, int_text, logical_text
+  public :: input_error_text, exit_cleanly, real_text, real_short_text, int_text, logical_text
 
   abstract interface
     !> Signature of a fatal-error handler.
@@ -115,6 +115,16 @@ contains
     write(buffer, '(g0)') x
     text = trim(adjustl(buffer))
   end function real_text
+
+  !> A real with 6 significant digits (for log lines; `real_text` keeps every digit).
+  pure function real_short_text(x) result(text)
+    use mpmice_kinds, only: wp
+    real(wp), intent(in) :: x  !< value
+    character(len=:), allocatable :: text
+    character(len=32) :: buffer
+    write(buffer, '(1pg13.6)') x
+    text = trim(adjustl(buffer))
+  end function real_short_text
 
   !> An integer as text (for messages).
   pure function int_text(n) result(text)

@@ -3,53 +3,48 @@
 !! Every file carries the design's root attributes (`time`, `step`, `dt`, `ndim`, `ncells`, `lower`,
 !! `dx`, ...) and the resolved input as the string attribute `namelist`, so a dump is
 !! self-describing and a checkpoint restarts the run on its own. A checkpoint also stores the clock
-!! (`dt_next`, `output_index`, `checkpoint_index`) and the state under `/checkpoint/`; it is written
-!! to a temporary name and renamed, so an interrupted write never replaces a good checkpoint.
+!! (`dt_next`, `output_index`, `checkpoint_index`) and the scene's full state under `/checkpoint/`;
+!! it is written to a temporary name and renamed, so an interrupted write never leaves a
+!! half-written file under a checkpoint's name.
 module driver_output
-  use mpi_f08, only: MPI_Barrier
-  use mpmice_kinds, only: wp, name_len, path_len
+  use mpi_f08, only: MPI_Barrier, MPI_Comm
+  use mpmice_kinds, only: path_len, name_len
   use mpmice_errors, only: fatal
   use parallel_domain, only: domain_t
   use grid_layout, only: grid_t
   use io_files, only: io_rename, io_join_path, io_dump_stem, io_file_exists
   use io_hdf5, only: h5_file_t, h5_create, h5_open, h5_close, h5_write_attribute, &
-    h5_read_attribute, h5_attribute_size, h5_write_cell_field, h5_read_cell_field, &
-    h5_write_dump_header
-  use io_xdmf, only: xdmf_write_dump, xdmf_update_series
+    h5_read_attribute, h5_write_dump_header
+  use io_xdmf, only: xdmf_write_dump, xdmf_update_series, xdmf_particles_t
   use driver_clock, only: clock_t
+  use driver_scene, only: scene_t
   implicit none
   private
 
-  public :: cell_field_ref_t, write_dump, write_checkpoint, read_checkpoint, read_namelist_text
+  public :: write_dump, write_checkpoint, read_checkpoint, read_namelist_text
 
   integer, parameter :: checkpoint_version = 1  !< layout version of checkpoints
-
-  !> A named cell field to write or read (points at the scene's array, with cell bounds).
-  type :: cell_field_ref_t
-    character(len=name_len) :: path = ''                    !< dataset path, e.g. `cell/temperature`
-    real(wp), pointer, contiguous :: values(:, :, :) => null()  !< the field
-  end type cell_field_ref_t
 
 contains
 
   !> Write the dump `<output_dir>/<name>_<step>.h5` (`kind` 'dump') or the failure dump
-  !! `<name>_failed_<step>.h5` (`kind` 'failed') with its XDMF file, and add a dump to the
+  !! `<name>_failed_<step>.h5` (`kind` 'failed') with its XDMF file, and add a regular dump to the
   !! time series `<name>.xmf`. Collective.
-  subroutine write_dump(dom, grid, clock, output_dir, name, namelist_text, fields, xdmf, kind, path)
+  subroutine write_dump(scene, dom, grid, clock, output_dir, name, namelist_text, xdmf, kind, path)
+    class(scene_t), intent(inout) :: scene            !< scene whose state is written
     type(domain_t), intent(in) :: dom                 !< decomposition
     type(grid_t), intent(in) :: grid                  !< block geometry
     type(clock_t), intent(in) :: clock                !< run clock
     character(len=*), intent(in) :: output_dir        !< output directory
     character(len=*), intent(in) :: name              !< case name
     character(len=*), intent(in) :: namelist_text     !< resolved input
-    type(cell_field_ref_t), intent(in) :: fields(:)   !< cell fields to write
     logical, intent(in) :: xdmf                       !< write XDMF files
     character(len=*), intent(in) :: kind              !< 'dump' or 'failed'
     character(len=path_len), intent(out), optional :: path !< file written
     type(h5_file_t) :: file
     character(len=:), allocatable :: stem, h5_path
-    character(len=name_len) :: paths(size(fields))
-    integer :: f
+    character(len=name_len), allocatable :: cell_paths(:)
+    type(xdmf_particles_t), allocatable :: particle_sets(:)
 
     if (kind == 'failed') then
       stem = io_dump_stem(trim(name) // '_failed', clock%step)
@@ -59,14 +54,12 @@ contains
     h5_path = io_join_path(output_dir, stem // '.h5')
     call h5_create(file, h5_path, dom%comm)
     call write_header(file, grid, clock, namelist_text)
-    do f = 1, size(fields)
-      call h5_write_cell_field(file, fields(f)%path, grid, fields(f)%values)
-      paths(f) = fields(f)%path
-    end do
+    call scene%write_state(file, dom, grid, .false.)
     call h5_close(file)
     if (xdmf .and. dom%rank == 0) then
+      call scene%output_layout(cell_paths, particle_sets)
       call xdmf_write_dump(io_join_path(output_dir, stem // '.xmf'), stem // '.h5', grid, &
-        clock%time, paths)
+        clock%time, cell_paths, particle_sets)
       if (kind /= 'failed') then
         call xdmf_update_series(io_join_path(output_dir, trim(name) // '.xmf'), &
           io_join_path(output_dir, stem // '.xmf'), clock%time)
@@ -77,18 +70,17 @@ contains
 
   !> Write the checkpoint `<output_dir>/<name>_checkpoint_<step>.h5` (via a temporary file and a
   !! rename). Collective.
-  subroutine write_checkpoint(dom, grid, clock, output_dir, name, namelist_text, fields, path)
+  subroutine write_checkpoint(scene, dom, grid, clock, output_dir, name, namelist_text, path)
+    class(scene_t), intent(inout) :: scene            !< scene whose state is written
     type(domain_t), intent(in) :: dom                 !< decomposition
     type(grid_t), intent(in) :: grid                  !< block geometry
     type(clock_t), intent(in) :: clock                !< run clock
     character(len=*), intent(in) :: output_dir        !< output directory
     character(len=*), intent(in) :: name              !< case name
     character(len=*), intent(in) :: namelist_text     !< resolved input
-    type(cell_field_ref_t), intent(in) :: fields(:)   !< state to store under /checkpoint/
     character(len=path_len), intent(out), optional :: path !< file written
     type(h5_file_t) :: file
     character(len=:), allocatable :: final_path, tmp_path
-    integer :: f
 
     final_path = io_join_path(output_dir, io_dump_stem(trim(name) // '_checkpoint', clock%step) &
       // '.h5')
@@ -99,9 +91,7 @@ contains
     call h5_write_attribute(file, 'dt_next', clock%dt_next)
     call h5_write_attribute(file, 'output_index', clock%output_index)
     call h5_write_attribute(file, 'checkpoint_index', clock%checkpoint_index)
-    do f = 1, size(fields)
-      call h5_write_cell_field(file, 'checkpoint/' // trim(fields(f)%path), grid, fields(f)%values)
-    end do
+    call scene%write_state(file, dom, grid, .true.)
     call h5_close(file)
     call MPI_Barrier(dom%comm)
     if (dom%rank == 0) call io_rename(tmp_path, final_path)
@@ -109,17 +99,17 @@ contains
     if (present(path)) path = final_path
   end subroutine write_checkpoint
 
-  !> Read the clock and the state `fields` from a checkpoint (owned cells; ghosts untouched).
-  !! The clock's limits (end time, intervals, dt limits) come from the configuration and are set
-  !! by the caller before. Collective.
-  subroutine read_checkpoint(dom, grid, path, clock, fields)
-    type(domain_t), intent(in) :: dom                    !< decomposition
-    type(grid_t), intent(in) :: grid                     !< block geometry
-    character(len=*), intent(in) :: path                 !< checkpoint file
-    type(clock_t), intent(inout) :: clock                !< clock to restore
-    type(cell_field_ref_t), intent(inout) :: fields(:)   !< state to read from /checkpoint/
+  !> Read the clock and the scene's state from a checkpoint. The clock's limits (end time,
+  !! intervals, dt limits) come from the configuration and are set by the caller before.
+  !! Collective.
+  subroutine read_checkpoint(scene, dom, grid, path, clock)
+    class(scene_t), intent(inout) :: scene   !< scene to restore
+    type(domain_t), intent(in) :: dom        !< decomposition
+    type(grid_t), intent(in) :: grid         !< block geometry
+    character(len=*), intent(in) :: path     !< checkpoint file
+    type(clock_t), intent(inout) :: clock    !< clock to restore
     type(h5_file_t) :: file
-    integer :: version, f, ncells(3)
+    integer :: version, ncells(3)
 
     call h5_open(file, path, dom%comm)
     call h5_read_attribute(file, 'checkpoint_version', version)
@@ -135,25 +125,18 @@ contains
     call h5_read_attribute(file, 'dt_next', clock%dt_next)
     call h5_read_attribute(file, 'output_index', clock%output_index)
     call h5_read_attribute(file, 'checkpoint_index', clock%checkpoint_index)
-    do f = 1, size(fields)
-      call h5_read_cell_field(file, 'checkpoint/' // trim(fields(f)%path), grid, fields(f)%values)
-    end do
+    call scene%restore(file, dom, grid)
     call h5_close(file)
   end subroutine read_checkpoint
 
   !> The resolved input stored in a dump or checkpoint (attribute `namelist`). Collective.
   subroutine read_namelist_text(path, comm, text)
-    use mpi_f08, only: MPI_Comm
-    character(len=*), intent(in) :: path     !< file to read
+    character(len=*), intent(in) :: path              !< file to read
     type(MPI_Comm), intent(in) :: comm                !< communicator of the readers
     character(len=:), allocatable, intent(out) :: text !< the namelist text
     type(h5_file_t) :: file
-    integer :: n
-    if (.not. io_file_exists(path)) call fatal('read_namelist_text: no such file ' // &
-      trim(path))
+    if (.not. io_file_exists(path)) call fatal('read_namelist_text: no such file ' // trim(path))
     call h5_open(file, path, comm)
-    n = h5_attribute_size(file, 'namelist')
-    allocate(character(len=n) :: text)
     call h5_read_attribute(file, 'namelist', text)
     call h5_close(file)
   end subroutine read_namelist_text

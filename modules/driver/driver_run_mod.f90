@@ -2,14 +2,16 @@
 module driver_run_mod
   use mpi_f08, only: MPI_Comm, MPI_COMM_WORLD, MPI_Comm_dup, MPI_Comm_free, MPI_Bcast, MPI_INTEGER
   use mpmice_kinds, only: msg_len
-  use mpmice_errors, only: exit_cleanly, int_text
+  use mpmice_errors, only: exit_cleanly, int_text, fatal
   use mpmice_log, only: log_info, log_is_root
   use config_types, only: config_t
   use config_echo, only: config_to_text, config_write_used, config_used_path
   use parallel_domain, only: domain_t, domain_init, domain_free
   use grid_layout, only: grid_t, grid_init
   use io_files, only: io_make_directory
-  use driver_heat, only: run_heat, run_status_t
+  use driver_loop, only: run_scene, run_status_t
+  use driver_scene, only: scene_t
+  use heat_scene, only: heat_scene_t
   implicit none
   private
 
@@ -27,6 +29,7 @@ contains
     type(domain_t) :: dom
     type(grid_t) :: grid
     type(run_status_t) :: status
+    class(scene_t), allocatable :: scene
     character(len=:), allocatable :: text
     character(len=msg_len) :: errmsg
     integer :: stat
@@ -59,10 +62,8 @@ contains
     call log_info('mpmice: output in ' // trim(cfg%run%output_dir) // ', resolved input ' // &
       config_used_path(cfg))
 
-    select case (trim(cfg%run%scene))
-    case ('heat_conduction')
-      call run_heat(cfg, text, dom, grid, restart_file, status)
-    end select
+    call make_scene(cfg, scene)
+    call run_scene(scene, cfg, text, dom, grid, restart_file, status)
 
     call domain_free(dom)
     call MPI_Comm_free(world)
@@ -72,4 +73,17 @@ contains
     end if
     call log_info('mpmice: ' // trim(status%reason))
   end subroutine driver_run
+
+  !> The scene object named by `&run scene`.
+  subroutine make_scene(cfg, scene)
+    type(config_t), intent(in) :: cfg                    !< validated configuration
+    class(scene_t), allocatable, intent(out) :: scene    !< the scene to run
+    select case (trim(cfg%run%scene))
+    case ('heat_conduction')
+      allocate(heat_scene_t :: scene)
+    case default
+      ! the configuration accepts only scenes listed in config_types%scene_names
+      call fatal('scene ''' // trim(cfg%run%scene) // ''' is not available in this build')
+    end select
+  end subroutine make_scene
 end module driver_run_mod

@@ -1,0 +1,151 @@
+!> The generic time loop: clock, retries of rejected steps, dumps, checkpoints, failure detection
+!! (NaN/Inf: report, dump, stop), the wall-time stop, progress lines and the stage-timer summary.
+!! Every scene (`driver_scene`) runs through it.
+module driver_loop
+  use mpi_f08, only: MPI_Bcast, MPI_LOGICAL
+  use mpmice_kinds, only: wp, path_len
+  use mpmice_errors, only: int_text, real_short_text
+  use mpmice_log, only: log_info, log_warning
+  use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop, timer_summary
+  use mpmice_progress, only: progress_t, progress_init, progress_update, progress_elapsed
+  use config_types, only: config_t
+  use parallel_domain, only: domain_t
+  use parallel_reduce, only: global_any
+  use grid_layout, only: grid_t
+  use driver_clock, only: clock_t, clock_init, clock_propose_dt, clock_advance, clock_finished
+  use driver_output, only: write_dump, write_checkpoint, read_checkpoint
+  use driver_scene, only: scene_t
+  implicit none
+  private
+
+  public :: run_scene, run_status_t
+
+  integer, parameter :: max_step_retries = 8  !< halvings of dt before a rejected step is fatal
+
+  !> How a run ended.
+  type :: run_status_t
+    integer :: exit_code = 0                  !< 0 finished or stopped cleanly, 3 failed
+    character(len=path_len) :: reason = ''    !< one-line reason
+  end type run_status_t
+
+contains
+
+  !> Run `scene` from its initial state, or continue it from `restart_file` (not '').
+  subroutine run_scene(scene, cfg, namelist_text, dom, grid, restart_file, status)
+    class(scene_t), intent(inout) :: scene           !< the scene to run
+    type(config_t), intent(in) :: cfg                !< validated configuration
+    character(len=*), intent(in) :: namelist_text    !< resolved input (stored in every file)
+    type(domain_t), intent(in) :: dom                !< decomposition
+    type(grid_t), intent(in) :: grid                 !< block geometry
+    character(len=*), intent(in) :: restart_file     !< checkpoint to continue, '' if none
+    type(run_status_t), intent(out) :: status        !< how the run ended
+    type(clock_t) :: clock
+    type(timer_set_t) :: timers
+    type(progress_t) :: progress
+    real(wp) :: dt, dt_limit, slowest_step_s, step_start_s
+    integer :: t_output, retries, rejected
+    logical :: accepted, stop_for_wall_time, stopped_early
+
+    t_output = timer_register(timers, 'output and checkpoint')
+    call scene%init(cfg, dom, grid, timers)
+    call clock_init(clock, cfg%run%end_time, cfg%run%output_interval, &
+      cfg%run%checkpoint_interval, cfg%run%max_steps, cfg%time%dt_init, cfg%time%dt_max, &
+      cfg%time%dt_growth)
+    call progress_init(progress, cfg%run%progress_interval, 0.0_wp, cfg%run%end_time)
+
+    call timer_start(timers, t_output)
+    if (len_trim(restart_file) > 0) then
+      call read_checkpoint(scene, dom, grid, restart_file, clock)
+      call log_info('restarted from ' // trim(restart_file) // ' at step ' // int_text(clock%step) &
+        // ', t = ' // real_short_text(clock%time) // ' s')
+    else
+      call write_dump(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, namelist_text, &
+        cfg%output%xdmf, 'dump')
+    end if
+    call timer_stop(timers, t_output)
+    progress%start_time = clock%time
+
+    slowest_step_s = 0.0_wp
+    stopped_early = .false.
+    rejected = 0
+    do while (.not. clock_finished(clock))
+      step_start_s = progress_elapsed(progress)
+      dt_limit = scene%stable_dt(dom, grid)
+      dt = clock_propose_dt(clock, dt_limit)
+      do retries = 0, max_step_retries
+        if (dt < cfg%time%dt_min) exit
+        call scene%step(dom, grid, clock%time, dt, timers, accepted)
+        if (accepted) exit
+        rejected = rejected + 1
+        call log_warning('step ' // int_text(clock%step + 1) // ' rejected at dt = ' // &
+          real_short_text(dt) // ' s; retrying with dt/2')
+        dt = 0.5_wp * dt
+        dt_limit = min(dt_limit, dt)
+      end do
+      if (dt < cfg%time%dt_min .or. .not. accepted) then
+        status%exit_code = 3
+        status%reason = 'time step ' // real_short_text(dt) // ' s fell below &time dt_min = ' // &
+          real_short_text(cfg%time%dt_min) // ' s at t = ' // real_short_text(clock%time) // ' s'
+        exit
+      end if
+
+      call clock_advance(clock, dt, dt_limit)
+
+      if (global_any(dom, .not. scene%all_finite(grid))) then
+        call write_dump(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
+          namelist_text, cfg%output%xdmf, 'failed', status%reason)
+        status%reason = 'non-finite values at step ' // int_text(clock%step) // ', t = ' // &
+          real_short_text(clock%time) // ' s; state dumped to ' // trim(status%reason)
+        status%exit_code = 3
+        exit
+      end if
+
+      call timer_start(timers, t_output)
+      if (clock%output_due .or. clock_finished(clock)) then
+        call write_dump(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
+          namelist_text, cfg%output%xdmf, 'dump')
+      end if
+      if (clock%checkpoint_due) then
+        call write_checkpoint(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
+          namelist_text)
+      end if
+      call timer_stop(timers, t_output)
+
+      slowest_step_s = max(slowest_step_s, progress_elapsed(progress) - step_start_s)
+      stop_for_wall_time = .false.
+      if (cfg%run%wall_time_limit > 0.0_wp) then
+        stop_for_wall_time = progress_elapsed(progress) + 2.0_wp * slowest_step_s &
+          + 10.0_wp > cfg%run%wall_time_limit
+        call MPI_Bcast(stop_for_wall_time, 1, MPI_LOGICAL, 0, dom%comm)
+      end if
+      if (stop_for_wall_time .and. .not. clock_finished(clock)) then
+        status%reason = 'stopped before &run wall_time_limit = ' // &
+          real_short_text(cfg%run%wall_time_limit) // ' s'
+        stopped_early = .true.
+        exit
+      end if
+      call progress_update(progress, clock%step, clock%time, clock%dt)
+    end do
+
+    if (status%exit_code == 0) then
+      if (clock%time < cfg%run%end_time .and. .not. stopped_early) then
+        stopped_early = .true.
+        status%reason = 'stopped at &run max_steps = ' // int_text(cfg%run%max_steps)
+      end if
+      if (stopped_early) then
+        ! leave a continuable state: a dump of where the run stopped and a checkpoint
+        call write_dump(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
+          namelist_text, cfg%output%xdmf, 'dump')
+        call write_checkpoint(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
+          namelist_text)
+      else
+        status%reason = 'finished: end time reached'
+      end if
+    end if
+    call progress_update(progress, clock%step, clock%time, clock%dt, force=.true.)
+    if (rejected > 0) call log_info(int_text(rejected) // ' steps were rejected and retried')
+    call scene%summary(dom, grid)
+    call timer_summary(timers, dom%comm, progress_elapsed(progress))
+    call scene%free()
+  end subroutine run_scene
+end module driver_loop

@@ -1,0 +1,125 @@
+!> The interface every scene (heat conduction, ICE, MPM, MPMICE) implements for the generic time
+!! loop of `driver_loop`.
+!!
+!! The loop owns the clock, output and checkpoint scheduling, failure detection, the wall-time stop,
+!! progress and timers; a scene owns its state and physics. Contract:
+!! * `init` allocates everything (no allocation inside the time loop afterwards) and sets the
+!!   initial state; `restore` replaces the state by the one stored in a checkpoint;
+!! * `stable_dt` returns the scene's stability limit [s] (the same on every rank; `huge` if none);
+!! * `step` advances by `dt`; when it cannot (e.g. an implicit iteration did not converge) it
+!!   returns `accepted = .false.` with the state unchanged, and the loop retries with a smaller dt;
+!! * `write_state` writes its datasets into an open dump (`checkpoint = .false.`) or checkpoint
+!!   (`.true.`: everything needed for a bitwise-identical continuation, under `/checkpoint/`);
+!! * `output_layout` names the datasets of a dump for the XDMF file;
+!! * `all_finite` is the local (this rank's) check that no state value is NaN or infinite.
+module driver_scene
+  use mpmice_kinds, only: wp, name_len
+  use mpmice_timers, only: timer_set_t
+  use config_types, only: config_t
+  use parallel_domain, only: domain_t
+  use grid_layout, only: grid_t
+  use io_hdf5, only: h5_file_t
+  use io_xdmf, only: xdmf_particles_t
+  implicit none
+  private
+
+  public :: scene_t
+
+  !> A scene of the time loop.
+  type, abstract :: scene_t
+  contains
+    procedure(scene_init_i), deferred :: init               !< allocate and set the initial state
+    procedure(scene_dt_i), deferred :: stable_dt            !< stability limit of the next step [s]
+    procedure(scene_step_i), deferred :: step               !< advance by dt
+    procedure(scene_write_i), deferred :: write_state       !< datasets of a dump or checkpoint
+    procedure(scene_restore_i), deferred :: restore         !< read the state of a checkpoint
+    procedure(scene_layout_i), deferred :: output_layout    !< datasets of a dump (for XDMF)
+    procedure(scene_finite_i), deferred :: all_finite       !< local NaN/Inf check
+    procedure(scene_summary_i), deferred :: summary         !< log end-of-run statistics
+    procedure(scene_free_i), deferred :: free               !< release everything
+  end type scene_t
+
+  abstract interface
+    !> Allocate the state and set the initial conditions; register timer stages in `timers`.
+    subroutine scene_init_i(self, cfg, dom, grid, timers)
+      import :: scene_t, config_t, domain_t, grid_t, timer_set_t
+      class(scene_t), intent(inout) :: self        !< scene
+      type(config_t), intent(in) :: cfg            !< validated configuration
+      type(domain_t), intent(in) :: dom            !< decomposition
+      type(grid_t), intent(in) :: grid             !< block geometry
+      type(timer_set_t), intent(inout) :: timers   !< stage timers of the run
+    end subroutine scene_init_i
+
+    !> Stability limit of the next step [s], identical on every rank (huge if none).
+    function scene_dt_i(self, dom, grid) result(dt)
+      import :: scene_t, domain_t, grid_t, wp
+      class(scene_t), intent(inout) :: self  !< scene
+      type(domain_t), intent(in) :: dom      !< decomposition
+      type(grid_t), intent(in) :: grid       !< block geometry
+      real(wp) :: dt
+    end function scene_dt_i
+
+    !> Advance the state from `time` by `dt` [s]; `accepted = .false.` leaves the state unchanged.
+    subroutine scene_step_i(self, dom, grid, time, dt, timers, accepted)
+      import :: scene_t, domain_t, grid_t, timer_set_t, wp
+      class(scene_t), intent(inout) :: self        !< scene
+      type(domain_t), intent(in) :: dom            !< decomposition
+      type(grid_t), intent(in) :: grid             !< block geometry
+      real(wp), intent(in) :: time                 !< time at the start of the step [s]
+      real(wp), intent(in) :: dt                   !< step [s]
+      type(timer_set_t), intent(inout) :: timers   !< stage timers
+      logical, intent(out) :: accepted             !< the step was taken
+    end subroutine scene_step_i
+
+    !> Write the scene's datasets into the open file (collective).
+    subroutine scene_write_i(self, file, dom, grid, checkpoint)
+      import :: scene_t, h5_file_t, domain_t, grid_t
+      class(scene_t), intent(inout) :: self  !< scene
+      type(h5_file_t), intent(in) :: file    !< open dump or checkpoint
+      type(domain_t), intent(in) :: dom      !< decomposition
+      type(grid_t), intent(in) :: grid       !< block geometry
+      logical, intent(in) :: checkpoint      !< write the full restart state
+    end subroutine scene_write_i
+
+    !> Read the state from an open checkpoint (collective).
+    subroutine scene_restore_i(self, file, dom, grid)
+      import :: scene_t, h5_file_t, domain_t, grid_t
+      class(scene_t), intent(inout) :: self  !< scene
+      type(h5_file_t), intent(in) :: file    !< open checkpoint
+      type(domain_t), intent(in) :: dom      !< decomposition
+      type(grid_t), intent(in) :: grid       !< block geometry
+    end subroutine scene_restore_i
+
+    !> Cell datasets and particle sets (size 0 when none) that `write_state` puts in a dump, for
+    !! the XDMF description.
+    subroutine scene_layout_i(self, cell_paths, particle_sets)
+      import :: scene_t, name_len, xdmf_particles_t
+      class(scene_t), intent(in) :: self                                 !< scene
+      character(len=name_len), allocatable, intent(out) :: cell_paths(:)  !< cell dataset paths
+      type(xdmf_particles_t), allocatable, intent(out) :: particle_sets(:) !< particle sets
+    end subroutine scene_layout_i
+
+    !> True when this rank's state holds no NaN or infinity.
+    function scene_finite_i(self, grid) result(finite)
+      import :: scene_t, grid_t
+      class(scene_t), intent(in) :: self  !< scene
+      type(grid_t), intent(in) :: grid    !< block geometry
+      logical :: finite
+    end function scene_finite_i
+
+    !> Log the scene's end-of-run statistics (collective; rank 0 prints).
+    subroutine scene_summary_i(self, dom, grid)
+      import :: scene_t, domain_t, grid_t
+      class(scene_t), intent(inout) :: self  !< scene
+      type(domain_t), intent(in) :: dom      !< decomposition
+      type(grid_t), intent(in) :: grid       !< block geometry
+    end subroutine scene_summary_i
+
+    !> Release the state.
+    subroutine scene_free_i(self)
+      import :: scene_t
+      class(scene_t), intent(inout) :: self  !< scene
+    end subroutine scene_free_i
+  end interface
+
+end module driver_scene
