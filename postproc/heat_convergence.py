@@ -24,10 +24,16 @@ NAMELISTS = os.path.join(ROOT, "namelists")
 
 def run_resolution(workdir: str, dim: int, n: int, nranks: int = 1) -> dict:
     """Run the 1D or 2D scene with n cells along x (n/2 along y in 2D); return the final dump."""
+    extra = []
     if dim == 1:
         nml = os.path.join(NAMELISTS, "heat_conduction_1d.nml")
         cells = f"{n}, 1, 1"
         dt = 0.064 / n            # 1e-3 s at 64 cells
+    elif dim == 3:                # unit cube, walls everywhere, t = 0.01 s
+        nml = os.path.join(NAMELISTS, "heat_conduction_1d.nml")
+        cells = f"{n}, {n}, {n}"
+        dt = 0.016 / n
+        extra = ["--set", "&run end_time = 0.01, output_interval = 0.0 /"]
     else:
         nml = os.path.join(NAMELISTS, "heat_conduction_2d.nml")
         cells = f"{n}, {n // 2}, 1"
@@ -35,7 +41,7 @@ def run_resolution(workdir: str, dim: int, n: int, nranks: int = 1) -> dict:
     out = os.path.join(workdir, f"d{dim}_n{n}_r{nranks}")
     run_mpmice([nml, "--set", f"&grid ncells = {cells} /",
                 "--set", f"&time dt_init = {dt!r}, dt_max = {dt!r} /",
-                "--set", f"&run output_dir = '{out}', checkpoint_interval = 0.0 /"],
+                "--set", f"&run output_dir = '{out}', checkpoint_interval = 0.0 /"] + extra,
                nranks=nranks, cwd=workdir)
     return read_temperature(dump_files(out)[-1])
 
@@ -67,6 +73,7 @@ def main(argv=None) -> int:
     res = [16, 32, 64] if args.quick else [32, 64, 128, 256]
     with tempfile.TemporaryDirectory() as work:
         studies = {dim: convergence(work, dim, res) for dim in (1, 2)}
+        studies[3] = convergence(work, 3, [r // 4 for r in res])
         diffs = rank_difference(work)
     lines = ["dimension,cells_x,relative_l2_error,observed_order"]
     for dim, rows in studies.items():

@@ -35,6 +35,12 @@ def test_heat_2d_second_order(tmp_path):
     assert rows[-1][1] < 1.2e-2, rows
 
 
+def test_heat_3d_second_order(tmp_path):
+    """3D unit cube with walls: observed order 2 +- 0.1 from 8^3 to 16^3 cells."""
+    rows = heat_convergence.convergence(str(tmp_path), 3, [8, 16])
+    assert 1.9 < rows[1][2] < 2.1, rows
+
+
 def test_heat_2d_rank_invariance(tmp_path):
     """Same temperature field on 1, 2 and 4 ranks to 1e-12 relative."""
     diffs = heat_convergence.rank_difference(str(tmp_path), n=32)
