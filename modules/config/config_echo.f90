@@ -4,10 +4,13 @@
 !! Every variable of every group is written, defaults included, with reals in the shortest form
 !! that reads back bitwise identical, so reading the text with `config_load_text` reproduces the
 !! configuration exactly. The text has one `variable = value` per line and no comments after
-!! values (postproc/namelist.py reads it).
+!! values (postproc/namelist.py reads it). Repeated groups (`&fluid`, `&solid`, `&region`,
+!! `&boundary`) follow the singletons, one group per occurrence in order; reading the text
+!! appends them again in the same order.
 module config_echo
   use mpmice_kinds, only: msg_len
-  use config_types, only: config_t
+  use config_types, only: config_t, fluid_params_t, solid_params_t, region_params_t, &
+    boundary_params_t
   use config_text, only: real_repr, reals_repr, ints_repr, logicals_repr, quoted
   implicit none
   private
@@ -22,6 +25,7 @@ contains
   function config_to_text(cfg) result(text)
     type(config_t), intent(in) :: cfg  !< configuration
     character(len=:), allocatable :: text
+    integer :: k
 
     text = '! MPMICE resolved input: every variable, defaults included' // nl
     text = text // '&run' // nl
@@ -66,7 +70,36 @@ contains
     call add('base_temperature', real_repr(cfg%heat%base_temperature))
     call add('amplitude', real_repr(cfg%heat%amplitude))
     call add('modes', ints_repr(cfg%heat%modes))
+    text = text // '/' // nl // '&physics' // nl
+    call add('gravity', reals_repr(cfg%physics%gravity))
+    call add('reference_pressure', real_repr(cfg%physics%reference_pressure))
+    call add('hydrostatic_init', logicals_repr([cfg%physics%hydrostatic_init]))
+    text = text // '/' // nl // '&ice' // nl
+    call add('outer_tolerance', real_repr(cfg%ice%outer_tolerance))
+    call add('max_outer_iterations', ints_repr([cfg%ice%max_outer_iterations]))
+    call add('exchange_coefficient', real_repr(cfg%ice%exchange_coefficient))
+    call add('heat_exchange_coefficient', real_repr(cfg%ice%heat_exchange_coefficient))
+    call add('smagorinsky', logicals_repr([cfg%ice%smagorinsky]))
+    call add('smagorinsky_constant', real_repr(cfg%ice%smagorinsky_constant))
+    call add('equilibration_tolerance', real_repr(cfg%ice%equilibration_tolerance))
+    call add('max_equilibration_iterations', ints_repr([cfg%ice%max_equilibration_iterations]))
+    text = text // '/' // nl // '&mpm' // nl
+    call add('flip_fraction', real_repr(cfg%mpm%flip_fraction))
+    call add('gravity_ramp_time', real_repr(cfg%mpm%gravity_ramp_time))
+    call add('local_damping', real_repr(cfg%mpm%local_damping))
     text = text // '/' // nl
+    do k = 1, cfg%nfluids
+      call add_fluid(cfg%fluids(k))
+    end do
+    do k = 1, cfg%nsolids
+      call add_solid(cfg%solids(k))
+    end do
+    do k = 1, cfg%nregions
+      call add_region(cfg%regions(k))
+    end do
+    do k = 1, cfg%nboundaries
+      call add_boundary(cfg%boundaries(k))
+    end do
 
   contains
 
@@ -75,6 +108,92 @@ contains
       character(len=*), intent(in) :: value
       text = text // '  ' // name // ' = ' // value // nl
     end subroutine add
+
+    subroutine add_fluid(p)
+      type(fluid_params_t), intent(in) :: p
+      text = text // '&fluid' // nl
+      call add('name', quoted(p%name))
+      call add('eos', quoted(p%eos))
+      call add('gamma', real_repr(p%gamma))
+      call add('heat_capacity_cv', real_repr(p%heat_capacity_cv))
+      call add('reference_density', real_repr(p%reference_density))
+      call add('reference_pressure', real_repr(p%reference_pressure))
+      call add('reference_temperature', real_repr(p%reference_temperature))
+      call add('bulk_modulus', real_repr(p%bulk_modulus))
+      call add('thermal_expansion', real_repr(p%thermal_expansion))
+      call add('stiffened_pressure', real_repr(p%stiffened_pressure))
+      call add('viscosity', real_repr(p%viscosity))
+      call add('conductivity', real_repr(p%conductivity))
+      call add('volume_fraction', real_repr(p%volume_fraction))
+      call add('velocity', reals_repr(p%velocity))
+      call add('temperature', real_repr(p%temperature))
+      call add('pressure', real_repr(p%pressure))
+      text = text // '/' // nl
+    end subroutine add_fluid
+
+    subroutine add_solid(p)
+      type(solid_params_t), intent(in) :: p
+      text = text // '&solid' // nl
+      call add('name', quoted(p%name))
+      call add('model', quoted(p%model))
+      call add('density', real_repr(p%density))
+      call add('youngs_modulus', real_repr(p%youngs_modulus))
+      call add('poisson_ratio', real_repr(p%poisson_ratio))
+      call add('cohesion', real_repr(p%cohesion))
+      call add('friction_angle', real_repr(p%friction_angle))
+      call add('dilation_angle', real_repr(p%dilation_angle))
+      call add('tension_cutoff', logicals_repr([p%tension_cutoff]))
+      call add('tensile_strength', real_repr(p%tensile_strength))
+      call add('k0', real_repr(p%k0))
+      call add('geostatic', logicals_repr([p%geostatic]))
+      call add('shape', quoted(p%shape))
+      call add('lower', reals_repr(p%lower))
+      call add('upper', reals_repr(p%upper))
+      call add('npoints', ints_repr([p%npoints]))
+      call add('polygon_x', reals_repr(p%polygon_x))
+      call add('polygon_y', reals_repr(p%polygon_y))
+      call add('plane_point', reals_repr(p%plane_point))
+      call add('plane_normal', reals_repr(p%plane_normal))
+      call add('rotation_deg', real_repr(p%rotation_deg))
+      call add('particles_per_cell', ints_repr(p%particles_per_cell))
+      call add('velocity', reals_repr(p%velocity))
+      call add('temperature', real_repr(p%temperature))
+      call add('heat_capacity', real_repr(p%heat_capacity))
+      call add('conductivity', real_repr(p%conductivity))
+      call add('porosity', real_repr(p%porosity))
+      call add('grain_size', real_repr(p%grain_size))
+      call add('prescribed_velocity', reals_repr(p%prescribed_velocity))
+      call add('acceleration_amplitude', reals_repr(p%acceleration_amplitude))
+      call add('acceleration_frequency', real_repr(p%acceleration_frequency))
+      text = text // '/' // nl
+    end subroutine add_solid
+
+    subroutine add_region(p)
+      type(region_params_t), intent(in) :: p
+      text = text // '&region' // nl
+      call add('material', quoted(p%material))
+      call add('lower', reals_repr(p%lower))
+      call add('upper', reals_repr(p%upper))
+      call add('volume_fraction', real_repr(p%volume_fraction))
+      call add('velocity', reals_repr(p%velocity))
+      call add('temperature', real_repr(p%temperature))
+      call add('pressure', real_repr(p%pressure))
+      text = text // '/' // nl
+    end subroutine add_region
+
+    subroutine add_boundary(p)
+      type(boundary_params_t), intent(in) :: p
+      text = text // '&boundary' // nl
+      call add('face', quoted(p%face))
+      call add('fluid', quoted(p%fluid))
+      call add('pressure', real_repr(p%pressure))
+      call add('velocity', reals_repr(p%velocity))
+      call add('thermal', quoted(p%thermal))
+      call add('temperature', real_repr(p%temperature))
+      call add('solid', quoted(p%solid))
+      call add('solid_velocity', reals_repr(p%solid_velocity))
+      text = text // '/' // nl
+    end subroutine add_boundary
   end function config_to_text
 
   !> Path of the echo file: `<output_dir>/<name>.used.nml`.

@@ -73,7 +73,8 @@ contains
   end subroutine config_load_file
 
   !> Resolve a configuration on one rank: defaults, then the case file `source`, then each
-  !! `sets(i)` in order, then validation for a run on `nranks` ranks. With `base_text` that text
+  !! `sets(i)` in order (as overrides: a repeated group modifies the occurrence its selector
+  !! names), then validation for a run on `nranks` ranks. With `base_text` that text
   !! replaces the file's content (a restart passes the text stored in the checkpoint, with the
   !! checkpoint's path as `source`). Error lines name the input that set the bad variable.
   subroutine config_resolve(cfg, source, sets, nranks, stat, errmsg, base_text)
@@ -95,7 +96,7 @@ contains
     end if
     if (stat /= 0) return
     do i = 1, size(sets)
-      call config_load_text(cfg, sets(i), '--set', stat, errmsg, origin)
+      call config_load_text(cfg, sets(i), '--set', stat, errmsg, origin, overrides=.true.)
       if (stat /= 0) return
     end do
     call config_check(cfg, nranks, err)

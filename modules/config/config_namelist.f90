@@ -11,21 +11,30 @@ module config_namelist
     ieee_get_flag, ieee_set_flag, ieee_overflow, ieee_underflow, ieee_invalid, ieee_flag_type
   use mpmice_kinds, only: wp, name_len, path_len, msg_len
   use config_types, only: config_t, run_params_t, grid_params_t, time_params_t, &
-    numerics_params_t, solver_params_t, output_params_t, heat_params_t
+    numerics_params_t, solver_params_t, output_params_t, heat_params_t, fluid_params_t, &
+    solid_params_t, region_params_t, boundary_params_t, max_fluids, max_solids, max_regions, &
+    max_boundaries, max_polygon_points
+  use config_read_phases, only: read_physics, read_ice, read_mpm, read_fluid, read_solid, &
+    read_region, read_boundary
   implicit none
   private
 
   public :: variable_info_t, group_names, variables, find_variable, group_variable_names
   public :: describe_value, namelist_assign
+  public :: repeated_group_names, is_repeated_group, group_selector, max_occurrences
+  public :: occurrence_count, new_occurrence, find_occurrence, occurrence_selectors
 
   !> Known singleton groups, in echo order.
-  character(len=*), parameter :: group_names(7) = [character(len=8) :: &
-    'run', 'grid', 'time', 'numerics', 'solver', 'output', 'heat']
+  character(len=*), parameter :: group_names(10) = [character(len=8) :: &
+    'run', 'grid', 'time', 'numerics', 'solver', 'output', 'heat', 'physics', 'ice', 'mpm']
+  !> Known repeated groups, in echo order (after the singletons).
+  character(len=*), parameter :: repeated_group_names(4) = [character(len=8) :: &
+    'fluid', 'solid', 'region', 'boundary']
 
   !> One namelist variable.
   type :: variable_info_t
     character(len=8) :: group = ''    !< group name without `&`
-    character(len=24) :: name = ''    !< variable name
+    character(len=32) :: name = ''    !< variable name
     character :: kind = 'r'           !< `i` integer, `r` real, `l` logical, `c` character
     integer :: size = 1               !< number of entries (1 scalar, 3 per-dimension array)
     integer :: length = 0             !< declared length of a character variable
@@ -67,7 +76,83 @@ module config_namelist
     variable_info_t('heat', 'heat_capacity', 'r', 1, 0), &
     variable_info_t('heat', 'base_temperature', 'r', 1, 0), &
     variable_info_t('heat', 'amplitude', 'r', 1, 0), &
-    variable_info_t('heat', 'modes', 'i', 3, 0)]
+    variable_info_t('heat', 'modes', 'i', 3, 0), &
+    variable_info_t('physics', 'gravity', 'r', 3, 0), &
+    variable_info_t('physics', 'reference_pressure', 'r', 1, 0), &
+    variable_info_t('physics', 'hydrostatic_init', 'l', 1, 0), &
+    variable_info_t('ice', 'outer_tolerance', 'r', 1, 0), &
+    variable_info_t('ice', 'max_outer_iterations', 'i', 1, 0), &
+    variable_info_t('ice', 'exchange_coefficient', 'r', 1, 0), &
+    variable_info_t('ice', 'heat_exchange_coefficient', 'r', 1, 0), &
+    variable_info_t('ice', 'smagorinsky', 'l', 1, 0), &
+    variable_info_t('ice', 'smagorinsky_constant', 'r', 1, 0), &
+    variable_info_t('ice', 'equilibration_tolerance', 'r', 1, 0), &
+    variable_info_t('ice', 'max_equilibration_iterations', 'i', 1, 0), &
+    variable_info_t('mpm', 'flip_fraction', 'r', 1, 0), &
+    variable_info_t('mpm', 'gravity_ramp_time', 'r', 1, 0), &
+    variable_info_t('mpm', 'local_damping', 'r', 1, 0), &
+    variable_info_t('fluid', 'name', 'c', 1, name_len), &
+    variable_info_t('fluid', 'eos', 'c', 1, name_len), &
+    variable_info_t('fluid', 'gamma', 'r', 1, 0), &
+    variable_info_t('fluid', 'heat_capacity_cv', 'r', 1, 0), &
+    variable_info_t('fluid', 'reference_density', 'r', 1, 0), &
+    variable_info_t('fluid', 'reference_pressure', 'r', 1, 0), &
+    variable_info_t('fluid', 'reference_temperature', 'r', 1, 0), &
+    variable_info_t('fluid', 'bulk_modulus', 'r', 1, 0), &
+    variable_info_t('fluid', 'thermal_expansion', 'r', 1, 0), &
+    variable_info_t('fluid', 'stiffened_pressure', 'r', 1, 0), &
+    variable_info_t('fluid', 'viscosity', 'r', 1, 0), &
+    variable_info_t('fluid', 'conductivity', 'r', 1, 0), &
+    variable_info_t('fluid', 'volume_fraction', 'r', 1, 0), &
+    variable_info_t('fluid', 'velocity', 'r', 3, 0), &
+    variable_info_t('fluid', 'temperature', 'r', 1, 0), &
+    variable_info_t('fluid', 'pressure', 'r', 1, 0), &
+    variable_info_t('solid', 'name', 'c', 1, name_len), &
+    variable_info_t('solid', 'model', 'c', 1, name_len), &
+    variable_info_t('solid', 'density', 'r', 1, 0), &
+    variable_info_t('solid', 'youngs_modulus', 'r', 1, 0), &
+    variable_info_t('solid', 'poisson_ratio', 'r', 1, 0), &
+    variable_info_t('solid', 'cohesion', 'r', 1, 0), &
+    variable_info_t('solid', 'friction_angle', 'r', 1, 0), &
+    variable_info_t('solid', 'dilation_angle', 'r', 1, 0), &
+    variable_info_t('solid', 'tension_cutoff', 'l', 1, 0), &
+    variable_info_t('solid', 'tensile_strength', 'r', 1, 0), &
+    variable_info_t('solid', 'k0', 'r', 1, 0), &
+    variable_info_t('solid', 'geostatic', 'l', 1, 0), &
+    variable_info_t('solid', 'shape', 'c', 1, name_len), &
+    variable_info_t('solid', 'lower', 'r', 3, 0), &
+    variable_info_t('solid', 'upper', 'r', 3, 0), &
+    variable_info_t('solid', 'npoints', 'i', 1, 0), &
+    variable_info_t('solid', 'polygon_x', 'r', max_polygon_points, 0), &
+    variable_info_t('solid', 'polygon_y', 'r', max_polygon_points, 0), &
+    variable_info_t('solid', 'plane_point', 'r', 3, 0), &
+    variable_info_t('solid', 'plane_normal', 'r', 3, 0), &
+    variable_info_t('solid', 'rotation_deg', 'r', 1, 0), &
+    variable_info_t('solid', 'particles_per_cell', 'i', 3, 0), &
+    variable_info_t('solid', 'velocity', 'r', 3, 0), &
+    variable_info_t('solid', 'temperature', 'r', 1, 0), &
+    variable_info_t('solid', 'heat_capacity', 'r', 1, 0), &
+    variable_info_t('solid', 'conductivity', 'r', 1, 0), &
+    variable_info_t('solid', 'porosity', 'r', 1, 0), &
+    variable_info_t('solid', 'grain_size', 'r', 1, 0), &
+    variable_info_t('solid', 'prescribed_velocity', 'r', 3, 0), &
+    variable_info_t('solid', 'acceleration_amplitude', 'r', 3, 0), &
+    variable_info_t('solid', 'acceleration_frequency', 'r', 1, 0), &
+    variable_info_t('region', 'material', 'c', 1, name_len), &
+    variable_info_t('region', 'lower', 'r', 3, 0), &
+    variable_info_t('region', 'upper', 'r', 3, 0), &
+    variable_info_t('region', 'volume_fraction', 'r', 1, 0), &
+    variable_info_t('region', 'velocity', 'r', 3, 0), &
+    variable_info_t('region', 'temperature', 'r', 1, 0), &
+    variable_info_t('region', 'pressure', 'r', 1, 0), &
+    variable_info_t('boundary', 'face', 'c', 1, name_len), &
+    variable_info_t('boundary', 'fluid', 'c', 1, name_len), &
+    variable_info_t('boundary', 'pressure', 'r', 1, 0), &
+    variable_info_t('boundary', 'velocity', 'r', 3, 0), &
+    variable_info_t('boundary', 'thermal', 'c', 1, name_len), &
+    variable_info_t('boundary', 'temperature', 'r', 1, 0), &
+    variable_info_t('boundary', 'solid', 'c', 1, name_len), &
+    variable_info_t('boundary', 'solid_velocity', 'r', 3, 0)]
 
 contains
 
@@ -125,30 +210,43 @@ contains
   !! unchanged and `ios`/`iomsg` hold the compiler's status and message. Floating-point traps
   !! (debug builds) are off during the read: a value such as `1e400` reads as infinity, which
   !! validation then rejects, instead of stopping the program.
-  subroutine namelist_assign(cfg, group, text, ios, iomsg)
+  !! A repeated group updates its occurrence `occurrence` (1..count; required for those groups).
+  subroutine namelist_assign(cfg, group, text, ios, iomsg, occurrence)
     type(config_t), intent(inout) :: cfg     !< configuration to update
     character(len=*), intent(in) :: group    !< group name (lower case, no `&`)
     character(len=*), intent(in) :: text     !< namelist text of that group
     integer, intent(out) :: ios              !< 0 on success
     character(len=msg_len), intent(out) :: iomsg !< compiler message on failure
+    integer, intent(in), optional :: occurrence  !< element of a repeated group
     type(ieee_flag_type), parameter :: traps(3) = [ieee_overflow, ieee_underflow, ieee_invalid]
     logical :: halting(3), flags(3)
+    integer :: k
+    k = 0
+    if (present(occurrence)) k = occurrence
     call ieee_get_halting_mode(traps, halting)
     call ieee_get_flag(traps, flags)
     call ieee_set_halting_mode(traps, .false.)
-    call assign_group(cfg, group, text, ios, iomsg)
+    call assign_group(cfg, group, text, k, ios, iomsg)
     call ieee_set_flag(traps, flags)
     call ieee_set_halting_mode(traps, halting)
   end subroutine namelist_assign
 
   !> `namelist_assign` without the floating-point trap handling.
-  subroutine assign_group(cfg, group, text, ios, iomsg)
+  subroutine assign_group(cfg, group, text, k, ios, iomsg)
     type(config_t), intent(inout) :: cfg     !< configuration to update
     character(len=*), intent(in) :: group    !< group name (lower case, no `&`)
     character(len=*), intent(in) :: text     !< namelist text of that group
+    integer, intent(in) :: k                 !< occurrence of a repeated group
     integer, intent(out) :: ios              !< 0 on success
     character(len=msg_len), intent(out) :: iomsg !< compiler message on failure
     iomsg = ''
+    if (is_repeated_group(group)) then
+      if (k < 1 .or. k > occurrence_count(cfg, group)) then
+        ios = -1
+        iomsg = 'no such occurrence of &' // trim(group)
+        return
+      end if
+    end if
     select case (group)
     case ('run')
       call read_run(cfg%run, text, ios, iomsg)
@@ -164,11 +262,148 @@ contains
       call read_output(cfg%output, text, ios, iomsg)
     case ('heat')
       call read_heat(cfg%heat, text, ios, iomsg)
+    case ('physics')
+      call read_physics(cfg%physics, text, ios, iomsg)
+    case ('ice')
+      call read_ice(cfg%ice, text, ios, iomsg)
+    case ('mpm')
+      call read_mpm(cfg%mpm, text, ios, iomsg)
+    case ('fluid')
+      call read_fluid(cfg%fluids(k), text, ios, iomsg)
+    case ('solid')
+      call read_solid(cfg%solids(k), text, ios, iomsg)
+    case ('region')
+      call read_region(cfg%regions(k), text, ios, iomsg)
+    case ('boundary')
+      call read_boundary(cfg%boundaries(k), text, ios, iomsg)
     case default
       ios = -1
       iomsg = 'unknown namelist group &' // trim(group)
     end select
   end subroutine assign_group
+
+  !> True if `group` may appear several times.
+  pure logical function is_repeated_group(group)
+    character(len=*), intent(in) :: group  !< group name without `&`
+    is_repeated_group = len_trim(group) > 0 .and. any(repeated_group_names == group)
+  end function is_repeated_group
+
+  !> The variable that identifies an occurrence of repeated group `group` for `--set`: `name`
+  !! (`&fluid`, `&solid`), `face` (`&boundary`), '' when there is none (`&region`).
+  pure function group_selector(group) result(name)
+    character(len=*), intent(in) :: group  !< group name without `&`
+    character(len=:), allocatable :: name
+    select case (group)
+    case ('fluid', 'solid')
+      name = 'name'
+    case ('boundary')
+      name = 'face'
+    case default
+      name = ''
+    end select
+  end function group_selector
+
+  !> Most occurrences of repeated group `group` (`max_fluids`, ...); 1 for a singleton.
+  pure integer function max_occurrences(group)
+    character(len=*), intent(in) :: group  !< group name without `&`
+    select case (group)
+    case ('fluid')
+      max_occurrences = max_fluids
+    case ('solid')
+      max_occurrences = max_solids
+    case ('region')
+      max_occurrences = max_regions
+    case ('boundary')
+      max_occurrences = max_boundaries
+    case default
+      max_occurrences = 1
+    end select
+  end function max_occurrences
+
+  !> Occurrences of repeated group `group` in `cfg` (0 for a singleton).
+  pure integer function occurrence_count(cfg, group)
+    type(config_t), intent(in) :: cfg      !< configuration
+    character(len=*), intent(in) :: group  !< group name without `&`
+    select case (group)
+    case ('fluid')
+      occurrence_count = cfg%nfluids
+    case ('solid')
+      occurrence_count = cfg%nsolids
+    case ('region')
+      occurrence_count = cfg%nregions
+    case ('boundary')
+      occurrence_count = cfg%nboundaries
+    case default
+      occurrence_count = 0
+    end select
+  end function occurrence_count
+
+  !> Append a new occurrence of repeated group `group`, set to the type's defaults. `k` is its
+  !! index, 0 when the group already has `max_occurrences(group)` occurrences.
+  subroutine new_occurrence(cfg, group, k)
+    type(config_t), intent(inout) :: cfg   !< configuration to update
+    character(len=*), intent(in) :: group  !< repeated group name
+    integer, intent(out) :: k              !< index of the new occurrence, 0 if full
+    k = occurrence_count(cfg, group) + 1
+    if (k > max_occurrences(group) .or. .not. is_repeated_group(group)) then
+      k = 0
+      return
+    end if
+    select case (group)
+    case ('fluid')
+      cfg%nfluids = k
+      cfg%fluids(k) = fluid_params_t()
+    case ('solid')
+      cfg%nsolids = k
+      cfg%solids(k) = solid_params_t()
+    case ('region')
+      cfg%nregions = k
+      cfg%regions(k) = region_params_t()
+    case ('boundary')
+      cfg%nboundaries = k
+      cfg%boundaries(k) = boundary_params_t()
+    end select
+  end subroutine new_occurrence
+
+  !> Selector values (`group_selector`) of the occurrences of `group`, in order.
+  pure function occurrence_selectors(cfg, group) result(values)
+    type(config_t), intent(in) :: cfg      !< configuration
+    character(len=*), intent(in) :: group  !< repeated group name
+    character(len=name_len), allocatable :: values(:)
+    integer :: k, n
+    n = occurrence_count(cfg, group)
+    allocate(values(n))
+    do k = 1, n
+      select case (group)
+      case ('fluid')
+        values(k) = cfg%fluids(k)%name
+      case ('solid')
+        values(k) = cfg%solids(k)%name
+      case ('boundary')
+        values(k) = cfg%boundaries(k)%face
+      case default
+        values(k) = ''
+      end select
+    end do
+  end function occurrence_selectors
+
+  !> Index of the first occurrence of `group` whose selector value is `value`, 0 if none.
+  pure integer function find_occurrence(cfg, group, value)
+    type(config_t), intent(in) :: cfg      !< configuration
+    character(len=*), intent(in) :: group  !< repeated group name
+    character(len=*), intent(in) :: value  !< selector value
+    character(len=name_len), allocatable :: values(:)
+    integer :: k
+    find_occurrence = 0
+    if (len(group_selector(group)) == 0) return
+    values = occurrence_selectors(cfg, group)
+    do k = 1, size(values)
+      if (values(k) == value) then
+        find_occurrence = k
+        return
+      end if
+    end do
+  end function find_occurrence
 
   !> `&run`.
   subroutine read_run(p, text, ios, iomsg)

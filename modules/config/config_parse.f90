@@ -7,13 +7,21 @@
 !! compiler's `iomsg` does not always do. Checked here: unknown groups, repeated groups, text
 !! outside groups, unterminated groups, unknown variables, missing values, unquoted or too long
 !! strings and values the compiler cannot read. Range checks are in `config_validate`.
+!!
+!! Repeated groups (`&fluid`, `&solid`, `&region`, `&boundary`): each occurrence in a case file
+!! appends a new element, set to the defaults, to its array (more than the maximum count is an
+!! error). In an override text (`--set`, `overrides = .true.`) a `&fluid`/`&solid`/`&boundary`
+!! group instead modifies the existing occurrence named by its selector variable (`name`, or
+!! `face`), which the group must assign; a `&region` group appends a region (later regions win).
+!! Messages and provenance name the occurrence as `&fluid(2)`.
 module config_parse
-  use mpmice_kinds, only: msg_len
+  use mpmice_kinds, only: msg_len, name_len
   use mpmice_errors, only: input_error_text
   use config_types, only: config_t
   use config_namelist, only: group_names, variables, find_variable, group_variable_names, &
-    describe_value, namelist_assign
-  use config_text, only: lower_case, is_identifier_char, join_names, unquoted
+    describe_value, namelist_assign, repeated_group_names, is_repeated_group, group_selector, &
+    max_occurrences, new_occurrence, find_occurrence, occurrence_selectors
+  use config_text, only: lower_case, is_identifier_char, join_names, unquoted, quoted
   implicit none
   private
 
@@ -34,16 +42,23 @@ contains
   !! value `cfg` has (the defaults for a fresh `config_t`). `stat` is 0 on success; otherwise 1 and
   !! `errmsg` is the one-line input error naming `source`, group, variable and value. `cfg` may be
   !! partly updated on failure. `origin`, when given, records the source of every assignment.
-  subroutine config_load_text(cfg, text, source, stat, errmsg, origin)
+  !! With `overrides = .true.` (the `--set` texts) repeated groups select an existing occurrence
+  !! instead of appending one (see the module header).
+  subroutine config_load_text(cfg, text, source, stat, errmsg, origin, overrides)
     type(config_t), intent(inout) :: cfg                    !< configuration to update
     character(len=*), intent(in) :: text                    !< namelist text (may hold newlines)
     character(len=*), intent(in) :: source                  !< name of the input for messages
     integer, intent(out) :: stat                            !< 0 ok, 1 input error
     character(len=:), allocatable, intent(out) :: errmsg    !< the error line when stat /= 0
     type(config_origin_t), intent(inout), optional :: origin !< provenance of each variable
+    logical, intent(in), optional :: overrides              !< `--set` semantics
     character(len=len(text)) :: s
     character(len=:), allocatable :: group
-    integer :: n, i, j, seen(size(group_names)), g, body_end
+    integer :: n, i, j, seen(size(group_names)), g, body_end, k
+    logical :: select_existing
+
+    select_existing = .false.
+    if (present(overrides)) select_existing = overrides
 
     stat = 0
     errmsg = ''
@@ -69,22 +84,32 @@ contains
       end do
       group = lower_case(s(i + 1:j - 1))
       g = findloc_name(group)
-      if (g == 0) then
+      if (g == 0 .and. .not. is_repeated_group(group)) then
         call fail(group_error_text(source, group, 'unknown namelist group; known: ' // &
-          join_names(group_names, ', ', '&')))
+          join_names(group_names, ', ', '&') // ', ' // &
+          join_names(repeated_group_names, ', ', '&')))
         return
       end if
-      seen(g) = seen(g) + 1
-      if (seen(g) > 1) then
-        call fail(group_error_text(source, group, 'group given more than once; allowed: once'))
-        return
+      if (g > 0) then
+        seen(g) = seen(g) + 1
+        if (seen(g) > 1) then
+          call fail(group_error_text(source, group, 'group given more than once; allowed: once'))
+          return
+        end if
       end if
       call find_group_end(s, j, body_end)
       if (body_end <= 0) then
         call fail(group_error_text(source, group, 'group not terminated by ''/'''))
         return
       end if
-      call apply_group(cfg, group, s(j:body_end - 1), source, stat, errmsg, origin)
+      if (g > 0) then
+        call apply_group(cfg, group, s(j:body_end - 1), source, stat, errmsg, origin)
+      else
+        call choose_occurrence(cfg, group, s(j:body_end - 1), source, select_existing, k, &
+          stat, errmsg)
+        if (stat /= 0) return
+        call apply_group(cfg, group, s(j:body_end - 1), source, stat, errmsg, origin, k)
+      end if
       if (stat /= 0) return
       i = body_end + 1
     end do
@@ -97,6 +122,72 @@ contains
       errmsg = message
     end subroutine fail
   end subroutine config_load_text
+
+  !> The occurrence of repeated group `group` that the group text `body` applies to: a new one,
+  !! or with `select_existing` (and a selector variable) the one its selector names.
+  subroutine choose_occurrence(cfg, group, body, source, select_existing, k, stat, errmsg)
+    type(config_t), intent(inout) :: cfg                    !< configuration to update
+    character(len=*), intent(in) :: group                   !< repeated group name
+    character(len=*), intent(in) :: body                    !< text between name and `/`
+    character(len=*), intent(in) :: source                  !< input name for messages
+    logical, intent(in) :: select_existing                  !< modify instead of append
+    integer, intent(out) :: k                               !< the occurrence
+    integer, intent(out) :: stat                            !< 0 ok, 1 input error
+    character(len=:), allocatable, intent(inout) :: errmsg  !< the error line
+    character(len=:), allocatable :: selector, value, content
+    character(len=16) :: limit
+    logical :: ok, found
+
+    stat = 1
+    k = 0
+    selector = group_selector(group)
+    if (select_existing .and. len(selector) > 0) then
+      call find_assignment(body, selector, found, value)
+      if (.not. found) then
+        errmsg = group_error_text(source, group, 'an override of a repeated group must select ' &
+          // 'the occurrence with ' // selector // ' = ''...''; present: ' // &
+          present_list(cfg, group))
+        return
+      end if
+      call unquoted(value, content, ok)
+      if (ok) k = find_occurrence(cfg, group, content)
+      if (k == 0) then
+        errmsg = input_error_text(source, group, selector, value, 'no &' // group // &
+          ' with this ' // selector // '; present: ' // present_list(cfg, group))
+        return
+      end if
+    else
+      call new_occurrence(cfg, group, k)
+      if (k == 0) then
+        write(limit, '(i0)') max_occurrences(group)
+        if (group == 'boundary') then
+          selector = 'max_boundaries'
+        else
+          selector = 'max_' // group // 's'
+        end if
+        errmsg = group_error_text(source, group, 'more than ' // trim(limit) // &
+          ' groups; allowed: at most ' // trim(limit) // ' (' // selector // ')')
+        return
+      end if
+    end if
+    stat = 0
+  end subroutine choose_occurrence
+
+  !> The selector values of the occurrences of `group`, quoted, or `none`.
+  function present_list(cfg, group) result(text)
+    type(config_t), intent(in) :: cfg      !< configuration
+    character(len=*), intent(in) :: group  !< repeated group name
+    character(len=:), allocatable :: text
+    character(len=name_len), allocatable :: values(:)
+    integer :: k
+    values = occurrence_selectors(cfg, group)
+    text = ''
+    do k = 1, size(values)
+      if (k > 1) text = text // ', '
+      text = text // quoted(values(k))
+    end do
+    if (size(values) == 0) text = 'none'
+  end function present_list
 
   !> Index of `group` in `group_names`, 0 if unknown.
   pure integer function findloc_name(group)
@@ -162,20 +253,15 @@ contains
     end do
   end subroutine find_group_end
 
-  !> Split a group body into `name = value` assignments and apply them one by one.
-  subroutine apply_group(cfg, group, body, source, stat, errmsg, origin)
-    type(config_t), intent(inout) :: cfg                    !< configuration to update
-    character(len=*), intent(in) :: group                   !< lower-case group name
-    character(len=*), intent(in) :: body                    !< text between name and `/`
-    character(len=*), intent(in) :: source                  !< input name for messages
-    integer, intent(out) :: stat                            !< 0 ok, 1 input error
-    character(len=:), allocatable, intent(inout) :: errmsg  !< the error line
-    type(config_origin_t), intent(inout), optional :: origin !< provenance
-    integer :: k, neq, eqs(len(body) + 1), starts(len(body) + 1), name_end
+  !> Positions of the `=` of each assignment of a group body (outside strings), and where the
+  !! name before each starts; `starts(neq + 1)` and `eqs(neq + 1)` are `len(body) + 1`.
+  pure subroutine split_assignments(body, neq, eqs, starts)
+    character(len=*), intent(in) :: body          !< text between group name and `/`
+    integer, intent(out) :: neq                   !< number of assignments
+    integer, intent(out) :: eqs(len(body) + 1)    !< position of each `=`
+    integer, intent(out) :: starts(len(body) + 1) !< start of each variable name
+    integer :: k
     character :: q
-
-    stat = 0
-    ! positions of '=' outside strings, and where the name before each starts
     neq = 0
     q = ' '
     do k = 1, len(body)
@@ -189,26 +275,70 @@ contains
         starts(neq) = name_start(body, k)
       end if
     end do
+    starts(neq + 1) = len(body) + 1
+    eqs(neq + 1) = len(body) + 1
+  end subroutine split_assignments
+
+  !> The value text of the first assignment to the scalar `variable` in a group body.
+  subroutine find_assignment(body, variable, found, value)
+    character(len=*), intent(in) :: body                 !< text between group name and `/`
+    character(len=*), intent(in) :: variable             !< lower-case variable name
+    logical, intent(out) :: found                        !< the body assigns `variable`
+    character(len=:), allocatable, intent(out) :: value  !< its value text
+    integer :: k, neq, eqs(len(body) + 1), starts(len(body) + 1)
+    found = .false.
+    value = ''
+    call split_assignments(body, neq, eqs, starts)
+    do k = 1, neq
+      if (lower_case(trim(adjustl(body(starts(k):eqs(k) - 1)))) == variable) then
+        found = .true.
+        value = value_text(body(eqs(k) + 1:starts(k + 1) - 1))
+        return
+      end if
+    end do
+  end subroutine find_assignment
+
+  !> Split a group body into `name = value` assignments and apply them one by one (to the
+  !! occurrence `occurrence` of a repeated group).
+  subroutine apply_group(cfg, group, body, source, stat, errmsg, origin, occurrence)
+    type(config_t), intent(inout) :: cfg                    !< configuration to update
+    character(len=*), intent(in) :: group                   !< lower-case group name
+    character(len=*), intent(in) :: body                    !< text between name and `/`
+    character(len=*), intent(in) :: source                  !< input name for messages
+    integer, intent(out) :: stat                            !< 0 ok, 1 input error
+    character(len=:), allocatable, intent(inout) :: errmsg  !< the error line
+    type(config_origin_t), intent(inout), optional :: origin !< provenance
+    integer, intent(in), optional :: occurrence             !< element of a repeated group
+    integer :: k, neq, eqs(len(body) + 1), starts(len(body) + 1), name_end
+    character(len=:), allocatable :: label
+    character(len=16) :: number
+
+    stat = 0
+    label = group
+    if (present(occurrence)) then
+      write(number, '(i0)') occurrence
+      label = group // '(' // trim(number) // ')'
+    end if
+    call split_assignments(body, neq, eqs, starts)
     if (neq == 0) then
       if (len_trim(body) > 0) then
         stat = 1
-        errmsg = group_error_text(source, group, 'expected ''variable = value'', found: ' // &
+        errmsg = group_error_text(source, label, 'expected ''variable = value'', found: ' // &
           excerpt(adjustl(body)))
       end if
       return
     end if
     if (len_trim(body(1:starts(1) - 1)) > 0) then
       stat = 1
-      errmsg = group_error_text(source, group, 'expected ''variable = value'', found: ' // &
+      errmsg = group_error_text(source, label, 'expected ''variable = value'', found: ' // &
         excerpt(adjustl(body(1:starts(1) - 1))))
       return
     end if
-    starts(neq + 1) = len(body) + 1
-    eqs(neq + 1) = len(body) + 1
     do k = 1, neq
       name_end = eqs(k) - 1
-      call apply_assignment(cfg, group, trim(adjustl(body(starts(k):name_end))), &
-        value_text(body(eqs(k) + 1:starts(k + 1) - 1)), source, stat, errmsg, origin)
+      call apply_assignment(cfg, group, label, trim(adjustl(body(starts(k):name_end))), &
+        value_text(body(eqs(k) + 1:starts(k + 1) - 1)), source, stat, errmsg, origin, &
+        occurrence)
       if (stat /= 0) return
     end do
   end subroutine apply_group
@@ -252,15 +382,18 @@ contains
   end function value_text
 
   !> Check and apply one assignment `name = value` of `group`.
-  subroutine apply_assignment(cfg, group, name, value, source, stat, errmsg, origin)
+  subroutine apply_assignment(cfg, group, label, name, value, source, stat, errmsg, origin, &
+      occurrence)
     type(config_t), intent(inout) :: cfg                    !< configuration to update
     character(len=*), intent(in) :: group                   !< lower-case group name
+    character(len=*), intent(in) :: label                  !< group as named in messages
     character(len=*), intent(in) :: name                    !< variable as written (with subscript)
     character(len=*), intent(in) :: value                   !< value text
     character(len=*), intent(in) :: source                  !< input name for messages
     integer, intent(out) :: stat                            !< 0 ok, 1 input error
     character(len=:), allocatable, intent(inout) :: errmsg  !< the error line
     type(config_origin_t), intent(inout), optional :: origin !< provenance
+    integer, intent(in), optional :: occurrence             !< element of a repeated group
     character(len=:), allocatable :: base, content
     character(len=msg_len) :: iomsg
     integer :: v, p, ios
@@ -275,30 +408,30 @@ contains
     end if
     v = find_variable(group, base)
     if (v == 0) then
-      errmsg = input_error_text(source, group, name, value, &
+      errmsg = input_error_text(source, label, name, value, &
         'unknown variable; known: ' // group_variable_names(group))
       return
     end if
     if (len(value) == 0) then
-      errmsg = input_error_text(source, group, name, '', 'missing value; expected ' // &
+      errmsg = input_error_text(source, label, name, '', 'missing value; expected ' // &
         describe_value(variables(v)))
       return
     end if
     if (variables(v)%kind == 'c') then
       call unquoted(value, content, ok)
       if (.not. ok .or. len(content) > variables(v)%length) then
-        errmsg = input_error_text(source, group, name, value, describe_value(variables(v)))
+        errmsg = input_error_text(source, label, name, value, describe_value(variables(v)))
         return
       end if
     end if
     call namelist_assign(cfg, group, '&' // group // ' ' // name // ' = ' // value // ' /', &
-      ios, iomsg)
+      ios, iomsg, occurrence)
     if (ios /= 0) then
-      errmsg = input_error_text(source, group, name, value, describe_value(variables(v)))
+      errmsg = input_error_text(source, label, name, value, describe_value(variables(v)))
       return
     end if
     stat = 0
-    if (present(origin)) call origin_record(origin, group // ' ' // base, source)
+    if (present(origin)) call origin_record(origin, label // ' ' // base, source)
   end subroutine apply_assignment
 
   !> Remember that `source` assigned `key` (the latest assignment wins).

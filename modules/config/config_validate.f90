@@ -3,26 +3,21 @@
 !! `config_check` finds the first invalid variable (groups in echo order, variables in table
 !! order) and describes it in a `config_error_t`: group, variable, value as text and the allowed
 !! range. Checks that depend on the number of ranks (cells per block, `dims`) use the same
-!! `choose_dims` as the decomposition, so a configuration that passes can be decomposed.
+!! `choose_dims` as the decomposition, so a configuration that passes can be decomposed. The
+!! multiphase groups and the scene-dependent checks are in `config_validate_phases`; an error in
+!! occurrence k of a repeated group names the group `fluid(k)`.
 module config_validate
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use mpmice_kinds, only: wp, i8
   use parallel_domain, only: choose_dims
   use config_types, only: config_t, scene_names, shape_function_names
-  use config_text, only: real_repr, reals_repr, ints_repr, quoted, join_names
+  use config_text, only: real_repr, reals_repr, ints_repr, quoted
+  use config_check_tools, only: config_error_t, set_error, check_real, check_int, check_choice
+  use config_validate_phases, only: check_phases
   implicit none
   private
 
   public :: config_error_t, config_check, ghost_width_needed
-
-  !> The first problem found in a configuration.
-  type :: config_error_t
-    logical :: found = .false.                  !< a problem was found
-    character(len=:), allocatable :: group      !< group name without `&`
-    character(len=:), allocatable :: variable   !< variable name
-    character(len=:), allocatable :: value      !< offending value as namelist text
-    character(len=:), allocatable :: allowed    !< allowed range or values
-  end type config_error_t
 
 contains
 
@@ -45,6 +40,8 @@ contains
     call check_output(cfg, err)
     if (err%found) return
     call check_heat(cfg, err)
+    if (err%found) return
+    call check_phases(cfg, err)
   end subroutine config_check
 
   !> Ghost layers the numerics need: `advection_order` cells for advection, 2 for GIMP and 1 for
@@ -54,85 +51,6 @@ contains
     ghost_width_needed = max(cfg%numerics%advection_order, 1)
     if (cfg%numerics%shape_function == 'gimp') ghost_width_needed = max(ghost_width_needed, 2)
   end function ghost_width_needed
-
-  !> Record a problem.
-  subroutine set_error(err, group, variable, value, allowed)
-    type(config_error_t), intent(inout) :: err  !< problem record
-    character(len=*), intent(in) :: group       !< group name
-    character(len=*), intent(in) :: variable    !< variable name
-    character(len=*), intent(in) :: value       !< value as text
-    character(len=*), intent(in) :: allowed     !< allowed range
-    err%found = .true.
-    err%group = group
-    err%variable = variable
-    err%value = value
-    err%allowed = allowed
-  end subroutine set_error
-
-  !> Check a real scalar: finite and inside the given bounds (`*_open` excludes the bound).
-  subroutine check_real(err, group, variable, x, allowed, min_value, max_value, min_open, max_open)
-    type(config_error_t), intent(inout) :: err   !< problem record
-    character(len=*), intent(in) :: group        !< group name
-    character(len=*), intent(in) :: variable     !< variable name
-    real(wp), intent(in) :: x                    !< value
-    character(len=*), intent(in) :: allowed      !< allowed range as text
-    real(wp), intent(in), optional :: min_value  !< lower bound
-    real(wp), intent(in), optional :: max_value  !< upper bound
-    logical, intent(in), optional :: min_open    !< lower bound excluded
-    logical, intent(in), optional :: max_open    !< upper bound excluded
-    logical :: ok
-    if (err%found) return
-    ok = ieee_is_finite(x)
-    if (ok .and. present(min_value)) then
-      if (present(min_open)) then
-        if (min_open) ok = x > min_value
-      end if
-      ok = ok .and. x >= min_value
-    end if
-    if (ok .and. present(max_value)) then
-      if (present(max_open)) then
-        if (max_open) ok = x < max_value
-      end if
-      ok = ok .and. x <= max_value
-    end if
-    if (.not. ok) then
-      if (ieee_is_finite(x)) then
-        call set_error(err, group, variable, real_repr(x), allowed)
-      else
-        call set_error(err, group, variable, real_repr(x), 'a finite number, ' // allowed)
-      end if
-    end if
-  end subroutine check_real
-
-  !> Check an integer scalar against inclusive bounds.
-  subroutine check_int(err, group, variable, n, allowed, min_value, max_value)
-    type(config_error_t), intent(inout) :: err  !< problem record
-    character(len=*), intent(in) :: group       !< group name
-    character(len=*), intent(in) :: variable    !< variable name
-    integer, intent(in) :: n                    !< value
-    character(len=*), intent(in) :: allowed     !< allowed range as text
-    integer, intent(in), optional :: min_value  !< lower bound
-    integer, intent(in), optional :: max_value  !< upper bound
-    logical :: ok
-    if (err%found) return
-    ok = .true.
-    if (present(min_value)) ok = ok .and. n >= min_value
-    if (present(max_value)) ok = ok .and. n <= max_value
-    if (.not. ok) call set_error(err, group, variable, ints_repr([n]), allowed)
-  end subroutine check_int
-
-  !> Check that `value` (trimmed) is one of `names`.
-  subroutine check_choice(err, group, variable, value, names)
-    type(config_error_t), intent(inout) :: err  !< problem record
-    character(len=*), intent(in) :: group       !< group name
-    character(len=*), intent(in) :: variable    !< variable name
-    character(len=*), intent(in) :: value       !< value
-    character(len=*), intent(in) :: names(:)    !< allowed values
-    if (err%found) return
-    if (.not. any(names == value)) then
-      call set_error(err, group, variable, quoted(value), 'one of ' // join_names(names, ', ', ''))
-    end if
-  end subroutine check_choice
 
   !> `&run`.
   subroutine check_run(cfg, err)

@@ -1,0 +1,278 @@
+!> Namelist reads of the multiphase groups (`&physics`, `&ice`, `&mpm`, `&fluid`, `&solid`,
+!! `&region`, `&boundary`), used by `config_namelist`.
+!!
+!! As for the other groups, each routine presets the namelist variables from the parameters (so
+!! absent variables keep their value), reads `text` and copies back on success only.
+module config_read_phases
+  use mpmice_kinds, only: wp, name_len
+  use config_materials, only: physics_params_t, ice_params_t, mpm_params_t, fluid_params_t, &
+    solid_params_t, region_params_t, boundary_params_t, max_polygon_points
+  implicit none
+  private
+
+  public :: read_physics, read_ice, read_mpm, read_fluid, read_solid, read_region, read_boundary
+
+contains
+
+  !> `&physics`.
+  subroutine read_physics(p, text, ios, iomsg)
+    type(physics_params_t), intent(inout) :: p !< parameters to update
+    character(len=*), intent(in) :: text       !< namelist text
+    integer, intent(out) :: ios                !< iostat
+    character(len=*), intent(inout) :: iomsg   !< iomsg
+    real(wp) :: gravity(3), reference_pressure
+    logical :: hydrostatic_init
+    namelist /physics/ gravity, reference_pressure, hydrostatic_init
+    gravity = p%gravity
+    reference_pressure = p%reference_pressure
+    hydrostatic_init = p%hydrostatic_init
+    read(text, nml=physics, iostat=ios, iomsg=iomsg)
+    if (ios /= 0) return
+    p%gravity = gravity
+    p%reference_pressure = reference_pressure
+    p%hydrostatic_init = hydrostatic_init
+  end subroutine read_physics
+
+  !> `&ice`.
+  subroutine read_ice(p, text, ios, iomsg)
+    type(ice_params_t), intent(inout) :: p   !< parameters to update
+    character(len=*), intent(in) :: text     !< namelist text
+    integer, intent(out) :: ios              !< iostat
+    character(len=*), intent(inout) :: iomsg !< iomsg
+    real(wp) :: outer_tolerance, exchange_coefficient, heat_exchange_coefficient
+    real(wp) :: smagorinsky_constant, equilibration_tolerance
+    integer :: max_outer_iterations, max_equilibration_iterations
+    logical :: smagorinsky
+    namelist /ice/ outer_tolerance, max_outer_iterations, exchange_coefficient, &
+      heat_exchange_coefficient, smagorinsky, smagorinsky_constant, equilibration_tolerance, &
+      max_equilibration_iterations
+    outer_tolerance = p%outer_tolerance
+    max_outer_iterations = p%max_outer_iterations
+    exchange_coefficient = p%exchange_coefficient
+    heat_exchange_coefficient = p%heat_exchange_coefficient
+    smagorinsky = p%smagorinsky
+    smagorinsky_constant = p%smagorinsky_constant
+    equilibration_tolerance = p%equilibration_tolerance
+    max_equilibration_iterations = p%max_equilibration_iterations
+    read(text, nml=ice, iostat=ios, iomsg=iomsg)
+    if (ios /= 0) return
+    p%outer_tolerance = outer_tolerance
+    p%max_outer_iterations = max_outer_iterations
+    p%exchange_coefficient = exchange_coefficient
+    p%heat_exchange_coefficient = heat_exchange_coefficient
+    p%smagorinsky = smagorinsky
+    p%smagorinsky_constant = smagorinsky_constant
+    p%equilibration_tolerance = equilibration_tolerance
+    p%max_equilibration_iterations = max_equilibration_iterations
+  end subroutine read_ice
+
+  !> `&mpm`.
+  subroutine read_mpm(p, text, ios, iomsg)
+    type(mpm_params_t), intent(inout) :: p   !< parameters to update
+    character(len=*), intent(in) :: text     !< namelist text
+    integer, intent(out) :: ios              !< iostat
+    character(len=*), intent(inout) :: iomsg !< iomsg
+    real(wp) :: flip_fraction, gravity_ramp_time, local_damping
+    namelist /mpm/ flip_fraction, gravity_ramp_time, local_damping
+    flip_fraction = p%flip_fraction
+    gravity_ramp_time = p%gravity_ramp_time
+    local_damping = p%local_damping
+    read(text, nml=mpm, iostat=ios, iomsg=iomsg)
+    if (ios /= 0) return
+    p%flip_fraction = flip_fraction
+    p%gravity_ramp_time = gravity_ramp_time
+    p%local_damping = local_damping
+  end subroutine read_mpm
+
+  !> `&fluid` (one occurrence).
+  subroutine read_fluid(p, text, ios, iomsg)
+    type(fluid_params_t), intent(inout) :: p !< parameters to update
+    character(len=*), intent(in) :: text     !< namelist text
+    integer, intent(out) :: ios              !< iostat
+    character(len=*), intent(inout) :: iomsg !< iomsg
+    character(len=name_len) :: name, eos
+    real(wp) :: gamma, heat_capacity_cv, reference_density, reference_pressure
+    real(wp) :: reference_temperature, bulk_modulus, thermal_expansion, stiffened_pressure
+    real(wp) :: viscosity, conductivity, volume_fraction, velocity(3), temperature, pressure
+    namelist /fluid/ name, eos, gamma, heat_capacity_cv, reference_density, reference_pressure, &
+      reference_temperature, bulk_modulus, thermal_expansion, stiffened_pressure, viscosity, &
+      conductivity, volume_fraction, velocity, temperature, pressure
+    name = p%name
+    eos = p%eos
+    gamma = p%gamma
+    heat_capacity_cv = p%heat_capacity_cv
+    reference_density = p%reference_density
+    reference_pressure = p%reference_pressure
+    reference_temperature = p%reference_temperature
+    bulk_modulus = p%bulk_modulus
+    thermal_expansion = p%thermal_expansion
+    stiffened_pressure = p%stiffened_pressure
+    viscosity = p%viscosity
+    conductivity = p%conductivity
+    volume_fraction = p%volume_fraction
+    velocity = p%velocity
+    temperature = p%temperature
+    pressure = p%pressure
+    read(text, nml=fluid, iostat=ios, iomsg=iomsg)
+    if (ios /= 0) return
+    p%name = name
+    p%eos = eos
+    p%gamma = gamma
+    p%heat_capacity_cv = heat_capacity_cv
+    p%reference_density = reference_density
+    p%reference_pressure = reference_pressure
+    p%reference_temperature = reference_temperature
+    p%bulk_modulus = bulk_modulus
+    p%thermal_expansion = thermal_expansion
+    p%stiffened_pressure = stiffened_pressure
+    p%viscosity = viscosity
+    p%conductivity = conductivity
+    p%volume_fraction = volume_fraction
+    p%velocity = velocity
+    p%temperature = temperature
+    p%pressure = pressure
+  end subroutine read_fluid
+
+  !> `&region` (one occurrence).
+  subroutine read_region(p, text, ios, iomsg)
+    type(region_params_t), intent(inout) :: p !< parameters to update
+    character(len=*), intent(in) :: text      !< namelist text
+    integer, intent(out) :: ios               !< iostat
+    character(len=*), intent(inout) :: iomsg  !< iomsg
+    character(len=name_len) :: material
+    real(wp) :: lower(3), upper(3), volume_fraction, velocity(3), temperature, pressure
+    namelist /region/ material, lower, upper, volume_fraction, velocity, temperature, pressure
+    material = p%material
+    lower = p%lower
+    upper = p%upper
+    volume_fraction = p%volume_fraction
+    velocity = p%velocity
+    temperature = p%temperature
+    pressure = p%pressure
+    read(text, nml=region, iostat=ios, iomsg=iomsg)
+    if (ios /= 0) return
+    p%material = material
+    p%lower = lower
+    p%upper = upper
+    p%volume_fraction = volume_fraction
+    p%velocity = velocity
+    p%temperature = temperature
+    p%pressure = pressure
+  end subroutine read_region
+
+  !> `&solid` (one occurrence).
+  subroutine read_solid(p, text, ios, iomsg)
+    type(solid_params_t), intent(inout) :: p !< parameters to update
+    character(len=*), intent(in) :: text     !< namelist text
+    integer, intent(out) :: ios              !< iostat
+    character(len=*), intent(inout) :: iomsg !< iomsg
+    character(len=name_len) :: name, model, shape
+    real(wp) :: density, youngs_modulus, poisson_ratio, cohesion, friction_angle
+    real(wp) :: dilation_angle, tensile_strength, k0, lower(3), upper(3)
+    real(wp) :: polygon_x(max_polygon_points), polygon_y(max_polygon_points)
+    real(wp) :: plane_point(3), plane_normal(3), rotation_deg, velocity(3), temperature
+    real(wp) :: heat_capacity, conductivity, porosity, grain_size, prescribed_velocity(3)
+    real(wp) :: acceleration_amplitude(3), acceleration_frequency
+    integer :: npoints, particles_per_cell(3)
+    logical :: tension_cutoff, geostatic
+    namelist /solid/ name, model, density, youngs_modulus, poisson_ratio, cohesion, &
+      friction_angle, dilation_angle, tension_cutoff, tensile_strength, k0, geostatic, shape, &
+      lower, upper, npoints, polygon_x, polygon_y, plane_point, plane_normal, rotation_deg, &
+      particles_per_cell, velocity, temperature, heat_capacity, conductivity, porosity, &
+      grain_size, prescribed_velocity, acceleration_amplitude, acceleration_frequency
+    name = p%name
+    model = p%model
+    density = p%density
+    youngs_modulus = p%youngs_modulus
+    poisson_ratio = p%poisson_ratio
+    cohesion = p%cohesion
+    friction_angle = p%friction_angle
+    dilation_angle = p%dilation_angle
+    tension_cutoff = p%tension_cutoff
+    tensile_strength = p%tensile_strength
+    k0 = p%k0
+    geostatic = p%geostatic
+    shape = p%shape
+    lower = p%lower
+    upper = p%upper
+    npoints = p%npoints
+    polygon_x = p%polygon_x
+    polygon_y = p%polygon_y
+    plane_point = p%plane_point
+    plane_normal = p%plane_normal
+    rotation_deg = p%rotation_deg
+    particles_per_cell = p%particles_per_cell
+    velocity = p%velocity
+    temperature = p%temperature
+    heat_capacity = p%heat_capacity
+    conductivity = p%conductivity
+    porosity = p%porosity
+    grain_size = p%grain_size
+    prescribed_velocity = p%prescribed_velocity
+    acceleration_amplitude = p%acceleration_amplitude
+    acceleration_frequency = p%acceleration_frequency
+    read(text, nml=solid, iostat=ios, iomsg=iomsg)
+    if (ios /= 0) return
+    p%name = name
+    p%model = model
+    p%density = density
+    p%youngs_modulus = youngs_modulus
+    p%poisson_ratio = poisson_ratio
+    p%cohesion = cohesion
+    p%friction_angle = friction_angle
+    p%dilation_angle = dilation_angle
+    p%tension_cutoff = tension_cutoff
+    p%tensile_strength = tensile_strength
+    p%k0 = k0
+    p%geostatic = geostatic
+    p%shape = shape
+    p%lower = lower
+    p%upper = upper
+    p%npoints = npoints
+    p%polygon_x = polygon_x
+    p%polygon_y = polygon_y
+    p%plane_point = plane_point
+    p%plane_normal = plane_normal
+    p%rotation_deg = rotation_deg
+    p%particles_per_cell = particles_per_cell
+    p%velocity = velocity
+    p%temperature = temperature
+    p%heat_capacity = heat_capacity
+    p%conductivity = conductivity
+    p%porosity = porosity
+    p%grain_size = grain_size
+    p%prescribed_velocity = prescribed_velocity
+    p%acceleration_amplitude = acceleration_amplitude
+    p%acceleration_frequency = acceleration_frequency
+  end subroutine read_solid
+
+  !> `&boundary` (one occurrence).
+  subroutine read_boundary(p, text, ios, iomsg)
+    type(boundary_params_t), intent(inout) :: p !< parameters to update
+    character(len=*), intent(in) :: text        !< namelist text
+    integer, intent(out) :: ios                 !< iostat
+    character(len=*), intent(inout) :: iomsg    !< iomsg
+    character(len=name_len) :: face, fluid, thermal, solid
+    real(wp) :: pressure, velocity(3), temperature, solid_velocity(3)
+    namelist /boundary/ face, fluid, pressure, velocity, thermal, temperature, solid, &
+      solid_velocity
+    face = p%face
+    fluid = p%fluid
+    pressure = p%pressure
+    velocity = p%velocity
+    thermal = p%thermal
+    temperature = p%temperature
+    solid = p%solid
+    solid_velocity = p%solid_velocity
+    read(text, nml=boundary, iostat=ios, iomsg=iomsg)
+    if (ios /= 0) return
+    p%face = face
+    p%fluid = fluid
+    p%pressure = pressure
+    p%velocity = velocity
+    p%thermal = thermal
+    p%temperature = temperature
+    p%solid = solid
+    p%solid_velocity = solid_velocity
+  end subroutine read_boundary
+end module config_read_phases
