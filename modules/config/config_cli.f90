@@ -6,6 +6,7 @@
 !!     mpmice --help | --version
 module config_cli
   use mpmice_kinds, only: path_len, msg_len
+  use mpmice_errors, only: int_text
   implicit none
   private
 
@@ -80,7 +81,7 @@ contains
           if (stat /= 0) return
           if (starts_with(arg, '--set')) then
             if (len(value) > msg_len) then
-              call usage_error('--set text longer than ' // int_str(msg_len) // ' characters')
+              call usage_error('--set text longer than ' // int_text(msg_len) // ' characters')
               return
             end if
             cli%nsets = cli%nsets + 1
@@ -90,7 +91,7 @@ contains
               call usage_error('--restart given more than once')
               return
             else if (len(value) > path_len) then
-              call usage_error('--restart path longer than ' // int_str(path_len) // ' characters')
+              call usage_error('--restart path longer than ' // int_text(path_len) // ' characters')
               return
             end if
             cli%restart_file = value
@@ -103,7 +104,7 @@ contains
             // arg // '''')
           return
         else if (len(arg) == 0 .or. len(arg) > path_len) then
-          call usage_error('case file name empty or longer than ' // int_str(path_len) // &
+          call usage_error('case file name empty or longer than ' // int_text(path_len) // &
             ' characters')
           return
         else
@@ -175,8 +176,8 @@ contains
       call get_command_argument(i, args(i), length=length)
       if (length > msg_len) then
         stat = 1
-        errmsg = 'mpmice: usage error: argument ' // int_str(i) // ' is longer than ' // &
-          int_str(msg_len) // ' characters (see mpmice --help)'
+        errmsg = 'mpmice: usage error: argument ' // int_text(i) // ' is longer than ' // &
+          int_text(msg_len) // ' characters (see mpmice --help)'
         return
       end if
     end do
@@ -190,13 +191,4 @@ contains
     starts_with = .false.
     if (len(s) >= len(prefix)) starts_with = s(1:len(prefix)) == prefix
   end function starts_with
-
-  !> Integer as text.
-  pure function int_str(n) result(text)
-    integer, intent(in) :: n  !< value
-    character(len=:), allocatable :: text
-    character(len=16) :: buffer
-    write(buffer, '(i0)') n
-    text = trim(buffer)
-  end function int_str
 end module config_cli

@@ -17,7 +17,7 @@
 !! HDF5 file is closed.
 module io_xdmf
   use mpmice_kinds, only: wp, i8, name_len, path_len, msg_len
-  use mpmice_errors, only: fatal
+  use mpmice_errors, only: fatal, int_text, real_text
   use grid_layout, only: grid_t
   use io_files, only: io_file_exists, io_rename
   implicit none
@@ -353,24 +353,6 @@ contains
     write(unit, '(a)', iostat=stat, iomsg=msg) text
     if (stat /= 0) call fatal('XDMF: cannot write ' // trim(path) // ': ' // trim(msg))
   end subroutine put
-
-  !> A real in full precision for XML.
-  pure function real_text(x) result(text)
-    real(wp), intent(in) :: x  !< value
-    character(len=:), allocatable :: text
-    character(len=32) :: buffer
-    write(buffer, '(es24.16e3)') x
-    text = trim(adjustl(buffer))
-  end function real_text
-
-  !> An integer as text.
-  pure function int_text(n) result(text)
-    integer, intent(in) :: n  !< value
-    character(len=:), allocatable :: text
-    character(len=16) :: buffer
-    write(buffer, '(i0)') n
-    text = trim(buffer)
-  end function int_text
 
   !> A 64-bit integer as text.
   pure function i8_text(n) result(text)
