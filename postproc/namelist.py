@@ -3,7 +3,9 @@ attribute of dumps and checkpoints).
 
 Only what the program writes is supported: ``&group name = value, ... /`` with scalars, arrays,
 quoted strings and logicals. Returns ``{group: {variable: value}}`` with lower-case keys; arrays
-are lists.
+are lists. Repeated groups (``&fluid``, ``&solid``, ``&region``, ``&boundary``) appear once per
+occurrence in the text: ``parse_namelist_groups`` returns every group in order, while
+``parse_namelist_text`` keeps the last occurrence of each.
 """
 from __future__ import annotations
 
@@ -30,8 +32,13 @@ def _convert(token: str):
 
 
 def parse_namelist_text(text: str) -> dict[str, dict[str, object]]:
-    """Parse namelist text into nested dictionaries."""
-    groups: dict[str, dict[str, object]] = {}
+    """Parse namelist text into nested dictionaries (the last occurrence of a repeated group)."""
+    return dict(parse_namelist_groups(text))
+
+
+def parse_namelist_groups(text: str) -> list[tuple[str, dict[str, object]]]:
+    """Parse namelist text into ``(group, {variable: value})`` pairs, one per group, in order."""
+    groups: list[tuple[str, dict[str, object]]] = []
     for match in re.finditer(r"&(\w+)(.*?)(?:^\s*/\s*$|/\s*$|/\s*\n)", text, re.S | re.M):
         group = match.group(1).lower()
         body = match.group(2)
@@ -45,7 +52,7 @@ def parse_namelist_text(text: str) -> dict[str, dict[str, object]]:
                 flat.extend(t if isinstance(t, list) else [t])
             key = re.sub(r"\(.*", "", name).lower()
             values[key] = flat[0] if len(flat) == 1 else flat
-        groups[group] = values
+        groups.append((group, values))
     return groups
 
 
