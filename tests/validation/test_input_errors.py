@@ -15,7 +15,7 @@ import pytest
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO))
-from postproc.namelist import parse_namelist_text  # noqa: E402
+from postproc.namelist import parse_namelist_groups, parse_namelist_text  # noqa: E402
 
 GROUPS = ("run", "grid", "time", "numerics", "solver", "output", "heat", "physics", "ice", "mpm")
 
@@ -82,6 +82,33 @@ BAD_INPUTS = [
     ("set_malformed", "", ["&time cfl = 0.3 /", "&time cfl = abc /"],
      ["--set", "&time", "cfl", "abc"]),
     ("set_unknown_variable", "", ["&run bogus = 1 /"], ["--set", "&run", "bogus", "1"]),
+]
+
+
+#: A valid ICE case with repeated groups (two fluids, a region, a boundary); y is periodic.
+ICE_CASE = """&run name = 'ice', scene = 'ice', output_dir = 'out' /
+&grid ncells = 8, 8, 1, periodic = .false., .true., .false. /
+&fluid name = 'air', volume_fraction = 1.0 /
+&fluid name = 'water', eos = 'linear_water', viscosity = 1.0e-3 /
+&region material = 'water', upper = 0.5, 1.0, 1.0, volume_fraction = 1.0 /
+&boundary face = 'x+', fluid = 'pressure' /
+"""
+
+#: Input errors of the repeated groups, checked on one rank only (the unit tests cover the rest):
+#: (id, text appended to ICE_CASE, --set texts, pieces the error line must contain)
+BAD_PHASE_INPUTS = [
+    ("duplicate_name", "&fluid name = 'air' /", [],
+     ["case.nml", "&fluid(3) name = 'air'", "unique", "&fluid(1)"]),
+    ("unknown_region_material", "&region material = 'oil' /", [],
+     ["case.nml", "&region(2) material = 'oil'", "'air', 'water'"]),
+    ("bad_enum", "&fluid name = 'oil', eos = 'tait' /", [],
+     ["case.nml", "&fluid(3) eos = 'tait'", "ideal_gas, linear_water, stiffened_gas"]),
+    ("boundary_on_periodic_face", "&boundary face = 'y-' /", [],
+     ["case.nml", "&boundary(2) face = 'y-'", "non-periodic"]),
+    ("second_boundary_same_face", "&boundary face = 'x+' /", [],
+     ["case.nml", "&boundary(2) face = 'x+'", "at most one", "&boundary(1)"]),
+    ("set_selector_not_present", "", ["&fluid name = 'oil', viscosity = 2e-3 /"],
+     ["--set", "&fluid name = 'oil'", "present: 'air', 'water'"]),
 ]
 
 
@@ -266,3 +293,36 @@ def test_help_and_version(run_mpmice, tmp_case_dir):
     version = run_mpmice(["--version"], cwd=tmp_case_dir)
     assert version.returncode == 0
     assert text_of(version.stdout).startswith("mpmice ")
+
+
+@pytest.mark.parametrize("case_id, extra, sets, pieces", BAD_PHASE_INPUTS,
+                         ids=[b[0] for b in BAD_PHASE_INPUTS])
+def test_bad_phase_input_stops_with_one_line(run_mpmice, tmp_case_dir, case_id, extra, sets,
+                                             pieces):
+    (tmp_case_dir / "case.nml").write_text(ICE_CASE + extra + "\n")
+    args = ["case.nml"]
+    for text in sets:
+        args += ["--set", text]
+    result = run_mpmice(args, nranks=1, cwd=tmp_case_dir)
+    assert_input_error(result, pieces, tmp_case_dir)
+
+
+def test_repeated_groups_echo_and_set_selector(run_mpmice, tmp_case_dir):
+    """--check prints every occurrence in order; --set modifies the occurrence it names; the
+    printed text, read back, resolves to the same text."""
+    (tmp_case_dir / "case.nml").write_text(ICE_CASE)
+    result = run_mpmice(["--check", "case.nml", "--set",
+                         "&fluid name = 'water', viscosity = 2.5e-3 /"], cwd=tmp_case_dir)
+    assert result.returncode == 0, text_of(result.stderr)
+    first = text_of(result.stdout)
+    groups = parse_namelist_groups(first)
+    fluids = [values for name, values in groups if name == "fluid"]
+    assert [f["name"] for f in fluids] == ["air", "water"]
+    assert fluids[0]["viscosity"] == 0.0 and fluids[1]["viscosity"] == 2.5e-3
+    assert fluids[1]["eos"] == "linear_water" and fluids[0]["eos"] == "ideal_gas"
+    assert [v["material"] for name, v in groups if name == "region"] == ["water"]
+    assert [v["face"] for name, v in groups if name == "boundary"] == ["x+"]
+    (tmp_case_dir / "resolved.nml").write_text(first)
+    second = run_mpmice(["--check", "resolved.nml"], cwd=tmp_case_dir)
+    assert second.returncode == 0, text_of(second.stderr)
+    assert text_of(second.stdout) == first
