@@ -10,11 +10,13 @@ module driver_loop
   use mpmice_progress, only: progress_t, progress_init, progress_update, progress_elapsed
   use config_types, only: config_t
   use parallel_domain, only: domain_t
-  use parallel_reduce, only: global_any
+  use parallel_reduce, only: global_any, global_max
+  use mpmice_signals, only: signals_install, signal_received, signal_name
   use grid_layout, only: grid_t
   use driver_clock, only: clock_t, clock_init, clock_propose_dt, clock_advance, clock_finished
   use driver_output, only: write_dump, write_checkpoint, read_checkpoint
   use driver_scene, only: scene_t
+  use io_files, only: io_join_path
   implicit none
   private
 
@@ -25,7 +27,9 @@ module driver_loop
   !> How a run ended.
   type :: run_status_t
     integer :: exit_code = 0                  !< 0 finished or stopped cleanly, 3 failed
+    character(len=16) :: state = 'finished'   !< finished, stopped (continuable) or failed
     character(len=path_len) :: reason = ''    !< one-line reason
+    character(len=path_len) :: checkpoint = '' !< checkpoint to continue from (stopped runs)
   end type run_status_t
 
 contains
@@ -43,10 +47,11 @@ contains
     type(timer_set_t) :: timers
     type(progress_t) :: progress
     real(wp) :: dt, dt_limit, slowest_step_s, step_start_s
-    integer :: t_output, retries, rejected
+    integer :: t_output, retries, rejected, signum
     logical :: accepted, stop_for_wall_time, stopped_early
 
     t_output = timer_register(timers, 'output and checkpoint')
+    call signals_install()
     call scene%init(cfg, dom, grid, timers)
     call clock_init(clock, cfg%run%end_time, cfg%run%output_interval, &
       cfg%run%checkpoint_interval, cfg%run%max_steps, cfg%time%dt_init, cfg%time%dt_max, &
@@ -124,6 +129,12 @@ contains
         stopped_early = .true.
         exit
       end if
+      signum = global_max(dom, signal_received())
+      if (signum > 0 .and. .not. clock_finished(clock)) then
+        status%reason = 'stopped on ' // signal_name(signum)
+        stopped_early = .true.
+        exit
+      end if
       call progress_update(progress, clock%step, clock%time, clock%dt)
     end do
 
@@ -137,15 +148,41 @@ contains
         call write_dump(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
           namelist_text, cfg%output%xdmf, 'dump')
         call write_checkpoint(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
-          namelist_text)
+          namelist_text, status%checkpoint)
+        status%state = 'stopped'
+        status%reason = trim(status%reason) // '; continue with mpmice --restart ' // &
+          trim(status%checkpoint)
       else
         status%reason = 'finished: end time reached'
       end if
     end if
+    if (status%exit_code /= 0) status%state = 'failed'
+    if (dom%rank == 0) call write_status_file(cfg, clock, status)
     call progress_update(progress, clock%step, clock%time, clock%dt, force=.true.)
     if (rejected > 0) call log_info(int_text(rejected) // ' steps were rejected and retried')
     call scene%summary(dom, grid)
     call timer_summary(timers, dom%comm, progress_elapsed(progress))
     call scene%free()
   end subroutine run_scene
+
+  !> Write `<output_dir>/<name>.status` for job scripts: `key = value` lines `state` (finished,
+  !! stopped or failed), `step`, `time`, `checkpoint` (stopped runs) and `reason`.
+  subroutine write_status_file(cfg, clock, status)
+    type(config_t), intent(in) :: cfg           !< configuration
+    type(clock_t), intent(in) :: clock          !< run clock
+    type(run_status_t), intent(in) :: status    !< how the run ended
+    integer :: unit, ios
+    open(newunit=unit, file=io_join_path(cfg%run%output_dir, trim(cfg%run%name) // '.status'), &
+      status='replace', action='write', iostat=ios)
+    if (ios /= 0) then
+      call log_warning('cannot write the status file in ' // trim(cfg%run%output_dir))
+      return
+    end if
+    write(unit, '(a)') 'state = ' // trim(status%state)
+    write(unit, '(a,i0)') 'step = ', clock%step
+    write(unit, '(a,es23.16)') 'time = ', clock%time
+    write(unit, '(a)') 'checkpoint = ' // trim(status%checkpoint)
+    write(unit, '(a)') 'reason = ' // trim(status%reason)
+    close(unit)
+  end subroutine write_status_file
 end module driver_loop
