@@ -11,9 +11,8 @@ module config_namelist
     ieee_get_flag, ieee_set_flag, ieee_overflow, ieee_underflow, ieee_invalid, ieee_flag_type
   use mpmice_kinds, only: wp, name_len, path_len, msg_len
   use config_types, only: config_t, run_params_t, grid_params_t, time_params_t, &
-    numerics_params_t, solver_params_t, output_params_t, heat_params_t, fluid_params_t, &
-    solid_params_t, region_params_t, boundary_params_t, max_fluids, max_solids, max_regions, &
-    max_boundaries, max_polygon_points
+    numerics_params_t, solver_params_t, output_params_t, heat_params_t, max_polygon_points
+  use config_occurrences, only: is_repeated_group, occurrence_count
   use config_read_phases, only: read_physics, read_ice, read_mpm, read_fluid, read_solid, &
     read_region, read_boundary
   implicit none
@@ -21,15 +20,10 @@ module config_namelist
 
   public :: variable_info_t, group_names, variables, find_variable, group_variable_names
   public :: describe_value, namelist_assign
-  public :: repeated_group_names, is_repeated_group, group_selector, max_occurrences
-  public :: occurrence_count, new_occurrence, find_occurrence, occurrence_selectors
 
   !> Known singleton groups, in echo order.
   character(len=*), parameter :: group_names(10) = [character(len=8) :: &
     'run', 'grid', 'time', 'numerics', 'solver', 'output', 'heat', 'physics', 'ice', 'mpm']
-  !> Known repeated groups, in echo order (after the singletons).
-  character(len=*), parameter :: repeated_group_names(4) = [character(len=8) :: &
-    'fluid', 'solid', 'region', 'boundary']
 
   !> One namelist variable.
   type :: variable_info_t
@@ -281,129 +275,6 @@ contains
       iomsg = 'unknown namelist group &' // trim(group)
     end select
   end subroutine assign_group
-
-  !> True if `group` may appear several times.
-  pure logical function is_repeated_group(group)
-    character(len=*), intent(in) :: group  !< group name without `&`
-    is_repeated_group = len_trim(group) > 0 .and. any(repeated_group_names == group)
-  end function is_repeated_group
-
-  !> The variable that identifies an occurrence of repeated group `group` for `--set`: `name`
-  !! (`&fluid`, `&solid`), `face` (`&boundary`), '' when there is none (`&region`).
-  pure function group_selector(group) result(name)
-    character(len=*), intent(in) :: group  !< group name without `&`
-    character(len=:), allocatable :: name
-    select case (group)
-    case ('fluid', 'solid')
-      name = 'name'
-    case ('boundary')
-      name = 'face'
-    case default
-      name = ''
-    end select
-  end function group_selector
-
-  !> Most occurrences of repeated group `group` (`max_fluids`, ...); 1 for a singleton.
-  pure integer function max_occurrences(group)
-    character(len=*), intent(in) :: group  !< group name without `&`
-    select case (group)
-    case ('fluid')
-      max_occurrences = max_fluids
-    case ('solid')
-      max_occurrences = max_solids
-    case ('region')
-      max_occurrences = max_regions
-    case ('boundary')
-      max_occurrences = max_boundaries
-    case default
-      max_occurrences = 1
-    end select
-  end function max_occurrences
-
-  !> Occurrences of repeated group `group` in `cfg` (0 for a singleton).
-  pure integer function occurrence_count(cfg, group)
-    type(config_t), intent(in) :: cfg      !< configuration
-    character(len=*), intent(in) :: group  !< group name without `&`
-    select case (group)
-    case ('fluid')
-      occurrence_count = cfg%nfluids
-    case ('solid')
-      occurrence_count = cfg%nsolids
-    case ('region')
-      occurrence_count = cfg%nregions
-    case ('boundary')
-      occurrence_count = cfg%nboundaries
-    case default
-      occurrence_count = 0
-    end select
-  end function occurrence_count
-
-  !> Append a new occurrence of repeated group `group`, set to the type's defaults. `k` is its
-  !! index, 0 when the group already has `max_occurrences(group)` occurrences.
-  subroutine new_occurrence(cfg, group, k)
-    type(config_t), intent(inout) :: cfg   !< configuration to update
-    character(len=*), intent(in) :: group  !< repeated group name
-    integer, intent(out) :: k              !< index of the new occurrence, 0 if full
-    k = occurrence_count(cfg, group) + 1
-    if (k > max_occurrences(group) .or. .not. is_repeated_group(group)) then
-      k = 0
-      return
-    end if
-    select case (group)
-    case ('fluid')
-      cfg%nfluids = k
-      cfg%fluids(k) = fluid_params_t()
-    case ('solid')
-      cfg%nsolids = k
-      cfg%solids(k) = solid_params_t()
-    case ('region')
-      cfg%nregions = k
-      cfg%regions(k) = region_params_t()
-    case ('boundary')
-      cfg%nboundaries = k
-      cfg%boundaries(k) = boundary_params_t()
-    end select
-  end subroutine new_occurrence
-
-  !> Selector values (`group_selector`) of the occurrences of `group`, in order.
-  pure function occurrence_selectors(cfg, group) result(values)
-    type(config_t), intent(in) :: cfg      !< configuration
-    character(len=*), intent(in) :: group  !< repeated group name
-    character(len=name_len), allocatable :: values(:)
-    integer :: k, n
-    n = occurrence_count(cfg, group)
-    allocate(values(n))
-    do k = 1, n
-      select case (group)
-      case ('fluid')
-        values(k) = cfg%fluids(k)%name
-      case ('solid')
-        values(k) = cfg%solids(k)%name
-      case ('boundary')
-        values(k) = cfg%boundaries(k)%face
-      case default
-        values(k) = ''
-      end select
-    end do
-  end function occurrence_selectors
-
-  !> Index of the first occurrence of `group` whose selector value is `value`, 0 if none.
-  pure integer function find_occurrence(cfg, group, value)
-    type(config_t), intent(in) :: cfg      !< configuration
-    character(len=*), intent(in) :: group  !< repeated group name
-    character(len=*), intent(in) :: value  !< selector value
-    character(len=name_len), allocatable :: values(:)
-    integer :: k
-    find_occurrence = 0
-    if (len(group_selector(group)) == 0) return
-    values = occurrence_selectors(cfg, group)
-    do k = 1, size(values)
-      if (values(k) == value) then
-        find_occurrence = k
-        return
-      end if
-    end do
-  end function find_occurrence
 
   !> `&run`.
   subroutine read_run(p, text, ios, iomsg)

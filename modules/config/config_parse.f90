@@ -19,7 +19,8 @@ module config_parse
   use mpmice_errors, only: input_error_text
   use config_types, only: config_t
   use config_namelist, only: group_names, variables, find_variable, group_variable_names, &
-    describe_value, namelist_assign, repeated_group_names, is_repeated_group, group_selector, &
+    describe_value, namelist_assign
+  use config_occurrences, only: repeated_group_names, is_repeated_group, group_selector, &
     max_occurrences, new_occurrence, find_occurrence, occurrence_selectors
   use config_text, only: lower_case, is_identifier_char, join_names, unquoted, quoted
   implicit none
