@@ -27,7 +27,7 @@ module mpmice_errors
   end interface
 
   !> Module state (allowed exception): the active fatal handler, replaced only by unit tests.
-  procedure(fatal_handler_t), pointer, save :: active_handler => null()
+  procedure(fatal_handler_t), pointer :: active_handler => null()
 
   interface
     !> C library exit(), used to leave with a status code without a compiler STOP banner.

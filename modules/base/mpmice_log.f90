@@ -11,9 +11,9 @@ module mpmice_log
   public :: log_init, log_info, log_warning, log_debug, log_is_root, log_set_verbosity
 
   !> Module state (allowed exception): true on the rank that prints.
-  logical, save :: is_root = .true.
+  logical :: is_root = .true.
   !> Module state (allowed exception): 0 quiet, 1 normal, 2 debug.
-  integer, save :: verbosity = 1
+  integer :: verbosity = 1
 
 contains
 

@@ -16,7 +16,7 @@ module mpmice_signals
 
   !> Module state (allowed exception): the last signal received, set asynchronously by the
   !! handler; a signal handler can communicate in no other way.
-  integer(c_int), volatile, save :: last_signal = 0_c_int
+  integer(c_int), volatile :: last_signal = 0_c_int
 
   interface
     !> C library signal(): install `handler` for `signum`.

@@ -53,6 +53,8 @@ contains
     case (action_version)
       if (root) write(output_unit, '(a)') 'mpmice ' // mpmice_version
       call exit_cleanly(0)
+    case default
+      continue  ! run or check: below
     end select
 
     if (len_trim(cli%restart_file) > 0) then

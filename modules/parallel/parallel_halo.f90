@@ -82,9 +82,10 @@ contains
       largest = max(largest, points)
     end do
     halo%capacity = largest * halo%max_components
-    allocate(halo%send_buf(halo%capacity, 2), halo%recv_buf(halo%capacity, 2), stat=stat, &
-      errmsg=errmsg)
-    if (stat /= 0) call fatal('halo_init: cannot allocate buffers: ' // trim(errmsg))
+    allocate(halo%send_buf(halo%capacity, 2), stat=stat, errmsg=errmsg)
+    if (stat /= 0) call fatal('halo_init: cannot allocate send buffers: ' // trim(errmsg))
+    allocate(halo%recv_buf(halo%capacity, 2), stat=stat, errmsg=errmsg)
+    if (stat /= 0) call fatal('halo_init: cannot allocate receive buffers: ' // trim(errmsg))
     halo%send_buf(:, :) = 0.0_wp
     halo%recv_buf(:, :) = 0.0_wp
     halo%initialized = .true.
