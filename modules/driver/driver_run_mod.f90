@@ -12,6 +12,7 @@ module driver_run_mod
   use driver_loop, only: run_scene, run_status_t
   use driver_scene, only: scene_t
   use heat_scene, only: heat_scene_t
+  use mpm_scene, only: mpm_scene_t
   implicit none
   private
 
@@ -81,6 +82,8 @@ contains
     select case (trim(cfg%run%scene))
     case ('heat_conduction')
       allocate(heat_scene_t :: scene)
+    case ('mpm')
+      allocate(mpm_scene_t :: scene)
     case default
       ! the configuration accepts only scenes listed in config_types%scene_names
       call fatal('scene ''' // trim(cfg%run%scene) // ''' is not available in this build')

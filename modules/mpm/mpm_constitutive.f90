@@ -1,0 +1,116 @@
+!> One interface to the solid constitutive models: linear elastic, Neo-Hookean (eq. 16, E2),
+!! Mohr-Coulomb (eq. 17) and rigid. Rate-form models (elastic, Mohr-Coulomb) work in the
+!! polar-decomposition frame (eqs. 12-15): with F^{n+1} = V R (eq. 12) the strain increment
+!! d eps = sym(L) dt is rotated, d eps* = R^T d eps R (eq. 14); the state `stress_unrot` is the
+!! stress already in that frame (eq. 13), so after the update sigma = R sigma* R^T (eq. 15).
+module mpm_constitutive
+  use mpmice_kinds, only: wp
+  use mpm_tensor, only: polar_rotation, rotate_to, rotate_from, mat_to_sym
+  use mpm_elastic, only: elastic_increment, lame_from_young
+  use mpm_neo_hookean, only: neo_hookean_stress
+  use mpm_mohr_coulomb, only: mc_params_t, mc_return
+  implicit none
+  private
+
+  public :: material_t, material_init, constitutive_update, wave_speed
+  public :: model_linear_elastic, model_neo_hookean, model_mohr_coulomb, model_rigid
+  public :: model_from_name
+
+  integer, parameter :: model_linear_elastic = 1  !< linear (hypo-)elastic
+  integer, parameter :: model_neo_hookean = 2     !< compressible Neo-Hookean
+  integer, parameter :: model_mohr_coulomb = 3    !< Mohr-Coulomb, non-associated
+  integer, parameter :: model_rigid = 4           !< prescribed motion, no stress
+
+  !> Constitutive parameters of one solid material.
+  type :: material_t
+    integer :: model = model_linear_elastic  !< model id
+    real(wp) :: density = 1.0_wp             !< density [kg/m^3]
+    real(wp) :: lambda = 0.0_wp              !< first Lame constant [Pa]
+    real(wp) :: mu = 0.0_wp                  !< shear modulus [Pa]
+    type(mc_params_t) :: mc                  !< Mohr-Coulomb parameters
+  end type material_t
+
+contains
+
+  !> Model id of a `&solid model` value (unknown names give the elastic model).
+  pure integer function model_from_name(name) result(model)
+    character(len=*), intent(in) :: name  !< namelist value
+    select case (trim(name))
+    case ('neo_hookean')
+      model = model_neo_hookean
+    case ('mohr_coulomb')
+      model = model_mohr_coulomb
+    case ('rigid')
+      model = model_rigid
+    case default
+      model = model_linear_elastic
+    end select
+  end function model_from_name
+
+  !> Material from the namelist parameters (angles in degrees).
+  pure function material_init(model, density, youngs, poisson, cohesion, phi_deg, psi_deg, &
+    tension_cutoff, tensile_strength) result(mat)
+    integer, intent(in) :: model               !< model id
+    real(wp), intent(in) :: density            !< density [kg/m^3]
+    real(wp), intent(in) :: youngs             !< Young's modulus [Pa]
+    real(wp), intent(in) :: poisson            !< Poisson's ratio [-]
+    real(wp), intent(in) :: cohesion           !< c' [Pa]
+    real(wp), intent(in) :: phi_deg            !< friction angle [deg]
+    real(wp), intent(in) :: psi_deg            !< dilation angle [deg]
+    logical, intent(in) :: tension_cutoff      !< tension cut-off on
+    real(wp), intent(in) :: tensile_strength   !< tensile strength [Pa]
+    type(material_t) :: mat
+    real(wp), parameter :: deg = acos(-1.0_wp) / 180.0_wp
+    mat%model = model
+    mat%density = density
+    call lame_from_young(youngs, poisson, mat%lambda, mat%mu)
+    mat%mc%lambda = mat%lambda
+    mat%mc%mu = mat%mu
+    mat%mc%cohesion = cohesion
+    mat%mc%phi = phi_deg * deg
+    mat%mc%psi = psi_deg * deg
+    mat%mc%tension_cutoff = tension_cutoff
+    mat%mc%tensile_strength = tensile_strength
+  end function material_init
+
+  !> Dilatational (P) wave speed sqrt((lambda + 2 mu) / rho) [m/s]; 0 for a rigid material.
+  pure real(wp) function wave_speed(mat) result(c)
+    type(material_t), intent(in) :: mat  !< material
+    if (mat%model == model_rigid) then
+      c = 0.0_wp
+    else
+      c = sqrt((mat%lambda + 2.0_wp * mat%mu) / mat%density)
+    end if
+  end function wave_speed
+
+  !> Stress update of one particle over a step: `f` is F^{n+1}, `l` the velocity gradient L
+  !! (l(i,j) = dv_i/dx_j) [1/s], `dt` [s]. Updates `stress_unrot` (rotated frame), `stress`
+  !! (current frame) [Pa] and `plastic_strain` [-].
+  pure subroutine constitutive_update(mat, f, l, dt, stress_unrot, stress, plastic_strain)
+    type(material_t), intent(in) :: mat              !< material
+    real(wp), intent(in) :: f(3, 3)                  !< deformation gradient F^{n+1}
+    real(wp), intent(in) :: l(3, 3)                  !< velocity gradient [1/s]
+    real(wp), intent(in) :: dt                       !< step [s]
+    real(wp), intent(inout) :: stress_unrot(6)       !< stress in the rotated frame [Pa]
+    real(wp), intent(inout) :: stress(6)             !< Cauchy stress [Pa]
+    real(wp), intent(inout) :: plastic_strain        !< equivalent plastic strain [-]
+    real(wp) :: r(3, 3), deps(6), dep
+    select case (mat%model)
+    case (model_neo_hookean)
+      stress = neo_hookean_stress(mat%lambda, mat%mu, f)
+      r = polar_rotation(f)
+      stress_unrot = rotate_to(r, stress)
+    case (model_linear_elastic, model_mohr_coulomb)
+      r = polar_rotation(f)                                  ! eq. 12
+      deps = rotate_to(r, mat_to_sym(l) * dt)                ! eq. 14
+      stress_unrot = stress_unrot + elastic_increment(mat%lambda, mat%mu, deps)
+      if (mat%model == model_mohr_coulomb) then
+        call mc_return(mat%mc, stress_unrot, dep)            ! eq. 17
+        plastic_strain = plastic_strain + dep
+      end if
+      stress = rotate_from(r, stress_unrot)                  ! eq. 15
+    case default
+      ! rigid: no stress
+    end select
+  end subroutine constitutive_update
+end module mpm_constitutive

@@ -1,0 +1,74 @@
+!> Grid-to-particle update of one solid material (eqs. 70-75 with errata E6: sums over S_ip):
+!! velocity (FLIP/PIC blend), position, velocity gradient, deformation gradient, volume, then
+!! the constitutive update.
+!!   FLIP: v_p <- v_p + sum S_ip a_i dt (eq. 70);  PIC: v_p <- sum S_ip v^L_i
+!!   v_p <- flip v_FLIP + (1 - flip) v_PIC  (`&mpm flip_fraction`)
+!!   x_p <- x_p + sum S_ip v^L_i dt (eq. 71);  L_p = sum v^L_i (grad S_ip)^T (eq. 72)
+!!   F_p <- (I + L_p dt) F_p (eq. 74);  V_p = det(F_p) V_p^0 (eq. 75)
+!! Temperature (eq. 73) is unchanged in the solid-only scene (no heat sources).
+module mpm_g2p
+  use mpmice_kinds, only: wp
+  use grid_layout, only: grid_t
+  use mpm_particles, only: particles_t
+  use mpm_shape, only: particle_stencil, max_stencil
+  use mpm_nodes, only: mpm_nodes_t
+  use mpm_tensor, only: det3
+  use mpm_constitutive, only: material_t, constitutive_update, model_rigid
+  implicit none
+  private
+
+  public :: g2p_update
+
+contains
+
+  !> Update every particle of `p` from the solved node fields.
+  subroutine g2p_update(p, nodes, mat, kind, grid, dt, flip)
+    type(particles_t), intent(inout) :: p        !< particles
+    type(mpm_nodes_t), intent(in) :: nodes       !< solved node fields
+    type(material_t), intent(in) :: mat          !< constitutive model
+    integer, intent(in) :: kind                  !< shape_linear or shape_gimp
+    type(grid_t), intent(in) :: grid             !< block geometry
+    real(wp), intent(in) :: dt                   !< step [s]
+    real(wp), intent(in) :: flip                 !< FLIP fraction 0..1
+    integer :: ip, i, j, k, a, b, c, first(3), nn(3), d
+    real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s, g(3), wjk, gjk(3)
+    real(wp) :: ap(3), vlp(3), l(3, 3), f(3, 3), fnew(3, 3), vl(3)
+    do ip = 1, p%np
+      call particle_stencil(kind, grid, p%x(:, ip), p%half_width, first, nn, w, dw)
+      ap = 0.0_wp
+      vlp = 0.0_wp
+      l = 0.0_wp
+      do c = 1, nn(3)
+        k = first(3) + c - 1
+        do b = 1, nn(2)
+          j = first(2) + b - 1
+          wjk = w(b, 2) * w(c, 3)
+          gjk(2) = dw(b, 2) * w(c, 3)
+          gjk(3) = w(b, 2) * dw(c, 3)
+          do a = 1, nn(1)
+            i = first(1) + a - 1
+            s = w(a, 1) * wjk
+            g(1) = dw(a, 1) * wjk
+            g(2) = w(a, 1) * gjk(2)
+            g(3) = w(a, 1) * gjk(3)
+            vl = nodes%vel_l(:, i, j, k)
+            ap = ap + s * nodes%acc(:, i, j, k)
+            vlp = vlp + s * vl
+            do d = 1, 3
+              l(:, d) = l(:, d) + vl * g(d)
+            end do
+          end do
+        end do
+      end do
+      p%v(:, ip) = flip * (p%v(:, ip) + ap * dt) + (1.0_wp - flip) * vlp  ! eq. 70 + PIC blend
+      p%x(:, ip) = p%x(:, ip) + vlp * dt                                  ! eq. 71
+      if (mat%model == model_rigid) cycle
+      f = reshape(p%f(:, ip), [3, 3])
+      fnew = f + dt * matmul(l, f)                                        ! eq. 74
+      p%f(:, ip) = reshape(fnew, [9])
+      p%volume(ip) = det3(fnew) * p%volume0(ip)                           ! eq. 75
+      call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
+        p%plastic_strain(ip))
+    end do
+  end subroutine g2p_update
+end module mpm_g2p

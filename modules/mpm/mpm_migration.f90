@@ -1,0 +1,192 @@
+!> Particle migration after the position update: every particle goes to the rank whose block
+!! owns the cell containing it; particles outside the domain along a non-periodic active
+!! dimension are removed and counted; in a periodic dimension positions are wrapped.
+!!
+!! Owners come from tables built once (`migration_init`): the block coordinate of every global
+!! cell index per dimension and the rank of every block (MPI_Cart_rank). Particles travel packed
+!! as `nfield` reals (the 64-bit id bit-copied) through one MPI_Alltoall of counts and one
+!! MPI_Alltoallv; received particles are appended in source-rank order. The send buffers grow
+!! amortised and are kept between calls.
+module mpm_migration
+  use mpi_f08, only: MPI_Alltoall, MPI_Alltoallv, MPI_INTEGER, MPI_DOUBLE_PRECISION, MPI_Cart_rank
+  use mpmice_kinds, only: wp, i8
+  use grid_layout, only: grid_t
+  use parallel_domain, only: domain_t, block_range
+  use mpm_particles, only: particles_t, particles_reserve, particles_compact
+  implicit none
+  private
+
+  public :: migration_t, migration_init, migrate_particles, nfield
+
+  integer, parameter :: nfield = 34  !< reals per packed particle
+
+  !> Ownership tables and buffers of the migration.
+  type :: migration_t
+    integer, allocatable :: coord_of_cell(:, :)   !< (max ncells, 3) block coordinate of a cell
+    integer, allocatable :: rank_of(:, :, :)      !< (0:dims-1, ...) rank of a block
+    integer, allocatable :: dest(:)               !< destination rank per particle (-1: leaves)
+    real(wp), allocatable :: sendbuf(:, :)        !< (nfield, n) packed outgoing particles
+    real(wp), allocatable :: recvbuf(:, :)        !< (nfield, n) packed incoming particles
+    integer, allocatable :: scount(:), rcount(:), sdispl(:), rdispl(:)  !< per rank (reals)
+  end type migration_t
+
+contains
+
+  !> Build the ownership tables of the decomposition.
+  subroutine migration_init(mig, dom, grid)
+    type(migration_t), intent(inout) :: mig  !< migration state
+    type(domain_t), intent(in) :: dom        !< decomposition
+    type(grid_t), intent(in) :: grid         !< block geometry
+    integer :: d, c, lo, hi, a, b, e
+    allocate(mig%coord_of_cell(maxval(grid%ncells), 3), source=0)
+    do d = 1, 3
+      do c = 0, dom%dims(d) - 1
+        call block_range(grid%ncells(d), dom%dims(d), c, lo, hi)
+        mig%coord_of_cell(lo:hi, d) = c
+      end do
+    end do
+    allocate(mig%rank_of(0:dom%dims(1) - 1, 0:dom%dims(2) - 1, 0:dom%dims(3) - 1))
+    do e = 0, dom%dims(3) - 1
+      do b = 0, dom%dims(2) - 1
+        do a = 0, dom%dims(1) - 1
+          call MPI_Cart_rank(dom%comm, [a, b, e], mig%rank_of(a, b, e))
+        end do
+      end do
+    end do
+    allocate(mig%scount(0:dom%nranks - 1), mig%rcount(0:dom%nranks - 1), &
+      mig%sdispl(0:dom%nranks - 1), mig%rdispl(0:dom%nranks - 1))
+    allocate(mig%dest(0), mig%sendbuf(nfield, 0), mig%recvbuf(nfield, 0))
+  end subroutine migration_init
+
+  !> Send every particle of `p` to its owner; `removed` = particles of this rank that left the
+  !! domain (local count). Collective.
+  subroutine migrate_particles(mig, p, dom, grid, removed)
+    type(migration_t), intent(inout) :: mig  !< migration state
+    type(particles_t), intent(inout) :: p    !< particles
+    type(domain_t), intent(in) :: dom        !< decomposition
+    type(grid_t), intent(in) :: grid         !< block geometry
+    integer, intent(out) :: removed          !< particles removed (left the domain)
+    integer :: ip, d, ci, coords(3), r, nsend, nrecv, slot(0:dom%nranks - 1), n0, i
+    logical, allocatable :: keep(:)
+    real(wp) :: span
+
+    if (size(mig%dest) < p%np) then
+      n0 = max(p%np, 2 * size(mig%dest))
+      deallocate(mig%dest)
+      allocate(mig%dest(n0))
+    end if
+    removed = 0
+    mig%scount(:) = 0
+    do ip = 1, p%np
+      coords = 0
+      mig%dest(ip) = dom%rank
+      do d = 1, 3
+        if (.not. grid%active(d)) cycle
+        if (grid%periodic(d)) then
+          span = grid%upper(d) - grid%lower(d)
+          p%x(d, ip) = grid%lower(d) + modulo(p%x(d, ip) - grid%lower(d), span)
+        end if
+        ci = floor((p%x(d, ip) - grid%lower(d)) / grid%dx(d)) + 1
+        if (grid%periodic(d)) ci = min(max(ci, 1), grid%ncells(d))
+        if (ci < 1 .or. ci > grid%ncells(d)) then
+          mig%dest(ip) = -1
+          exit
+        end if
+        coords(d) = mig%coord_of_cell(ci, d)
+      end do
+      if (mig%dest(ip) < 0) then
+        removed = removed + 1
+        cycle
+      end if
+      mig%dest(ip) = mig%rank_of(coords(1), coords(2), coords(3))
+      if (mig%dest(ip) /= dom%rank) mig%scount(mig%dest(ip)) = mig%scount(mig%dest(ip)) + 1
+    end do
+
+    if (dom%nranks > 1) then
+      nsend = sum(mig%scount)
+      if (size(mig%sendbuf, 2) < nsend) then
+        n0 = max(nsend, 2 * size(mig%sendbuf, 2))
+        deallocate(mig%sendbuf)
+        allocate(mig%sendbuf(nfield, n0))
+      end if
+      slot(0) = 0
+      do r = 1, dom%nranks - 1
+        slot(r) = slot(r - 1) + mig%scount(r - 1)
+      end do
+      mig%sdispl(:) = slot * nfield
+      do ip = 1, p%np
+        r = mig%dest(ip)
+        if (r < 0 .or. r == dom%rank) cycle
+        slot(r) = slot(r) + 1
+        call pack_particle(p, ip, mig%sendbuf(:, slot(r)))
+      end do
+      call MPI_Alltoall(mig%scount, 1, MPI_INTEGER, mig%rcount, 1, MPI_INTEGER, dom%comm)
+      nrecv = sum(mig%rcount)
+      if (size(mig%recvbuf, 2) < nrecv) then
+        n0 = max(nrecv, 2 * size(mig%recvbuf, 2))
+        deallocate(mig%recvbuf)
+        allocate(mig%recvbuf(nfield, n0))
+      end if
+      mig%rdispl(0) = 0
+      do r = 1, dom%nranks - 1
+        mig%rdispl(r) = mig%rdispl(r - 1) + mig%rcount(r - 1) * nfield
+      end do
+      call MPI_Alltoallv(mig%sendbuf, mig%scount * nfield, mig%sdispl, MPI_DOUBLE_PRECISION, &
+        mig%recvbuf, mig%rcount * nfield, mig%rdispl, MPI_DOUBLE_PRECISION, dom%comm)
+    else
+      nrecv = 0
+    end if
+
+    if (removed > 0 .or. any(mig%dest(1:p%np) /= dom%rank)) then
+      allocate(keep(p%np))
+      keep = mig%dest(1:p%np) == dom%rank
+      call particles_compact(p, keep)
+    end if
+    if (nrecv > 0) then
+      n0 = p%np
+      call particles_reserve(p, n0 + nrecv)
+      do i = 1, nrecv
+        call unpack_particle(mig%recvbuf(:, i), p, n0 + i)
+      end do
+      p%np = n0 + nrecv
+    end if
+  end subroutine migrate_particles
+
+  !> Pack particle `ip` into `buf(nfield)`.
+  pure subroutine pack_particle(p, ip, buf)
+    type(particles_t), intent(in) :: p   !< particles
+    integer, intent(in) :: ip            !< particle
+    real(wp), intent(out) :: buf(nfield) !< packed values
+    buf(1:3) = p%x(:, ip)
+    buf(4:6) = p%v(:, ip)
+    buf(7) = p%mass(ip)
+    buf(8) = p%volume(ip)
+    buf(9) = p%volume0(ip)
+    buf(10:18) = p%f(:, ip)
+    buf(19:24) = p%stress(:, ip)
+    buf(25:30) = p%stress_unrot(:, ip)
+    buf(31) = p%plastic_strain(ip)
+    buf(32) = p%temperature(ip)
+    buf(33) = p%pore_pressure(ip)
+    buf(34) = transfer(p%id(ip), 1.0_wp)
+  end subroutine pack_particle
+
+  !> Unpack `buf(nfield)` into slot `ip` of `p` (capacity must suffice).
+  pure subroutine unpack_particle(buf, p, ip)
+    real(wp), intent(in) :: buf(nfield)   !< packed values
+    type(particles_t), intent(inout) :: p !< particles
+    integer, intent(in) :: ip             !< slot
+    p%x(:, ip) = buf(1:3)
+    p%v(:, ip) = buf(4:6)
+    p%mass(ip) = buf(7)
+    p%volume(ip) = buf(8)
+    p%volume0(ip) = buf(9)
+    p%f(:, ip) = buf(10:18)
+    p%stress(:, ip) = buf(19:24)
+    p%stress_unrot(:, ip) = buf(25:30)
+    p%plastic_strain(ip) = buf(31)
+    p%temperature(ip) = buf(32)
+    p%pore_pressure(ip) = buf(33)
+    p%id(ip) = transfer(buf(34), 1_i8)
+  end subroutine unpack_particle
+end module mpm_migration

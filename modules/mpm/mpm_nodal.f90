@@ -1,0 +1,98 @@
+!> Nodal solve of one solid material (eqs. 40-41 and 69): velocity v^n = p_i / m_i, acceleration
+!! a = (f_int + m g - local damping) / m, v^L = v^n + a dt, then the boundary conditions on the
+!! domain faces, and a = (v^L - v^n) / dt (eq. 69) so that G2P sees the constrained motion.
+!!
+!! Boundary conditions per face (`&boundary solid`): fixed (v = 0), roller (normal component 0,
+!! free slip), free (nothing), velocity (v = prescribed). Inactive dimensions carry no motion.
+!! Local (Cundall) damping: f <- f - alpha |f| sign(v) per component. Every allocated node is
+!! solved (ghost copies hold global values after the reverse halo), so no exchange follows.
+module mpm_nodal
+  use mpmice_kinds, only: wp
+  use grid_layout, only: grid_t
+  use mpm_nodes, only: mpm_nodes_t
+  implicit none
+  private
+
+  public :: nodal_bc_t, nodal_solve, bc_fixed, bc_roller, bc_free, bc_velocity, bc_kind_from_name
+
+  integer, parameter :: bc_fixed = 1     !< no motion
+  integer, parameter :: bc_roller = 2    !< no normal motion
+  integer, parameter :: bc_free = 3      !< traction free
+  integer, parameter :: bc_velocity = 4  !< prescribed velocity
+
+  !> Solid boundary conditions on the six faces (x-, x+, y-, y+, z-, z+).
+  type :: nodal_bc_t
+    integer :: kind(6) = bc_fixed              !< condition per face
+    real(wp) :: velocity(3, 6) = 0.0_wp        !< prescribed velocity per face [m/s]
+  end type nodal_bc_t
+
+contains
+
+  !> Condition id of a `&boundary solid` value.
+  pure integer function bc_kind_from_name(name) result(kind)
+    character(len=*), intent(in) :: name  !< namelist value
+    select case (trim(name))
+    case ('roller')
+      kind = bc_roller
+    case ('free')
+      kind = bc_free
+    case ('velocity')
+      kind = bc_velocity
+    case default
+      kind = bc_fixed
+    end select
+  end function bc_kind_from_name
+
+  !> Solve every allocated node: `nodes%q` (after P2G) gives `vel`, `vel_l`, `acc`.
+  pure subroutine nodal_solve(nodes, grid, gravity, damping, dt, bc, min_mass)
+    type(mpm_nodes_t), intent(inout) :: nodes  !< node fields
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: gravity(3)         !< body acceleration at this step [m/s^2]
+    real(wp), intent(in) :: damping            !< local damping factor alpha [-]
+    real(wp), intent(in) :: dt                 !< step [s]
+    type(nodal_bc_t), intent(in) :: bc         !< boundary conditions
+    real(wp), intent(in) :: min_mass           !< nodes lighter than this are empty [kg]
+    integer :: i, j, k, d, face, idx(3)
+    real(wp) :: m, v(3), f(3), vl(3), on(3)
+    on = merge(1.0_wp, 0.0_wp, grid%active)
+    do k = grid%lbn(3), grid%ubn(3)
+      do j = grid%lbn(2), grid%ubn(2)
+        do i = grid%lbn(1), grid%ubn(1)
+          m = nodes%q(1, i, j, k)
+          if (m <= min_mass) then
+            nodes%vel(:, i, j, k) = 0.0_wp
+            nodes%vel_l(:, i, j, k) = 0.0_wp
+            nodes%acc(:, i, j, k) = 0.0_wp
+            cycle
+          end if
+          v = nodes%q(2:4, i, j, k) / m
+          f = nodes%q(5:7, i, j, k) + m * gravity                 ! eq. 40
+          if (damping > 0.0_wp) f = f - damping * abs(f) * merge(sign(1.0_wp, v), 0.0_wp, v /= 0.0_wp)
+          vl = (v + f / m * dt) * on                               ! eq. 41
+          idx = [i, j, k]
+          do face = 1, 6
+            d = (face + 1) / 2
+            if (.not. grid%active(d) .or. grid%periodic(d)) cycle
+            if (mod(face, 2) == 1) then
+              if (idx(d) /= 1) cycle
+            else
+              if (idx(d) /= grid%ncells(d) + 1) cycle
+            end if
+            select case (bc%kind(face))
+            case (bc_fixed)
+              vl = 0.0_wp
+            case (bc_roller)
+              vl(d) = 0.0_wp
+            case (bc_velocity)
+              vl = bc%velocity(:, face) * on
+            case default
+            end select
+          end do
+          nodes%vel(:, i, j, k) = v
+          nodes%vel_l(:, i, j, k) = vl
+          nodes%acc(:, i, j, k) = (vl - v) / dt                    ! eq. 69
+        end do
+      end do
+    end do
+  end subroutine nodal_solve
+end module mpm_nodal

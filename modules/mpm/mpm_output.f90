@@ -1,0 +1,134 @@
+!> HDF5 datasets of the MPM particles (design §7): dumps `/particles/<solid>/{x, y, z,
+!! velocity_x.., stress_xx.., pore_pressure, temperature, volume, mass, plastic_strain, id}` and
+!! checkpoints `/checkpoint/particles/<solid>/...` with the full state (bitwise restart).
+module mpm_output
+  use mpmice_kinds, only: wp, i8, name_len
+  use io_hdf5, only: h5_file_t, h5_write_particles, h5_read_particles
+  use io_xdmf, only: xdmf_particles_t
+  use mpm_particles, only: particles_t, particles_resize
+  implicit none
+  private
+
+  public :: write_particle_dump, write_particle_checkpoint, read_particle_checkpoint
+  public :: particle_xdmf_set
+
+  character(len=2), parameter :: sym_names(6) = ['xx', 'yy', 'zz', 'xy', 'yz', 'xz']  !< stress
+  character(len=1), parameter :: axis(3) = ['x', 'y', 'z']                          !< components
+
+contains
+
+  !> Dump datasets of one solid under `particles/<name>/` (collective).
+  subroutine write_particle_dump(file, name, p)
+    type(h5_file_t), intent(in) :: file    !< open dump
+    character(len=*), intent(in) :: name   !< solid name
+    type(particles_t), intent(in) :: p     !< particles
+    character(len=:), allocatable :: g
+    real(wp), allocatable :: tmp(:)
+    integer :: d, n
+    n = p%np
+    g = 'particles/' // trim(name) // '/'
+    allocate(tmp(n))
+    do d = 1, 3
+      tmp(:) = p%x(d, 1:n)
+      call h5_write_particles(file, g // axis(d), tmp)
+    end do
+    do d = 1, 3
+      tmp(:) = p%v(d, 1:n)
+      call h5_write_particles(file, g // 'velocity_' // axis(d), tmp)
+    end do
+    do d = 1, 6
+      tmp(:) = p%stress(d, 1:n)
+      call h5_write_particles(file, g // 'stress_' // sym_names(d), tmp)
+    end do
+    call h5_write_particles(file, g // 'pore_pressure', p%pore_pressure(1:n))
+    call h5_write_particles(file, g // 'temperature', p%temperature(1:n))
+    call h5_write_particles(file, g // 'volume', p%volume(1:n))
+    call h5_write_particles(file, g // 'mass', p%mass(1:n))
+    call h5_write_particles(file, g // 'plastic_strain', p%plastic_strain(1:n))
+    call h5_write_particles(file, g // 'id', p%id(1:n))
+  end subroutine write_particle_dump
+
+  !> The XDMF description of `write_particle_dump`'s datasets for `count` particles.
+  function particle_xdmf_set(name, count) result(set)
+    character(len=*), intent(in) :: name   !< solid name
+    integer(i8), intent(in) :: count       !< particles of all ranks
+    type(xdmf_particles_t) :: set
+    integer :: d
+    set%group = 'particles/' // trim(name)
+    set%count = count
+    allocate(set%fields(17))
+    do d = 1, 3
+      set%fields(d) = 'velocity_' // axis(d)
+    end do
+    do d = 1, 6
+      set%fields(3 + d) = 'stress_' // sym_names(d)
+    end do
+    set%fields(10:17) = [character(len=name_len) :: 'pore_pressure', 'temperature', 'volume', &
+      'mass', 'plastic_strain', 'x', 'y', 'z']
+    set%int_fields = [character(len=name_len) :: 'id']
+  end function particle_xdmf_set
+
+  !> Full state of one solid under `checkpoint/particles/<name>/` (collective).
+  subroutine write_particle_checkpoint(file, name, p)
+    type(h5_file_t), intent(in) :: file    !< open checkpoint
+    character(len=*), intent(in) :: name   !< solid name
+    type(particles_t), intent(in) :: p     !< particles
+    character(len=:), allocatable :: g
+    integer :: n
+    n = p%np
+    g = 'checkpoint/particles/' // trim(name) // '/'
+    call h5_write_particles(file, g // 'x', p%x(:, 1:n))
+    call h5_write_particles(file, g // 'v', p%v(:, 1:n))
+    call h5_write_particles(file, g // 'f', p%f(:, 1:n))
+    call h5_write_particles(file, g // 'stress', p%stress(:, 1:n))
+    call h5_write_particles(file, g // 'stress_unrot', p%stress_unrot(:, 1:n))
+    call h5_write_particles(file, g // 'mass', p%mass(1:n))
+    call h5_write_particles(file, g // 'volume', p%volume(1:n))
+    call h5_write_particles(file, g // 'volume0', p%volume0(1:n))
+    call h5_write_particles(file, g // 'plastic_strain', p%plastic_strain(1:n))
+    call h5_write_particles(file, g // 'temperature', p%temperature(1:n))
+    call h5_write_particles(file, g // 'pore_pressure', p%pore_pressure(1:n))
+    call h5_write_particles(file, g // 'id', p%id(1:n))
+  end subroutine write_particle_checkpoint
+
+  !> Replace the particles of one solid by this rank's chunk of a checkpoint (collective; the
+  !! caller migrates them when the rank count changed).
+  subroutine read_particle_checkpoint(file, name, p)
+    type(h5_file_t), intent(in) :: file      !< open checkpoint
+    character(len=*), intent(in) :: name     !< solid name
+    type(particles_t), intent(inout) :: p    !< particles
+    character(len=:), allocatable :: g
+    real(wp), allocatable :: a2(:, :), a1(:)
+    integer(i8), allocatable :: ids(:)
+    integer :: n
+    g = 'checkpoint/particles/' // trim(name) // '/'
+    call h5_read_particles(file, g // 'id', ids)
+    n = size(ids)
+    p%np = 0
+    call particles_resize(p, max(n, 16))
+    p%np = n
+    p%id(1:n) = ids
+    call h5_read_particles(file, g // 'x', a2)
+    p%x(:, 1:n) = a2
+    call h5_read_particles(file, g // 'v', a2)
+    p%v(:, 1:n) = a2
+    call h5_read_particles(file, g // 'f', a2)
+    p%f(:, 1:n) = a2
+    call h5_read_particles(file, g // 'stress', a2)
+    p%stress(:, 1:n) = a2
+    call h5_read_particles(file, g // 'stress_unrot', a2)
+    p%stress_unrot(:, 1:n) = a2
+    call h5_read_particles(file, g // 'mass', a1)
+    p%mass(1:n) = a1
+    call h5_read_particles(file, g // 'volume', a1)
+    p%volume(1:n) = a1
+    call h5_read_particles(file, g // 'volume0', a1)
+    p%volume0(1:n) = a1
+    call h5_read_particles(file, g // 'plastic_strain', a1)
+    p%plastic_strain(1:n) = a1
+    call h5_read_particles(file, g // 'temperature', a1)
+    p%temperature(1:n) = a1
+    call h5_read_particles(file, g // 'pore_pressure', a1)
+    p%pore_pressure(1:n) = a1
+  end subroutine read_particle_checkpoint
+end module mpm_output

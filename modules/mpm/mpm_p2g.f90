@@ -1,0 +1,81 @@
+!> Particle-to-grid transfer of one solid material: nodal mass and momentum (eq. 26) and
+!! internal force f_i = -sum_p grad S_ip . sigma_p V_p (eq. 27), scattered into the block's node
+!! fields and summed into the owners by the reverse halo (copies refreshed, so every allocated
+!! node holds its global value). External forces (gravity) are added in the nodal solve.
+module mpm_p2g
+  use mpmice_kinds, only: wp
+  use grid_layout, only: grid_t
+  use parallel_domain, only: domain_t
+  use parallel_halo, only: halo_t, halo_reverse_node
+  use mpm_particles, only: particles_t
+  use mpm_shape, only: particle_stencil, max_stencil
+  use mpm_nodes, only: mpm_nodes_t
+  implicit none
+  private
+
+  public :: p2g_scatter, p2g_accumulate, p2g_complete
+
+contains
+
+  !> Scatter mass, momentum and internal force of `p` into `nodes%q` (collective: reverse halo).
+  subroutine p2g_scatter(p, nodes, kind, dom, grid, halo)
+    type(particles_t), intent(in) :: p           !< particles
+    type(mpm_nodes_t), intent(inout) :: nodes    !< node fields
+    integer, intent(in) :: kind                  !< shape_linear or shape_gimp
+    type(domain_t), intent(in) :: dom            !< decomposition
+    type(grid_t), intent(in) :: grid             !< block geometry
+    type(halo_t), intent(inout) :: halo          !< halo buffers (>= 7 components)
+    nodes%q(:, :, :, :) = 0.0_wp
+    call p2g_accumulate(p, nodes%q, kind, grid)
+    call p2g_complete(nodes, dom, grid, halo)
+  end subroutine p2g_scatter
+
+  !> Sum the local scatters into the owners and refresh the copies (collective).
+  subroutine p2g_complete(nodes, dom, grid, halo)
+    type(mpm_nodes_t), intent(inout) :: nodes    !< node fields
+    type(domain_t), intent(in) :: dom            !< decomposition
+    type(grid_t), intent(in) :: grid             !< block geometry
+    type(halo_t), intent(inout) :: halo          !< halo buffers (>= 7 components)
+    call halo_reverse_node(halo, dom, grid, nodes%q)
+  end subroutine p2g_complete
+
+  !> Add the local scatter of `p` to `q` (no communication; the caller zeroes `q` first).
+  subroutine p2g_accumulate(p, q, kind, grid)
+    type(particles_t), intent(in) :: p           !< particles
+    type(grid_t), intent(in) :: grid             !< block geometry
+    real(wp), intent(inout) :: q(:, grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< node fields
+    integer, intent(in) :: kind                  !< shape_linear or shape_gimp
+    integer :: ip, i, j, k, a, b, c, first(3), nn(3)
+    real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s, g(3), m, mv(3), sv(6), wjk, gjk(3)
+    do ip = 1, p%np
+      call particle_stencil(kind, grid, p%x(:, ip), p%half_width, first, nn, w, dw)
+      m = p%mass(ip)
+      mv = m * p%v(:, ip)
+      sv = p%stress(:, ip) * p%volume(ip)
+      do c = 1, nn(3)
+        k = first(3) + c - 1
+        do b = 1, nn(2)
+          j = first(2) + b - 1
+          wjk = w(b, 2) * w(c, 3)
+          gjk(2) = dw(b, 2) * w(c, 3)
+          gjk(3) = w(b, 2) * dw(c, 3)
+          do a = 1, nn(1)
+            i = first(1) + a - 1
+            s = w(a, 1) * wjk
+            g(1) = dw(a, 1) * wjk
+            g(2) = w(a, 1) * gjk(2)
+            g(3) = w(a, 1) * gjk(3)
+            q(1, i, j, k) = q(1, i, j, k) + s * m
+            q(2, i, j, k) = q(2, i, j, k) + s * mv(1)
+            q(3, i, j, k) = q(3, i, j, k) + s * mv(2)
+            q(4, i, j, k) = q(4, i, j, k) + s * mv(3)
+            ! eq. 27: f = -sigma . grad S V (sigma symmetric: xx, yy, zz, xy, yz, xz)
+            q(5, i, j, k) = q(5, i, j, k) - (sv(1) * g(1) + sv(4) * g(2) + sv(6) * g(3))
+            q(6, i, j, k) = q(6, i, j, k) - (sv(4) * g(1) + sv(2) * g(2) + sv(5) * g(3))
+            q(7, i, j, k) = q(7, i, j, k) - (sv(6) * g(1) + sv(5) * g(2) + sv(3) * g(3))
+          end do
+        end do
+      end do
+    end do
+  end subroutine p2g_accumulate
+end module mpm_p2g

@@ -1,0 +1,147 @@
+!> Particle store of one solid material: structure of arrays, owned by the rank whose block
+!! contains the particle.
+!!
+!! Capacity grows only in `particles_reserve` (amortised doubling), which the scene calls at
+!! seeding and in the migration step, never inside the kernels. Tensors are stored as
+!! * `f(9, np)`: deformation gradient, column-major 3x3 (`f(1:3)` is the first column);
+!! * `stress(6, np)`, `stress_unrot(6, np)`: symmetric tensors in the order xx, yy, zz, xy, yz, xz,
+!!   tension positive [Pa]. `stress` is the Cauchy (effective) stress in the current frame, used by
+!!   P2G; `stress_unrot` = R^T stress R is the same stress in the polar-decomposition frame of
+!!   eqs. 12-15, the state of the rate-form constitutive models.
+module mpm_particles
+  use mpmice_kinds, only: wp, i8
+  implicit none
+  private
+
+  public :: particles_t, particles_reserve, particles_resize, particles_copy, particles_compact
+  public :: particles_free, identity_f
+
+  !> 3x3 identity as stored in `f(9)`.
+  real(wp), parameter :: identity_f(9) = [1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
+    0.0_wp, 0.0_wp, 1.0_wp]
+
+  !> Particles of one solid material on this rank.
+  type :: particles_t
+    integer :: np = 0                          !< particles in use
+    integer :: capacity = 0                    !< allocated length
+    real(wp) :: half_width(3) = 0.0_wp         !< GIMP particle half-width l_p per dimension [m]
+    real(wp), allocatable :: x(:, :)           !< (3, np) position [m]
+    real(wp), allocatable :: v(:, :)           !< (3, np) velocity [m/s]
+    real(wp), allocatable :: mass(:)           !< mass [kg]
+    real(wp), allocatable :: volume(:)         !< current volume [m^3]
+    real(wp), allocatable :: volume0(:)        !< initial volume [m^3]
+    real(wp), allocatable :: f(:, :)           !< (9, np) deformation gradient [-]
+    real(wp), allocatable :: stress(:, :)      !< (6, np) Cauchy effective stress [Pa]
+    real(wp), allocatable :: stress_unrot(:, :) !< (6, np) stress in the rotated frame [Pa]
+    real(wp), allocatable :: plastic_strain(:) !< accumulated equivalent plastic strain [-]
+    real(wp), allocatable :: temperature(:)    !< temperature [K]
+    real(wp), allocatable :: pore_pressure(:)  !< pore pressure (0 without a fluid) [Pa]
+    integer(i8), allocatable :: id(:)          !< global particle id (unique, stable)
+  end type particles_t
+
+contains
+
+  !> Make room for at least `n` particles, keeping the first `np`. Grows to max(n, 2 capacity)
+  !! so repeated calls cost amortised O(1) per particle.
+  subroutine particles_reserve(p, n)
+    type(particles_t), intent(inout) :: p  !< store
+    integer, intent(in) :: n               !< particles needed
+    if (n <= p%capacity .and. allocated(p%x)) return
+    call particles_resize(p, max(n, 2 * p%capacity, 16))
+  end subroutine particles_reserve
+
+  !> Set the capacity to exactly `cap` (>= np), keeping the particles in use.
+  subroutine particles_resize(p, cap)
+    type(particles_t), intent(inout) :: p  !< store
+    integer, intent(in) :: cap             !< new capacity
+    type(particles_t) :: q
+    integer :: n
+    n = min(p%np, cap)
+    allocate(q%x(3, cap), q%v(3, cap), q%mass(cap), q%volume(cap), q%volume0(cap), q%f(9, cap), &
+      q%stress(6, cap), q%stress_unrot(6, cap), q%plastic_strain(cap), q%temperature(cap), &
+      q%pore_pressure(cap), q%id(cap))
+    if (n > 0) then
+      q%x(:, 1:n) = p%x(:, 1:n)
+      q%v(:, 1:n) = p%v(:, 1:n)
+      q%mass(1:n) = p%mass(1:n)
+      q%volume(1:n) = p%volume(1:n)
+      q%volume0(1:n) = p%volume0(1:n)
+      q%f(:, 1:n) = p%f(:, 1:n)
+      q%stress(:, 1:n) = p%stress(:, 1:n)
+      q%stress_unrot(:, 1:n) = p%stress_unrot(:, 1:n)
+      q%plastic_strain(1:n) = p%plastic_strain(1:n)
+      q%temperature(1:n) = p%temperature(1:n)
+      q%pore_pressure(1:n) = p%pore_pressure(1:n)
+      q%id(1:n) = p%id(1:n)
+    end if
+    call move_alloc(q%x, p%x)
+    call move_alloc(q%v, p%v)
+    call move_alloc(q%mass, p%mass)
+    call move_alloc(q%volume, p%volume)
+    call move_alloc(q%volume0, p%volume0)
+    call move_alloc(q%f, p%f)
+    call move_alloc(q%stress, p%stress)
+    call move_alloc(q%stress_unrot, p%stress_unrot)
+    call move_alloc(q%plastic_strain, p%plastic_strain)
+    call move_alloc(q%temperature, p%temperature)
+    call move_alloc(q%pore_pressure, p%pore_pressure)
+    call move_alloc(q%id, p%id)
+    p%np = n
+    p%capacity = cap
+  end subroutine particles_resize
+
+  !> Copy particle `i` of `src` to slot `j` of `dst` (capacity must suffice).
+  pure subroutine particles_copy(src, i, dst, j)
+    type(particles_t), intent(in) :: src     !< source store
+    integer, intent(in) :: i                 !< source slot
+    type(particles_t), intent(inout) :: dst  !< destination store
+    integer, intent(in) :: j                 !< destination slot
+    dst%x(:, j) = src%x(:, i)
+    dst%v(:, j) = src%v(:, i)
+    dst%mass(j) = src%mass(i)
+    dst%volume(j) = src%volume(i)
+    dst%volume0(j) = src%volume0(i)
+    dst%f(:, j) = src%f(:, i)
+    dst%stress(:, j) = src%stress(:, i)
+    dst%stress_unrot(:, j) = src%stress_unrot(:, i)
+    dst%plastic_strain(j) = src%plastic_strain(i)
+    dst%temperature(j) = src%temperature(i)
+    dst%pore_pressure(j) = src%pore_pressure(i)
+    dst%id(j) = src%id(i)
+  end subroutine particles_copy
+
+  !> Remove the particles with `keep(i) = .false.`, preserving the order of the others.
+  subroutine particles_compact(p, keep)
+    type(particles_t), intent(inout) :: p  !< store
+    logical, intent(in) :: keep(:)         !< (np) particles to keep
+    integer :: i, j
+    j = 0
+    do i = 1, p%np
+      if (.not. keep(i)) cycle
+      j = j + 1
+      if (j == i) cycle
+      p%x(:, j) = p%x(:, i)
+      p%v(:, j) = p%v(:, i)
+      p%mass(j) = p%mass(i)
+      p%volume(j) = p%volume(i)
+      p%volume0(j) = p%volume0(i)
+      p%f(:, j) = p%f(:, i)
+      p%stress(:, j) = p%stress(:, i)
+      p%stress_unrot(:, j) = p%stress_unrot(:, i)
+      p%plastic_strain(j) = p%plastic_strain(i)
+      p%temperature(j) = p%temperature(i)
+      p%pore_pressure(j) = p%pore_pressure(i)
+      p%id(j) = p%id(i)
+    end do
+    p%np = j
+  end subroutine particles_compact
+
+  !> Release the arrays.
+  subroutine particles_free(p)
+    type(particles_t), intent(inout) :: p  !< store
+    if (allocated(p%x)) deallocate(p%x, p%v, p%mass, p%volume, p%volume0, p%f, p%stress, &
+      p%stress_unrot, p%plastic_strain, p%temperature, p%pore_pressure, p%id)
+    p%np = 0
+    p%capacity = 0
+  end subroutine particles_free
+end module mpm_particles

@@ -1,0 +1,340 @@
+!> The solid-only MPM scene `mpm` (explicit update-stress-last MPM, paper eqs. 26-27, 40-41,
+!! 69-75): all solids share one set of node fields (single velocity field, no contact algorithm),
+!! each solid keeps its own particles and constitutive model.
+!!
+!! Step: P2G (mass, momentum, internal force) -> reverse halo -> nodal solve with gravity
+!! (ramped over `&mpm gravity_ramp_time`), local damping and the `&boundary solid` conditions ->
+!! G2P (FLIP/PIC blend, position, F, volume, stress) -> migration. dt = `&time cfl` dx/(c + |v|).
+!! Rank 0 appends one line per step to `<output_dir>/<name>_mpm_series.csv`: time, kinetic
+!! energy, elastic strain energy, largest particle coordinate per dimension, smallest ditto.
+module mpm_scene
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use mpmice_kinds, only: wp, i8, name_len, path_len
+  use mpmice_errors, only: int_text, real_short_text, fatal
+  use mpmice_log, only: log_info, log_warning
+  use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
+  use config_types, only: config_t, boundary_for_face
+  use parallel_domain, only: domain_t
+  use parallel_halo, only: halo_t, halo_init, halo_free
+  use parallel_reduce, only: global_sum, global_max, global_min
+  use grid_layout, only: grid_t
+  use io_hdf5, only: h5_file_t, h5_write_attribute, h5_read_attribute
+  use io_files, only: io_join_path
+  use io_xdmf, only: xdmf_particles_t
+  use driver_scene, only: scene_t
+  use mpm_particles, only: particles_t, particles_free
+  use mpm_seeding, only: seed_solid
+  use mpm_shape, only: shape_kind_from_name
+  use mpm_nodes, only: mpm_nodes_t, nodes_init, nodes_free, nq
+  use mpm_p2g, only: p2g_accumulate, p2g_complete
+  use mpm_nodal, only: nodal_bc_t, nodal_solve, bc_kind_from_name
+  use mpm_g2p, only: g2p_update
+  use mpm_constitutive, only: material_t, material_init, model_from_name, wave_speed
+  use mpm_migration, only: migration_t, migration_init, migrate_particles
+  use mpm_output, only: write_particle_dump, write_particle_checkpoint, &
+    read_particle_checkpoint, particle_xdmf_set
+  implicit none
+  private
+
+  public :: mpm_scene_t
+
+  !> Solid bodies on a background grid.
+  type, extends(scene_t) :: mpm_scene_t
+    integer :: nsolids = 0                                  !< solids
+    character(len=name_len), allocatable :: names(:)        !< solid names
+    type(particles_t), allocatable :: parts(:)              !< particles per solid
+    type(material_t), allocatable :: mats(:)                !< constitutive model per solid
+    integer(i8), allocatable :: global_np(:)                !< particles per solid, all ranks
+    type(mpm_nodes_t) :: nodes                              !< shared node fields
+    type(halo_t) :: halo                                    !< halo buffers
+    type(migration_t) :: mig                                !< migration tables
+    type(nodal_bc_t) :: bc                                  !< solid boundary conditions
+    integer :: shape_kind = 2                               !< shape functions
+    real(wp) :: gravity(3) = 0.0_wp                         !< gravity [m/s^2]
+    real(wp) :: ramp_time = 0.0_wp                          !< gravity ramp [s]
+    real(wp) :: damping = 0.0_wp                            !< local damping factor
+    real(wp) :: flip = 0.99_wp                              !< FLIP fraction
+    real(wp) :: cfl = 0.5_wp                                !< Courant number
+    real(wp) :: min_mass = 0.0_wp                           !< empty-node threshold [kg]
+    integer(i8) :: removed = 0_i8                           !< particles that left the domain
+    character(len=path_len) :: series_path = ''             !< time-series file
+    logical :: restored = .false.                           !< state came from a checkpoint
+    logical :: series_started = .false.                     !< series file opened this run
+    integer :: t_p2g = 0, t_nodal = 0, t_g2p = 0, t_migrate = 0  !< timer ids
+  contains
+    procedure :: init => mpm_init
+    procedure :: stable_dt => mpm_stable_dt
+    procedure :: step => mpm_step
+    procedure :: write_state => mpm_write_state
+    procedure :: restore => mpm_restore
+    procedure :: output_layout => mpm_output_layout
+    procedure :: all_finite => mpm_all_finite
+    procedure :: summary => mpm_summary
+    procedure :: free => mpm_free
+  end type mpm_scene_t
+
+contains
+
+  !> Materials, particles, node fields, boundary conditions.
+  subroutine mpm_init(self, cfg, dom, grid, timers)
+    class(mpm_scene_t), intent(inout) :: self    !< scene
+    type(config_t), intent(in) :: cfg            !< validated configuration
+    type(domain_t), intent(in) :: dom            !< decomposition
+    type(grid_t), intent(in) :: grid             !< block geometry
+    type(timer_set_t), intent(inout) :: timers   !< stage timers
+    integer :: s, face
+    real(wp) :: mmin
+    if (any(grid%active .and. grid%ng < 1)) call fatal('mpm scene: &grid ghost_width must be >= 1')
+    self%t_p2g = timer_register(timers, 'MPM particle to grid')
+    self%t_nodal = timer_register(timers, 'MPM nodal solve')
+    self%t_g2p = timer_register(timers, 'MPM grid to particle + stress')
+    self%t_migrate = timer_register(timers, 'MPM migration')
+    self%nsolids = cfg%nsolids
+    allocate(self%names(self%nsolids), self%parts(self%nsolids), self%mats(self%nsolids), &
+      self%global_np(self%nsolids))
+    self%shape_kind = shape_kind_from_name(cfg%numerics%shape_function)
+    self%gravity = cfg%physics%gravity
+    self%ramp_time = cfg%mpm%gravity_ramp_time
+    self%damping = cfg%mpm%local_damping
+    self%flip = cfg%mpm%flip_fraction
+    self%cfl = cfg%time%cfl
+    mmin = huge(1.0_wp)
+    do s = 1, self%nsolids
+      associate (sp => cfg%solids(s))
+        self%names(s) = sp%name
+        self%mats(s) = material_init(model_from_name(sp%model), (1.0_wp - sp%porosity) * &
+          sp%density, sp%youngs_modulus, sp%poisson_ratio, sp%cohesion, sp%friction_angle, &
+          sp%dilation_angle, sp%tension_cutoff, sp%tensile_strength)
+        call seed_solid(self%parts(s), sp, grid, self%gravity)
+        if (self%parts(s)%np > 0) mmin = min(mmin, minval(self%parts(s)%mass(1:self%parts(s)%np)))
+        self%global_np(s) = global_sum(dom, int(self%parts(s)%np, i8))
+        call log_info('mpm: solid ' // trim(sp%name) // ' (' // trim(sp%model) // '): ' // &
+          int_text(int(self%global_np(s))) // ' particles')
+      end associate
+    end do
+    self%min_mass = 1.0e-12_wp * global_min(dom, mmin)
+    do face = 1, 6
+      associate (b => boundary_for_face(cfg, face))
+        self%bc%kind(face) = bc_kind_from_name(b%solid)
+        self%bc%velocity(:, face) = b%solid_velocity
+      end associate
+    end do
+    call nodes_init(self%nodes, grid)
+    call halo_init(self%halo, dom, grid, nq)
+    call migration_init(self%mig, dom, grid)
+    self%series_path = io_join_path(trim(cfg%run%output_dir), trim(cfg%run%name) // &
+      '_mpm_series.csv')
+  end subroutine mpm_init
+
+  !> dt = cfl min_p dx_min / (c_p + |v_p|) over all particles (global).
+  function mpm_stable_dt(self, dom, grid) result(dt)
+    class(mpm_scene_t), intent(inout) :: self  !< scene
+    type(domain_t), intent(in) :: dom          !< decomposition
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp) :: dt
+    real(wp) :: h, c, vmax
+    integer :: s, ip
+    h = minval(grid%dx, mask=grid%active)
+    dt = huge(1.0_wp)
+    do s = 1, self%nsolids
+      c = wave_speed(self%mats(s))
+      vmax = 0.0_wp
+      do ip = 1, self%parts(s)%np
+        vmax = max(vmax, norm2(self%parts(s)%v(:, ip)))
+      end do
+      if (c + vmax > 0.0_wp) dt = min(dt, self%cfl * h / (c + vmax))
+    end do
+    dt = global_min(dom, dt)
+  end function mpm_stable_dt
+
+  !> One explicit MPM step.
+  subroutine mpm_step(self, dom, grid, time, dt, timers, accepted)
+    class(mpm_scene_t), intent(inout) :: self    !< scene
+    type(domain_t), intent(in) :: dom            !< decomposition
+    type(grid_t), intent(in) :: grid             !< block geometry
+    real(wp), intent(in) :: time                 !< time at the start of the step [s]
+    real(wp), intent(in) :: dt                   !< step [s]
+    type(timer_set_t), intent(inout) :: timers   !< stage timers
+    logical, intent(out) :: accepted             !< always true
+    integer :: s, removed
+    real(wp) :: ramp
+    call timer_start(timers, self%t_p2g)
+    self%nodes%q(:, :, :, :) = 0.0_wp
+    do s = 1, self%nsolids
+      call p2g_accumulate(self%parts(s), self%nodes%q, self%shape_kind, grid)
+    end do
+    call p2g_complete(self%nodes, dom, grid, self%halo)
+    call timer_stop(timers, self%t_p2g)
+    call timer_start(timers, self%t_nodal)
+    ramp = 1.0_wp
+    if (self%ramp_time > 0.0_wp) ramp = min(1.0_wp, (time + dt) / self%ramp_time)
+    call nodal_solve(self%nodes, grid, ramp * self%gravity, self%damping, dt, self%bc, &
+      self%min_mass)
+    call timer_stop(timers, self%t_nodal)
+    call timer_start(timers, self%t_g2p)
+    do s = 1, self%nsolids
+      call g2p_update(self%parts(s), self%nodes, self%mats(s), self%shape_kind, grid, dt, &
+        self%flip)
+    end do
+    call timer_stop(timers, self%t_g2p)
+    call timer_start(timers, self%t_migrate)
+    do s = 1, self%nsolids
+      call migrate_particles(self%mig, self%parts(s), dom, grid, removed)
+      removed = global_sum(dom, removed)
+      if (removed > 0) then
+        self%removed = self%removed + int(removed, i8)
+        call log_warning('mpm: ' // int_text(removed) // ' particles of ' // &
+          trim(self%names(s)) // ' left the domain at t = ' // real_short_text(time + dt) // ' s')
+        self%global_np(s) = global_sum(dom, int(self%parts(s)%np, i8))
+      end if
+    end do
+    call timer_stop(timers, self%t_migrate)
+    call write_series(self, dom, time + dt)
+    accepted = .true.
+  end subroutine mpm_step
+
+  !> Append the energies and extents at `time` to the series file (rank 0 writes).
+  subroutine write_series(self, dom, time)
+    class(mpm_scene_t), intent(inout) :: self  !< scene
+    type(domain_t), intent(in) :: dom          !< decomposition
+    real(wp), intent(in) :: time               !< time [s]
+    real(wp) :: e(2), xmax(3), xmin(3), sig(6), en, nu, tr, ss
+    integer :: s, ip, d, unit
+    e = 0.0_wp
+    xmax = -huge(1.0_wp)
+    xmin = huge(1.0_wp)
+    do s = 1, self%nsolids
+      associate (p => self%parts(s), mat => self%mats(s))
+        en = mat%mu * (3.0_wp * mat%lambda + 2.0_wp * mat%mu) / max(mat%lambda + mat%mu, &
+          tiny(1.0_wp))
+        nu = mat%lambda / max(2.0_wp * (mat%lambda + mat%mu), tiny(1.0_wp))
+        do ip = 1, p%np
+          e(1) = e(1) + 0.5_wp * p%mass(ip) * sum(p%v(:, ip)**2)
+          sig = p%stress(:, ip)
+          tr = sig(1) + sig(2) + sig(3)
+          ss = sum(sig(1:3)**2) + 2.0_wp * sum(sig(4:6)**2)
+          if (en > 0.0_wp) e(2) = e(2) + p%volume(ip) * ((1.0_wp + nu) * ss - nu * tr * tr) &
+            / (2.0_wp * en)
+          do d = 1, 3
+            xmax(d) = max(xmax(d), p%x(d, ip))
+            xmin(d) = min(xmin(d), p%x(d, ip))
+          end do
+        end do
+      end associate
+    end do
+    e = global_sum(dom, e)
+    do d = 1, 3
+      xmax(d) = global_max(dom, xmax(d))
+      xmin(d) = global_min(dom, xmin(d))
+    end do
+    if (dom%rank /= 0) return
+    if (.not. self%series_started) then
+      if (self%restored) then
+        open(newunit=unit, file=trim(self%series_path), status='unknown', position='append', &
+          action='write')
+      else
+        open(newunit=unit, file=trim(self%series_path), status='replace', action='write')
+        write(unit, '(a)') 'time,kinetic_energy,strain_energy,xmax,ymax,zmax,xmin,ymin,zmin'
+      end if
+      self%series_started = .true.
+    else
+      open(newunit=unit, file=trim(self%series_path), status='old', position='append', &
+        action='write')
+    end if
+    write(unit, '(es24.16e3, 8(",", es24.16e3))') time, e, xmax, xmin
+    close(unit)
+  end subroutine write_series
+
+  !> Particle datasets of every solid (dump) or the full state (checkpoint).
+  subroutine mpm_write_state(self, file, dom, grid, checkpoint)
+    class(mpm_scene_t), intent(inout) :: self  !< scene
+    type(h5_file_t), intent(in) :: file        !< open file
+    type(domain_t), intent(in) :: dom          !< decomposition
+    type(grid_t), intent(in) :: grid           !< block geometry
+    logical, intent(in) :: checkpoint          !< full restart state
+    integer :: s
+    do s = 1, self%nsolids
+      if (checkpoint) then
+        call write_particle_checkpoint(file, self%names(s), self%parts(s))
+      else
+        call write_particle_dump(file, self%names(s), self%parts(s))
+      end if
+    end do
+    if (checkpoint) call h5_write_attribute(file, 'mpm_removed_particles', self%removed)
+  end subroutine mpm_write_state
+
+  !> Particles of a checkpoint, migrated to their owners (any rank count).
+  subroutine mpm_restore(self, file, dom, grid)
+    class(mpm_scene_t), intent(inout) :: self  !< scene
+    type(h5_file_t), intent(in) :: file        !< open checkpoint
+    type(domain_t), intent(in) :: dom          !< decomposition
+    type(grid_t), intent(in) :: grid           !< block geometry
+    integer :: s, removed
+    real(wp) :: lp(3)
+    do s = 1, self%nsolids
+      lp = self%parts(s)%half_width
+      call read_particle_checkpoint(file, self%names(s), self%parts(s))
+      self%parts(s)%half_width = lp
+      call migrate_particles(self%mig, self%parts(s), dom, grid, removed)
+      self%global_np(s) = global_sum(dom, int(self%parts(s)%np, i8))
+    end do
+    call h5_read_attribute(file, 'mpm_removed_particles', self%removed)
+    self%restored = .true.
+  end subroutine mpm_restore
+
+  !> No cell datasets; one particle set per solid.
+  subroutine mpm_output_layout(self, cell_paths, particle_sets)
+    class(mpm_scene_t), intent(in) :: self                               !< scene
+    character(len=name_len), allocatable, intent(out) :: cell_paths(:)   !< cell dataset paths
+    type(xdmf_particles_t), allocatable, intent(out) :: particle_sets(:) !< particle sets
+    integer :: s
+    allocate(cell_paths(0))
+    allocate(particle_sets(self%nsolids))
+    do s = 1, self%nsolids
+      particle_sets(s) = particle_xdmf_set(self%names(s), self%global_np(s))
+    end do
+  end subroutine mpm_output_layout
+
+  !> True when every particle position, velocity and stress is finite.
+  function mpm_all_finite(self, grid) result(finite)
+    class(mpm_scene_t), intent(in) :: self  !< scene
+    type(grid_t), intent(in) :: grid        !< block geometry
+    logical :: finite
+    integer :: s, n
+    finite = .true.
+    do s = 1, self%nsolids
+      n = self%parts(s)%np
+      finite = finite .and. all(ieee_is_finite(self%parts(s)%x(:, 1:n))) .and. &
+        all(ieee_is_finite(self%parts(s)%v(:, 1:n))) .and. &
+        all(ieee_is_finite(self%parts(s)%stress(:, 1:n)))
+    end do
+  end function mpm_all_finite
+
+  !> Particle counts and removals.
+  subroutine mpm_summary(self, dom, grid)
+    class(mpm_scene_t), intent(inout) :: self  !< scene
+    type(domain_t), intent(in) :: dom          !< decomposition
+    type(grid_t), intent(in) :: grid           !< block geometry
+    integer :: s
+    do s = 1, self%nsolids
+      call log_info('mpm: solid ' // trim(self%names(s)) // ': ' // &
+        int_text(int(self%global_np(s))) // ' particles at the end')
+    end do
+    call log_info('mpm: particles removed (left the domain): ' // int_text(int(self%removed)))
+  end subroutine mpm_summary
+
+  !> Release everything.
+  subroutine mpm_free(self)
+    class(mpm_scene_t), intent(inout) :: self  !< scene
+    integer :: s
+    if (allocated(self%parts)) then
+      do s = 1, size(self%parts)
+        call particles_free(self%parts(s))
+      end do
+      deallocate(self%parts, self%mats, self%names, self%global_np)
+    end if
+    call nodes_free(self%nodes)
+    call halo_free(self%halo)
+    self%nsolids = 0
+  end subroutine mpm_free
+end module mpm_scene

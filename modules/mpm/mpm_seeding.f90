@@ -1,0 +1,143 @@
+!> Particle seeding of one solid from its `&solid` shape: `particles_per_cell` particles per cell
+!! and dimension at the centres of the equal sub-cells of every owned cell, kept when the centre
+!! lies inside the shape (box with optional rotation about z around its centre, polygon in x-y,
+!! half-space {x : (x - plane_point) . plane_normal <= 0}). Inactive dimensions are ignored by
+!! the shape tests.
+!!
+!! Each particle gets volume V_c / prod(ppc), mass (1 - porosity) density V, the initial velocity,
+!! temperature, F = I, the GIMP half-width dx/(2 ppc) and a global id from its global cell and
+!! sub-cell index (the same at any rank count). With `geostatic`, the initial effective stress is
+!! sigma_v = -(1 - n) rho |g| (top - z_v) along the gravity direction v (top: highest point of
+!! the shape along v, box and polygon only) and K0 sigma_v across it (K0 = nu/(1-nu) when k0 < 0).
+module mpm_seeding
+  use mpmice_kinds, only: wp, i8
+  use grid_layout, only: grid_t
+  use config_materials, only: solid_params_t
+  use mpm_particles, only: particles_t, particles_reserve, identity_f
+  implicit none
+  private
+
+  public :: seed_solid, inside_shape
+
+contains
+
+  !> Seed the particles of solid `s` in this block's owned cells (appends to `p`).
+  subroutine seed_solid(p, s, grid, gravity)
+    type(particles_t), intent(inout) :: p      !< particle store
+    type(solid_params_t), intent(in) :: s      !< `&solid` parameters
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
+    integer :: ppc(3), i, j, k, a, b, c, n, dv, dd
+    integer(i8) :: cell_id, nsub
+    real(wp) :: xp(3), vol, rho, top, sv, k0, gmag
+    ppc = merge(s%particles_per_cell, 1, grid%active)
+    nsub = int(product(ppc), i8)
+    vol = grid%cell_volume / real(product(ppc), wp)
+    rho = (1.0_wp - s%porosity) * s%density
+    p%half_width = 0.5_wp * grid%dx / real(ppc, wp)
+    dv = maxloc(abs(gravity), dim=1)
+    gmag = sqrt(sum(gravity**2))
+    top = shape_top(s, dv)
+    k0 = s%k0
+    if (k0 < 0.0_wp) k0 = s%poisson_ratio / (1.0_wp - s%poisson_ratio)
+    do k = grid%lo(3), grid%hi(3)
+      do j = grid%lo(2), grid%hi(2)
+        do i = grid%lo(1), grid%hi(1)
+          cell_id = (int(k - 1, i8) * grid%ncells(2) + int(j - 1, i8)) * grid%ncells(1) + (i - 1)
+          do c = 1, ppc(3)
+            do b = 1, ppc(2)
+              do a = 1, ppc(1)
+                xp(1) = grid%lower(1) + (real(i - 1, wp) + (real(a, wp) - 0.5_wp) / ppc(1)) &
+                  * grid%dx(1)
+                xp(2) = grid%lower(2) + (real(j - 1, wp) + (real(b, wp) - 0.5_wp) / ppc(2)) &
+                  * grid%dx(2)
+                xp(3) = grid%lower(3) + (real(k - 1, wp) + (real(c, wp) - 0.5_wp) / ppc(3)) &
+                  * grid%dx(3)
+                if (.not. inside_shape(s, grid%active, xp)) cycle
+                call particles_reserve(p, p%np + 1)
+                n = p%np + 1
+                p%np = n
+                p%x(:, n) = xp
+                p%v(:, n) = merge(s%velocity, 0.0_wp, grid%active)
+                p%volume(n) = vol
+                p%volume0(n) = vol
+                p%mass(n) = rho * vol
+                p%f(:, n) = identity_f
+                p%stress(:, n) = 0.0_wp
+                p%plastic_strain(n) = 0.0_wp
+                p%temperature(n) = s%temperature
+                p%pore_pressure(n) = 0.0_wp
+                p%id(n) = cell_id * nsub + int(((c - 1) * ppc(2) + (b - 1)) * ppc(1) + a, i8)
+                if (s%geostatic .and. gmag > 0.0_wp) then
+                  sv = -rho * gmag * max(top - xp(dv), 0.0_wp)
+                  do dd = 1, 3
+                    p%stress(dd, n) = merge(sv, k0 * sv, dd == dv)
+                  end do
+                end if
+                p%stress_unrot(:, n) = p%stress(:, n)
+              end do
+            end do
+          end do
+        end do
+      end do
+    end do
+  end subroutine seed_solid
+
+  !> True when `x` lies inside the shape of solid `s` (only `active` dimensions are tested).
+  pure logical function inside_shape(s, active, x) result(inside)
+    type(solid_params_t), intent(in) :: s   !< `&solid` parameters
+    logical, intent(in) :: active(3)        !< active dimensions
+    real(wp), intent(in) :: x(3)            !< point [m]
+    real(wp) :: y(3), centre(3), th, cs, sn
+    integer :: n, i, j
+    select case (trim(s%shape))
+    case ('box')
+      y = x
+      if (s%rotation_deg /= 0.0_wp) then
+        ! rotate the point back by -rotation about the box centre (z axis)
+        centre = 0.5_wp * (s%lower + s%upper)
+        th = s%rotation_deg * acos(-1.0_wp) / 180.0_wp
+        cs = cos(th)
+        sn = sin(th)
+        y(1) = centre(1) + cs * (x(1) - centre(1)) + sn * (x(2) - centre(2))
+        y(2) = centre(2) - sn * (x(1) - centre(1)) + cs * (x(2) - centre(2))
+      end if
+      inside = all(.not. active .or. (y >= s%lower .and. y <= s%upper))
+    case ('polygon')
+      ! even-odd rule in the x-y plane
+      n = s%npoints
+      inside = .false.
+      j = n
+      do i = 1, n
+        if ((s%polygon_y(i) > x(2)) .neqv. (s%polygon_y(j) > x(2))) then
+          if (x(1) < (s%polygon_x(j) - s%polygon_x(i)) * (x(2) - s%polygon_y(i)) / &
+            (s%polygon_y(j) - s%polygon_y(i)) + s%polygon_x(i)) inside = .not. inside
+        end if
+        j = i
+      end do
+    case ('half_space')
+      inside = sum(merge(x - s%plane_point, 0.0_wp, active) * s%plane_normal) <= 0.0_wp
+    case default
+      inside = .false.
+    end select
+  end function inside_shape
+
+  !> Highest coordinate of the shape along dimension `d` (box: upper, or rotated corners;
+  !! polygon: largest vertex; half-space: plane point).
+  pure real(wp) function shape_top(s, d) result(top)
+    type(solid_params_t), intent(in) :: s  !< `&solid` parameters
+    integer, intent(in) :: d               !< dimension
+    select case (trim(s%shape))
+    case ('polygon')
+      if (d == 1) then
+        top = maxval(s%polygon_x(1:s%npoints))
+      else
+        top = maxval(s%polygon_y(1:s%npoints))
+      end if
+    case ('half_space')
+      top = s%plane_point(d)
+    case default
+      top = s%upper(d)
+    end select
+  end function shape_top
+end module mpm_seeding

@@ -1,0 +1,74 @@
+!> The nodes a particle interacts with and their 1-D weights per dimension (tensor-product shape
+!! functions S_ip = S_x S_y S_z, gradient (S_x' S_y S_z, S_x S_y' S_z, S_x S_y S_z')).
+!!
+!! Linear: the 2 nodes of the particle's cell. GIMP: the 3 nodes around the nearest node (the
+!! support |x_p - x_i| < h + l_p never reaches a fourth node when l_p <= h/2). Inactive dimensions
+!! have one node (index 1) with weight 1 and zero derivative. Nodes may lie one layer outside the
+!! owned range; node fields need a ghost width of at least 1.
+module mpm_shape
+  use mpmice_kinds, only: wp
+  use grid_layout, only: grid_t
+  use mpm_shape_linear, only: linear_1d
+  use mpm_shape_gimp, only: gimp_1d
+  implicit none
+  private
+
+  public :: shape_linear, shape_gimp, max_stencil, shape_kind_from_name, particle_stencil
+
+  integer, parameter :: shape_linear = 1   !< linear (tent) functions
+  integer, parameter :: shape_gimp = 2     !< uGIMP functions
+  integer, parameter :: max_stencil = 3    !< most nodes per dimension
+
+contains
+
+  !> Shape kind of a `&numerics shape_function` value ('linear' or 'gimp'; anything else: gimp).
+  pure integer function shape_kind_from_name(name) result(kind)
+    character(len=*), intent(in) :: name  !< namelist value
+    if (trim(name) == 'linear') then
+      kind = shape_linear
+    else
+      kind = shape_gimp
+    end if
+  end function shape_kind_from_name
+
+  !> Nodes and 1-D weights of a particle at `xp` with half-width `lp`.
+  pure subroutine particle_stencil(kind, grid, xp, lp, first, nn, w, dw)
+    integer, intent(in) :: kind                      !< shape_linear or shape_gimp
+    type(grid_t), intent(in) :: grid                 !< block geometry
+    real(wp), intent(in) :: xp(3)                    !< particle position [m]
+    real(wp), intent(in) :: lp(3)                    !< particle half-width [m]
+    integer, intent(out) :: first(3)                 !< global index of the first node
+    integer, intent(out) :: nn(3)                    !< nodes per dimension
+    real(wp), intent(out) :: w(max_stencil, 3)       !< weights [-]
+    real(wp), intent(out) :: dw(max_stencil, 3)      !< derivatives [1/m]
+    integer :: d, a
+    real(wp) :: s, h, r
+    w = 0.0_wp
+    dw = 0.0_wp
+    do d = 1, 3
+      if (.not. grid%active(d)) then
+        first(d) = 1
+        nn(d) = 1
+        w(1, d) = 1.0_wp
+        cycle
+      end if
+      h = grid%dx(d)
+      s = (xp(d) - grid%lower(d)) / h
+      if (kind == shape_linear) then
+        first(d) = floor(s) + 1
+        nn(d) = 2
+        do a = 1, 2
+          r = xp(d) - (grid%lower(d) + real(first(d) + a - 2, wp) * h)
+          call linear_1d(r, h, w(a, d), dw(a, d))
+        end do
+      else
+        first(d) = nint(s)
+        nn(d) = 3
+        do a = 1, 3
+          r = xp(d) - (grid%lower(d) + real(first(d) + a - 2, wp) * h)
+          call gimp_1d(r, h, lp(d), w(a, d), dw(a, d))
+        end do
+      end if
+    end do
+  end subroutine particle_stencil
+end module mpm_shape
