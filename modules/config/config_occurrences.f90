@@ -100,6 +100,8 @@ contains
     case ('boundary')
       cfg%nboundaries = k
       cfg%boundaries(k) = boundary_params_t()
+    case default
+      k = 0
     end select
   end subroutine new_occurrence
 

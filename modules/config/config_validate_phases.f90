@@ -278,6 +278,8 @@ contains
         if (.not. err%found .and. all(p%plane_normal == 0.0_wp)) then
           call set_error(err, g, 'plane_normal', reals_repr(p%plane_normal), 'a non-zero vector')
         end if
+      case default
+        ! unreachable: check_choice accepted the shape
       end select
       if (p%shape == 'box') then
         call check_real(err, g, 'rotation_deg', p%rotation_deg, 'finite [deg]')
@@ -416,6 +418,8 @@ contains
         call set_error(err, 'run', 'scene', quoted(cfg%run%scene), 'scene ''mpm'' needs ' // &
           'at least one &solid group and no &fluid group' // counts)
       end if
+    case default
+      ! other scenes take no &fluid or &solid groups into account
     end select
   end subroutine check_scene
 end module config_validate_phases
