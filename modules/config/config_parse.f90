@@ -181,7 +181,7 @@ contains
     character(len=:), allocatable :: text
     character(len=name_len), allocatable :: values(:)
     integer :: k
-    values = occurrence_selectors(cfg, group)
+    allocate(values, source=occurrence_selectors(cfg, group))
     text = ''
     do k = 1, size(values)
       if (k > 1) text = text // ', '
