@@ -12,7 +12,7 @@ module mpm_g2p
   use mpm_particles, only: particles_t
   use mpm_shape, only: particle_stencil, max_stencil
   use mpm_nodes, only: mpm_nodes_t
-  use mpm_tensor, only: det3
+  use mpm_tensor, only: det3, mul3
   use mpm_constitutive, only: material_t, constitutive_update, model_rigid
   implicit none
   private
@@ -64,7 +64,7 @@ contains
       p%x(:, ip) = p%x(:, ip) + vlp * dt                                  ! eq. 71
       if (mat%model == model_rigid) cycle
       f = reshape(p%f(:, ip), [3, 3])
-      fnew = f + dt * matmul(l, f)                                        ! eq. 74
+      fnew = f + dt * mul3(l, f)                                        ! eq. 74
       p%f(:, ip) = reshape(fnew, [9])
       p%volume(ip) = det3(fnew) * p%volume0(ip)                           ! eq. 75
       call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &

@@ -14,7 +14,7 @@
 !! set to it (a simplification, not a consistent multi-surface return; see docs/mpm.md).
 module mpm_mohr_coulomb
   use mpmice_kinds, only: wp
-  use mpm_tensor, only: sym_eigen, mat_to_sym
+  use mpm_tensor, only: sym_eigen, mat_to_sym, mul3
   implicit none
   private
 
@@ -112,7 +112,7 @@ contains
     de = ((1.0_wp + nu) * (s_tr - s) - nu * tr) / e_mod
     tr = sum(de) / 3.0_wp
     deps_p = sqrt(2.0_wp / 3.0_wp * sum((de - tr)**2))
-    sig = mat_to_sym(matmul(q, matmul(diag3(s), transpose(q))))
+    sig = mat_to_sym(mul3(q, mul3(diag3(s), transpose(q))))
   end subroutine mc_return
 
   !> Principal-space elastic stiffness applied to `b`: lambda (sum b) 1 + 2 mu b.

@@ -3,7 +3,7 @@
 !! The stress follows from F directly (hyper-elastic, objective without the rotated frame).
 module mpm_neo_hookean
   use mpmice_kinds, only: wp
-  use mpm_tensor, only: det3, mat_to_sym
+  use mpm_tensor, only: det3, mat_to_sym, mul3
   implicit none
   private
 
@@ -20,7 +20,7 @@ contains
     real(wp) :: j
     j = det3(f)
     ! eq. 16, errata E2: (lambda ln J / J) I + (mu / J)(F F^T - I)
-    sig = (mu / j) * mat_to_sym(matmul(f, transpose(f)))
+    sig = (mu / j) * mat_to_sym(mul3(f, transpose(f)))
     sig(1:3) = sig(1:3) + (lambda * log(j) - mu) / j
   end function neo_hookean_stress
 end module mpm_neo_hookean

@@ -3,7 +3,8 @@
 !! domain faces, and a = (v^L - v^n) / dt (eq. 69) so that G2P sees the constrained motion.
 !!
 !! Boundary conditions per face (`&boundary solid`): fixed (v = 0), roller (normal component 0,
-!! free slip), free (nothing), velocity (v = prescribed). Inactive dimensions carry no motion.
+!! free slip), free (nothing), velocity (v = prescribed), applied on the face nodes and on the
+!! ghost nodes beyond the face. Inactive dimensions carry no motion.
 !! Local (Cundall) damping: f <- f - alpha |f| sign(v) per component. Every allocated node is
 !! solved (ghost copies hold global values after the reverse halo), so no exchange follows.
 module mpm_nodal
@@ -73,10 +74,11 @@ contains
           do face = 1, 6
             d = (face + 1) / 2
             if (.not. grid%active(d) .or. grid%periodic(d)) cycle
+            ! the face node and the ghost nodes beyond it (GIMP reaches them)
             if (mod(face, 2) == 1) then
-              if (idx(d) /= 1) cycle
+              if (idx(d) > 1) cycle
             else
-              if (idx(d) /= grid%ncells(d) + 1) cycle
+              if (idx(d) < grid%ncells(d) + 1) cycle
             end if
             select case (bc%kind(face))
             case (bc_fixed)

@@ -6,7 +6,7 @@ module mpm_tensor
   implicit none
   private
 
-  public :: sym_to_mat, mat_to_sym, det3, polar_rotation, sym_eigen, rotate_to, rotate_from
+  public :: sym_to_mat, mat_to_sym, det3, polar_rotation, sym_eigen, rotate_to, rotate_from, mul3
 
 contains
 
@@ -98,7 +98,7 @@ contains
     real(wp), intent(in) :: r(3, 3)  !< rotation
     real(wp), intent(in) :: s(6)     !< symmetric tensor
     real(wp) :: t(6)
-    t = mat_to_sym(matmul(transpose(r), matmul(sym_to_mat(s), r)))
+    t = mat_to_sym(mul3(transpose(r), mul3(sym_to_mat(s), r)))
   end function rotate_to
 
   !> R S R^T of a symmetric tensor S (back to the current frame, eq. 15).
@@ -106,8 +106,21 @@ contains
     real(wp), intent(in) :: r(3, 3)  !< rotation
     real(wp), intent(in) :: s(6)     !< symmetric tensor
     real(wp) :: t(6)
-    t = mat_to_sym(matmul(r, matmul(sym_to_mat(s), transpose(r))))
+    t = mat_to_sym(mul3(r, mul3(sym_to_mat(s), transpose(r))))
   end function rotate_from
+
+  !> Product a b of 3x3 matrices (explicit loops: no temporaries).
+  pure function mul3(a, b) result(c)
+    real(wp), intent(in) :: a(3, 3)  !< left factor
+    real(wp), intent(in) :: b(3, 3)  !< right factor
+    real(wp) :: c(3, 3)
+    integer :: i, j
+    do j = 1, 3
+      do i = 1, 3
+        c(i, j) = a(i, 1) * b(1, j) + a(i, 2) * b(2, j) + a(i, 3) * b(3, j)
+      end do
+    end do
+  end function mul3
 
   !> Eigenvalues `lam` (descending) and orthonormal eigenvectors (columns of `q`) of a symmetric
   !! tensor by cyclic Jacobi rotations: s = q diag(lam) q^T.

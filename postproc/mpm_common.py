@@ -1,0 +1,39 @@
+"""Shared helpers of the MPM validation scripts: particle dumps sorted by id, the per-step series
+file written by the 'mpm' scene, elastic constants."""
+from __future__ import annotations
+
+import glob
+import os
+
+import numpy as np
+
+from postproc.mpmice_io import read_dump
+
+
+def dump_paths(output_dir: str, name: str) -> list[str]:
+    """Dumps <name>_<step>.h5 of a run, in step order (checkpoints and failed dumps excluded)."""
+    paths = glob.glob(os.path.join(output_dir, f"{name}_[0-9]*.h5"))
+    return sorted(paths, key=lambda p: int(os.path.basename(p)[len(name) + 1:-3]))
+
+
+def particles(path: str, solid: str) -> tuple[float, dict[str, np.ndarray]]:
+    """(time, {field: array}) of one solid in one dump, particles sorted by id."""
+    dump = read_dump(path)
+    fields = dump["particles"][solid]
+    order = np.argsort(fields["id"])
+    return dump["time"], {key: np.asarray(val)[order] for key, val in fields.items()}
+
+
+def series(output_dir: str, name: str) -> dict[str, np.ndarray]:
+    """Columns of <output_dir>/<name>_mpm_series.csv (time, kinetic_energy, strain_energy,
+    xmax, ymax, zmax, xmin, ymin, zmin)."""
+    path = os.path.join(output_dir, f"{name}_mpm_series.csv")
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    with open(path, encoding="utf-8") as f:
+        header = f.readline().strip().split(",")
+    return {key: data[:, i] for i, key in enumerate(header)}
+
+
+def constrained_modulus(youngs: float, poisson: float) -> float:
+    """M = lambda + 2 mu = E (1 - nu) / ((1 + nu)(1 - 2 nu)) [Pa]."""
+    return youngs * (1.0 - poisson) / ((1.0 + poisson) * (1.0 - 2.0 * poisson))
