@@ -83,6 +83,7 @@ contains
     call add('smagorinsky_constant', real_repr(cfg%ice%smagorinsky_constant))
     call add('equilibration_tolerance', real_repr(cfg%ice%equilibration_tolerance))
     call add('max_equilibration_iterations', ints_repr([cfg%ice%max_equilibration_iterations]))
+    call add('sound_speed_factor', real_repr(cfg%ice%sound_speed_factor))
     text = text // '/' // nl // '&mpm' // nl
     call add('flip_fraction', real_repr(cfg%mpm%flip_fraction))
     call add('gravity_ramp_time', real_repr(cfg%mpm%gravity_ramp_time))

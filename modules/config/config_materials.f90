@@ -62,6 +62,7 @@ module config_materials
     real(wp) :: smagorinsky_constant = 0.17_wp       !< Smagorinsky constant C_s
     real(wp) :: equilibration_tolerance = 1.0e-10_wp !< pressure equilibration tolerance
     integer :: max_equilibration_iterations = 100    !< pressure equilibration iteration limit
+    real(wp) :: sound_speed_factor = 0.0_wp          !< weight of c in the CFL limit (0: advective)
   end type ice_params_t
 
   !> `&mpm`: controls of the MPM solid solver.

@@ -40,12 +40,12 @@ contains
     integer, intent(out) :: ios              !< iostat
     character(len=*), intent(inout) :: iomsg !< iomsg
     real(wp) :: outer_tolerance, exchange_coefficient, heat_exchange_coefficient
-    real(wp) :: smagorinsky_constant, equilibration_tolerance
+    real(wp) :: smagorinsky_constant, equilibration_tolerance, sound_speed_factor
     integer :: max_outer_iterations, max_equilibration_iterations
     logical :: smagorinsky
     namelist /ice/ outer_tolerance, max_outer_iterations, exchange_coefficient, &
       heat_exchange_coefficient, smagorinsky, smagorinsky_constant, equilibration_tolerance, &
-      max_equilibration_iterations
+      max_equilibration_iterations, sound_speed_factor
     outer_tolerance = p%outer_tolerance
     max_outer_iterations = p%max_outer_iterations
     exchange_coefficient = p%exchange_coefficient
@@ -54,6 +54,7 @@ contains
     smagorinsky_constant = p%smagorinsky_constant
     equilibration_tolerance = p%equilibration_tolerance
     max_equilibration_iterations = p%max_equilibration_iterations
+    sound_speed_factor = p%sound_speed_factor
     read(text, nml=ice, iostat=ios, iomsg=iomsg)
     if (ios /= 0) return
     p%outer_tolerance = outer_tolerance
@@ -64,6 +65,7 @@ contains
     p%smagorinsky_constant = smagorinsky_constant
     p%equilibration_tolerance = equilibration_tolerance
     p%max_equilibration_iterations = max_equilibration_iterations
+    p%sound_speed_factor = sound_speed_factor
   end subroutine read_ice
 
   !> `&mpm`.

@@ -78,6 +78,8 @@ contains
         min_value=0.0_wp, min_open=.true.)
       call check_int(err, 'ice', 'max_equilibration_iterations', &
         p%max_equilibration_iterations, '>= 1', min_value=1)
+      call check_real(err, 'ice', 'sound_speed_factor', p%sound_speed_factor, '0..10', &
+        min_value=0.0_wp, max_value=10.0_wp)
     end associate
     associate (p => cfg%mpm)
       call check_real(err, 'mpm', 'flip_fraction', p%flip_fraction, &

@@ -13,6 +13,7 @@ module driver_run_mod
   use driver_scene, only: scene_t
   use heat_scene, only: heat_scene_t
   use mpm_scene, only: mpm_scene_t
+  use ice_scene, only: ice_scene_t
   implicit none
   private
 
@@ -84,6 +85,8 @@ contains
       allocate(heat_scene_t :: scene)
     case ('mpm')
       allocate(mpm_scene_t :: scene)
+    case ('ice')
+      allocate(ice_scene_t :: scene)
     case default
       ! the configuration accepts only scenes listed in config_types%scene_names
       call fatal('scene ''' // trim(cfg%run%scene) // ''' is not available in this build')

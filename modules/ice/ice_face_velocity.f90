@@ -1,0 +1,83 @@
+!> Face-centred fluid velocities before the pressure correction (paper eqs. 30-31): the
+!! mass-weighted average of the two cell velocities, the equilibration-pressure gradient scaled
+!! by the harmonic mean of the intrinsic specific volumes, and gravity. The viscous term of
+!! eq. 30 is zero at faces (as the paper and Uintah's computeVelFace take it; errata E4 moot).
+!!
+!! Faces on a non-periodic domain boundary carry zero normal velocity (wall, free slip).
+module ice_face_velocity
+  use mpmice_kinds, only: wp
+  use grid_layout, only: grid_t
+  use ice_state, only: ice_state_t
+  implicit none
+  private
+
+  public :: ice_face_velocities, boundary_face, face_range
+
+contains
+
+  !> u*_f for every fluid on the faces of the owned cells (faces lo..hi+1 in each active
+  !! direction), and the face specific volume v_hat = 2 v_L v_R / (v_L + v_R) (eq. 31).
+  !! Needs the cell fields (and pressure) valid in one ghost layer.
+  subroutine ice_face_velocities(state, grid, dt, gravity)
+    type(ice_state_t), intent(inout) :: state   !< fluids (uface, vface written)
+    type(grid_t), intent(in) :: grid            !< block geometry
+    real(wp), intent(in) :: dt                  !< time step [s]
+    real(wp), intent(in) :: gravity(3)          !< gravitational acceleration [m/s^2]
+    integer :: d, m, i, j, k, o(3), r(2, 3)
+    real(wp) :: rl, rr, vl, vr, vhat
+
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      o = 0
+      o(d) = 1
+      r = face_range(grid, d)
+      do m = 1, state%nfluids
+        associate (f => state%fluid(m))
+          do k = r(1, 3), r(2, 3)
+            do j = r(1, 2), r(2, 2)
+              do i = r(1, 1), r(2, 1)
+                vl = f%spvol(i - o(1), j - o(2), k - o(3))
+                vr = f%spvol(i, j, k)
+                vhat = 2.0_wp * vl * vr / (vl + vr)
+                f%vface(i, j, k, d) = vhat
+                if (boundary_face(grid, d, [i, j, k])) then
+                  f%uface(i, j, k, d) = 0.0_wp
+                  cycle
+                end if
+                rl = f%rho(i - o(1), j - o(2), k - o(3))
+                rr = f%rho(i, j, k)
+                if (rl + rr > 0.0_wp) then
+                  f%uface(i, j, k, d) = (rl * f%vel(i - o(1), j - o(2), k - o(3), d) + &
+                    rr * f%vel(i, j, k, d)) / (rl + rr)
+                else
+                  f%uface(i, j, k, d) = 0.0_wp
+                end if
+                ! eq. 31: - dt v_hat (p_R - p_L)/dx + dt g
+                f%uface(i, j, k, d) = f%uface(i, j, k, d) + dt * (-vhat * (state%pressure(i, j, k) &
+                  - state%pressure(i - o(1), j - o(2), k - o(3))) / grid%dx(d) + gravity(d))
+              end do
+            end do
+          end do
+        end associate
+      end do
+    end do
+  end subroutine ice_face_velocities
+
+  !> Index range (lower/upper, per dimension) of the faces in direction `d` of the owned cells.
+  pure function face_range(grid, d) result(r)
+    type(grid_t), intent(in) :: grid  !< block geometry
+    integer, intent(in) :: d          !< face direction
+    integer :: r(2, 3)
+    r(1, :) = grid%lo
+    r(2, :) = grid%hi
+    r(2, d) = grid%hi(d) + 1
+  end function face_range
+
+  !> True for a face in direction `d` at index `idx` that lies on a non-periodic domain boundary.
+  pure logical function boundary_face(grid, d, idx)
+    type(grid_t), intent(in) :: grid  !< block geometry
+    integer, intent(in) :: d          !< face direction
+    integer, intent(in) :: idx(3)     !< face index (low face of cell idx)
+    boundary_face = .not. grid%periodic(d) .and. (idx(d) == 1 .or. idx(d) == grid%ncells(d) + 1)
+  end function boundary_face
+end module ice_face_velocity

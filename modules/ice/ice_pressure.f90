@@ -1,0 +1,197 @@
+!> The implicit pressure equation (paper eq. 35) in the form Uintah's impICE solves it,
+!! multiplied by dt V:
+!!   V sum_kappa dp - dt^2 sum_faces (A/dx) (sum_m phi_m,f v_m,f) (dp_nb - dp)
+!!     = -V sum_kappa dp_total - dt sum_faces A sum_m phi_m,f u_m,f (outward),
+!! with kappa_m = v_m/c_m^2, phi_m,f the upwind face volume fraction and v_m,f the harmonic-mean
+!! face specific volume (eq. 31). The outer iteration (driven by the scene) solves for dp,
+!! adds it to p and dp_total (eq. 36) and corrects the face velocities
+!! u_m,f -= dt v_m,f (dp_R - dp_L)/dx, until max |rhs|/V (the volume-fraction constraint
+!! sum phi = 1 at the end of the step) is below the outer tolerance.
+!! Face pressure (eq. 37): p_f = (p_L rho_R + p_R rho_L)/(rho_L + rho_R), rho = sum_m rho_bar_m.
+module ice_pressure
+  use mpmice_kinds, only: wp
+  use grid_layout, only: grid_t
+  use ice_state, only: ice_state_t
+  use ice_face_velocity, only: boundary_face, face_range
+  implicit none
+  private
+
+  public :: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, ice_face_pressure
+
+contains
+
+  !> Operator of eq. 35: low-face coefficients `state%coef` and diagonal `state%diag`
+  !! (hypre's convention of `solver_pressure`); boundary faces do not couple (walls: zero
+  !! normal velocity and a homogeneous Neumann condition on dp).
+  subroutine ice_pressure_assemble(state, grid, dt)
+    type(ice_state_t), intent(inout) :: state  !< fluids (uface, vface, vfrac read)
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: dt                 !< time step [s]
+    integer :: d, m, i, j, k, o(3), r(2, 3)
+    real(wp) :: area, s, phi
+
+    state%coef = 0.0_wp
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      o = 0
+      o(d) = 1
+      r = face_range(grid, d)
+      area = grid%cell_volume / grid%dx(d)
+      do k = r(1, 3), r(2, 3)
+        do j = r(1, 2), r(2, 2)
+          do i = r(1, 1), r(2, 1)
+            if (boundary_face(grid, d, [i, j, k])) cycle
+            s = 0.0_wp
+            do m = 1, state%nfluids
+              associate (f => state%fluid(m))
+                phi = upwind(f%uface(i, j, k, d), f%vfrac(i - o(1), j - o(2), k - o(3)), &
+                  f%vfrac(i, j, k))
+                s = s + phi * f%vface(i, j, k, d)
+              end associate
+            end do
+            state%coef(i, j, k, d) = dt**2 * area / grid%dx(d) * s
+          end do
+        end do
+      end do
+    end do
+    do k = grid%lo(3), grid%hi(3)
+      do j = grid%lo(2), grid%hi(2)
+        do i = grid%lo(1), grid%hi(1)
+          s = grid%cell_volume * state%sum_kappa(i, j, k)
+          do d = 1, 3
+            if (.not. grid%active(d)) cycle
+            o = 0
+            o(d) = 1
+            s = s + state%coef(i, j, k, d) + state%coef(i + o(1), j + o(2), k + o(3), d)
+          end do
+          state%diag(i, j, k) = s
+        end do
+      end do
+    end do
+  end subroutine ice_pressure_assemble
+
+  !> Right-hand side of eq. 35 with the current face velocities and dp_total; returns this
+  !! rank's max |rhs|/V (the volume-fraction constraint residual).
+  function ice_pressure_rhs(state, grid, dt) result(residual)
+    type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: dt                 !< time step [s]
+    real(wp) :: residual
+    integer :: d, m, i, j, k, o(3)
+    real(wp) :: area, flux, s
+
+    residual = 0.0_wp
+    do k = grid%lo(3), grid%hi(3)
+      do j = grid%lo(2), grid%hi(2)
+        do i = grid%lo(1), grid%hi(1)
+          s = -grid%cell_volume * state%sum_kappa(i, j, k) * state%dp_total(i, j, k)
+          do d = 1, 3
+            if (.not. grid%active(d)) cycle
+            o = 0
+            o(d) = 1
+            area = grid%cell_volume / grid%dx(d)
+            do m = 1, state%nfluids
+              associate (f => state%fluid(m))
+                flux = upwind(f%uface(i + o(1), j + o(2), k + o(3), d), f%vfrac(i, j, k), &
+                  f%vfrac(i + o(1), j + o(2), k + o(3))) * f%uface(i + o(1), j + o(2), k + o(3), d) &
+                  - upwind(f%uface(i, j, k, d), f%vfrac(i - o(1), j - o(2), k - o(3)), &
+                  f%vfrac(i, j, k)) * f%uface(i, j, k, d)
+                s = s - dt * area * flux
+              end associate
+            end do
+          end do
+          state%rhs(i, j, k) = s
+          residual = max(residual, abs(s) / grid%cell_volume)
+        end do
+      end do
+    end do
+  end function ice_pressure_rhs
+
+  !> After a solve (dp valid in one ghost layer): p += dp, dp_total += dp on the owned cells and
+  !! u_m,f -= dt v_m,f (dp_R - dp_L)/dx on the faces of the owned cells.
+  subroutine ice_pressure_correct(state, grid, dt)
+    type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: dt                 !< time step [s]
+    integer :: d, m, i, j, k, o(3), r(2, 3)
+    real(wp) :: g
+
+    associate (lo => grid%lo, hi => grid%hi)
+      state%pressure(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) = &
+        state%pressure(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) + &
+        state%dp(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3))
+      state%dp_total(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) = &
+        state%dp_total(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) + &
+        state%dp(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3))
+    end associate
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      o = 0
+      o(d) = 1
+      r = face_range(grid, d)
+      do k = r(1, 3), r(2, 3)
+        do j = r(1, 2), r(2, 2)
+          do i = r(1, 1), r(2, 1)
+            if (boundary_face(grid, d, [i, j, k])) cycle
+            g = (state%dp(i, j, k) - state%dp(i - o(1), j - o(2), k - o(3))) / grid%dx(d)
+            do m = 1, state%nfluids
+              state%fluid(m)%uface(i, j, k, d) = state%fluid(m)%uface(i, j, k, d) - &
+                dt * state%fluid(m)%vface(i, j, k, d) * g
+            end do
+          end do
+        end do
+      end do
+    end do
+  end subroutine ice_pressure_correct
+
+  !> Face pressures of eq. 37 (weights: total bulk density of the two cells); a boundary face
+  !! takes the pressure of its inner cell. Needs the pressure valid in one ghost layer.
+  subroutine ice_face_pressure(state, grid)
+    type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
+    type(grid_t), intent(in) :: grid           !< block geometry
+    integer :: d, m, i, j, k, o(3), r(2, 3)
+    real(wp) :: rl, rr, pl, pr
+
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      o = 0
+      o(d) = 1
+      r = face_range(grid, d)
+      do k = r(1, 3), r(2, 3)
+        do j = r(1, 2), r(2, 2)
+          do i = r(1, 1), r(2, 1)
+            pl = state%pressure(i - o(1), j - o(2), k - o(3))
+            pr = state%pressure(i, j, k)
+            if (boundary_face(grid, d, [i, j, k])) then
+              if (i * o(1) + j * o(2) + k * o(3) == 1) then
+                state%pface(i, j, k, d) = pr
+              else
+                state%pface(i, j, k, d) = pl
+              end if
+              cycle
+            end if
+            rl = 0.0_wp
+            rr = 0.0_wp
+            do m = 1, state%nfluids
+              rl = rl + state%fluid(m)%rho(i - o(1), j - o(2), k - o(3))
+              rr = rr + state%fluid(m)%rho(i, j, k)
+            end do
+            state%pface(i, j, k, d) = (pl * rr + pr * rl) / (rl + rr)
+          end do
+        end do
+      end do
+    end do
+  end subroutine ice_face_pressure
+
+  !> Upwind value of a face quantity: `left` for u >= 0, `right` otherwise.
+  pure real(wp) function upwind(u, left, right)
+    real(wp), intent(in) :: u      !< face velocity [m/s]
+    real(wp), intent(in) :: left   !< value in the low cell
+    real(wp), intent(in) :: right  !< value in the high cell
+    if (u >= 0.0_wp) then
+      upwind = left
+    else
+      upwind = right
+    end if
+  end function upwind
+end module ice_pressure

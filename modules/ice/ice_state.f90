@@ -1,0 +1,106 @@
+!> State of the ICE fluids: structure-of-arrays cell fields per material, the shared cell
+!! pressure fields and the face velocities.
+!!
+!! Cell fields use the grid's cell bounds `lbc..ubc` (ghosts included); face fields in direction
+!! d hold at index i the LOW face of cell i (grid_layout convention) and are allocated
+!! `lbc..ubc+1` in every dimension so that one allocation serves all three directions.
+module ice_state
+  use mpmice_kinds, only: wp, name_len
+  use grid_layout, only: grid_t
+  use ice_eos, only: eos_t
+  implicit none
+  private
+
+  public :: ice_fluid_t, ice_state_t, ice_state_alloc, ice_state_free
+
+  !> One fluid material: parameters and cell/face fields.
+  type :: ice_fluid_t
+    character(len=name_len) :: name = ''        !< material name (dump group)
+    type(eos_t) :: eos                          !< equation of state
+    real(wp) :: viscosity = 0.0_wp              !< dynamic viscosity [Pa s]
+    real(wp) :: conductivity = 0.0_wp           !< thermal conductivity [W/m/K]
+    real(wp), allocatable :: rho(:, :, :)       !< bulk density rho_bar = m/V [kg/m^3]
+    real(wp), allocatable :: vel(:, :, :, :)    !< velocity (i,j,k,component) [m/s]
+    real(wp), allocatable :: temp(:, :, :)      !< temperature [K]
+    real(wp), allocatable :: spvol(:, :, :)     !< intrinsic specific volume v = 1/rho_micro [m^3/kg]
+    real(wp), allocatable :: vfrac(:, :, :)     !< volume fraction phi [-]
+    real(wp), allocatable :: kappa(:, :, :)     !< compressibility v/c^2 [1/Pa]
+    real(wp), allocatable :: c2(:, :, :)        !< squared sound speed [m^2/s^2]
+    real(wp), allocatable :: uface(:, :, :, :)  !< face-normal velocity (i,j,k,direction) [m/s]
+    real(wp), allocatable :: vface(:, :, :, :)  !< face specific volume (harmonic mean) [m^3/kg]
+    real(wp), allocatable :: lag(:, :, :, :)    !< Lagrangian mass-specific u,v,w, cv T, v (i,j,k,5)
+  end type ice_fluid_t
+
+  !> All fluids of a block and their shared fields.
+  type :: ice_state_t
+    integer :: nfluids = 0                          !< number of fluids
+    type(ice_fluid_t), allocatable :: fluid(:)      !< fluids 1..nfluids
+    real(wp), allocatable :: pressure(:, :, :)      !< cell pressure [Pa]
+    real(wp), allocatable :: p_eq(:, :, :)          !< equilibration pressure of the step [Pa]
+    real(wp), allocatable :: dp(:, :, :)            !< pressure correction of one outer pass [Pa]
+    real(wp), allocatable :: dp_total(:, :, :)      !< p - p_eq (delta p of eq. 36) [Pa]
+    real(wp), allocatable :: sum_kappa(:, :, :)     !< sum_m phi_m kappa_m [1/Pa]
+    real(wp), allocatable :: rhs(:, :, :)           !< right-hand side of eq. 35 [m^3]
+    real(wp), allocatable :: diag(:, :, :)          !< diagonal of eq. 35 [m^3/Pa]
+    real(wp), allocatable :: coef(:, :, :, :)       !< low-face coefficients of eq. 35 [m^3/Pa]
+    real(wp), allocatable :: pface(:, :, :, :)      !< face pressure, eq. 37 (i,j,k,direction) [Pa]
+    real(wp), allocatable :: cons(:, :, :, :)       !< advection work: m, m u, m v, m w, m cv T, m v
+  end type ice_state_t
+
+contains
+
+  !> Allocate every field of `nfluids` fluids on `grid` (values zero).
+  subroutine ice_state_alloc(state, grid, nfluids)
+    type(ice_state_t), intent(inout) :: state  !< state (freed first)
+    type(grid_t), intent(in) :: grid           !< block geometry
+    integer, intent(in) :: nfluids             !< number of fluids
+    integer :: m, l(3), u(3), uf(3)
+    call ice_state_free(state)
+    l = grid%lbc
+    u = grid%ubc
+    uf = grid%ubc + 1
+    state%nfluids = nfluids
+    allocate(state%fluid(nfluids))
+    do m = 1, nfluids
+      associate (f => state%fluid(m))
+        allocate(f%rho(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+        allocate(f%vel(l(1):u(1), l(2):u(2), l(3):u(3), 3), source=0.0_wp)
+        allocate(f%temp(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+        allocate(f%spvol(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+        allocate(f%vfrac(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+        allocate(f%kappa(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+        allocate(f%c2(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+        allocate(f%uface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
+        allocate(f%vface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
+        allocate(f%lag(l(1):u(1), l(2):u(2), l(3):u(3), 5), source=0.0_wp)
+      end associate
+    end do
+    allocate(state%pressure(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+    allocate(state%p_eq(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+    allocate(state%dp(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+    allocate(state%dp_total(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+    allocate(state%sum_kappa(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+    allocate(state%rhs(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+    allocate(state%diag(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+    allocate(state%coef(l(1):u(1), l(2):u(2), l(3):u(3), 3), source=0.0_wp)
+    allocate(state%pface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
+    allocate(state%cons(l(1):u(1), l(2):u(2), l(3):u(3), 6), source=0.0_wp)
+  end subroutine ice_state_alloc
+
+  !> Release every field.
+  subroutine ice_state_free(state)
+    type(ice_state_t), intent(inout) :: state  !< state
+    if (allocated(state%fluid)) deallocate(state%fluid)
+    if (allocated(state%pressure)) deallocate(state%pressure)
+    if (allocated(state%p_eq)) deallocate(state%p_eq)
+    if (allocated(state%dp)) deallocate(state%dp)
+    if (allocated(state%dp_total)) deallocate(state%dp_total)
+    if (allocated(state%sum_kappa)) deallocate(state%sum_kappa)
+    if (allocated(state%rhs)) deallocate(state%rhs)
+    if (allocated(state%diag)) deallocate(state%diag)
+    if (allocated(state%coef)) deallocate(state%coef)
+    if (allocated(state%pface)) deallocate(state%pface)
+    if (allocated(state%cons)) deallocate(state%cons)
+    state%nfluids = 0
+  end subroutine ice_state_free
+end module ice_state
