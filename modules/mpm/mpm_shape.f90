@@ -4,7 +4,8 @@
 !! Linear: the 2 nodes of the particle's cell. GIMP: the 3 nodes around the nearest node (the
 !! support |x_p - x_i| < h + l_p never reaches a fourth node when l_p <= h/2). Inactive dimensions
 !! have one node (index 1) with weight 1 and zero derivative. Nodes may lie one layer outside the
-!! owned range; node fields need a ghost width of at least 1.
+!! owned range; node fields need a ghost width of at least 1. Nodes beyond a non-periodic wall get
+!! weight 0 (only a GIMP particle closer than l_p to the wall reaches one).
 module mpm_shape
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
@@ -67,6 +68,17 @@ contains
         do a = 1, 3
           r = xp(d) - (grid%lower(d) + real(first(d) + a - 2, wp) * h)
           call gimp_1d(r, h, lp(d), w(a, d), dw(a, d))
+        end do
+      end if
+      if (.not. grid%periodic(d)) then
+        ! nodes beyond a wall take no part (a particle closer than l_p to the wall would reach
+        ! them; the reverse halo does not sum such locations, so keeping them would make the
+        ! result depend on the decomposition)
+        do a = 1, nn(d)
+          if (first(d) + a - 1 < 1 .or. first(d) + a - 1 > grid%ncells(d) + 1) then
+            w(a, d) = 0.0_wp
+            dw(a, d) = 0.0_wp
+          end if
         end do
       end if
     end do
