@@ -166,6 +166,7 @@ contains
       call add('prescribed_velocity', reals_repr(p%prescribed_velocity))
       call add('acceleration_amplitude', reals_repr(p%acceleration_amplitude))
       call add('acceleration_frequency', real_repr(p%acceleration_frequency))
+      call add('velocity_wavenumber', reals_repr(p%velocity_wavenumber))
       text = text // '/' // nl
     end subroutine add_solid
 

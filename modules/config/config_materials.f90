@@ -128,6 +128,8 @@ module config_materials
     real(wp) :: rotation_deg = 0.0_wp                    !< box rotation about z [deg]
     integer :: particles_per_cell(3) = [2, 2, 2]         !< particles per cell per dimension
     real(wp) :: velocity(3) = [0.0_wp, 0.0_wp, 0.0_wp]   !< initial velocity [m/s]
+    !> initial velocity profile: velocity * prod over k_d /= 0 of sin(k_d (x_d - lower_d)) [rad/m]
+    real(wp) :: velocity_wavenumber(3) = [0.0_wp, 0.0_wp, 0.0_wp]
     real(wp) :: temperature = 300.0_wp                   !< initial temperature [K]
     real(wp) :: heat_capacity = 800.0_wp                 !< specific heat [J/kg/K]
     real(wp) :: conductivity = 0.4_wp                    !< thermal conductivity [W/m/K]

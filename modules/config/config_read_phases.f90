@@ -174,14 +174,15 @@ contains
     real(wp) :: polygon_x(max_polygon_points), polygon_y(max_polygon_points)
     real(wp) :: plane_point(3), plane_normal(3), rotation_deg, velocity(3), temperature
     real(wp) :: heat_capacity, conductivity, porosity, grain_size, prescribed_velocity(3)
-    real(wp) :: acceleration_amplitude(3), acceleration_frequency
+    real(wp) :: acceleration_amplitude(3), acceleration_frequency, velocity_wavenumber(3)
     integer :: npoints, particles_per_cell(3)
     logical :: tension_cutoff, geostatic
     namelist /solid/ name, model, density, youngs_modulus, poisson_ratio, cohesion, &
       friction_angle, dilation_angle, tension_cutoff, tensile_strength, k0, geostatic, shape, &
       lower, upper, npoints, polygon_x, polygon_y, plane_point, plane_normal, rotation_deg, &
       particles_per_cell, velocity, temperature, heat_capacity, conductivity, porosity, &
-      grain_size, prescribed_velocity, acceleration_amplitude, acceleration_frequency
+      grain_size, prescribed_velocity, acceleration_amplitude, acceleration_frequency, &
+      velocity_wavenumber
     name = p%name
     model = p%model
     density = p%density
@@ -213,6 +214,7 @@ contains
     prescribed_velocity = p%prescribed_velocity
     acceleration_amplitude = p%acceleration_amplitude
     acceleration_frequency = p%acceleration_frequency
+    velocity_wavenumber = p%velocity_wavenumber
     read(text, nml=solid, iostat=ios, iomsg=iomsg)
     if (ios /= 0) return
     p%name = name
@@ -246,6 +248,7 @@ contains
     p%prescribed_velocity = prescribed_velocity
     p%acceleration_amplitude = acceleration_amplitude
     p%acceleration_frequency = acceleration_frequency
+    p%velocity_wavenumber = velocity_wavenumber
   end subroutine read_solid
 
   !> `&boundary` (one occurrence).

@@ -226,6 +226,7 @@ contains
       end if
       call check_geometry(cfg, k, g, err)
       call check_finite(err, g, 'velocity', p%velocity, ' [m/s]')
+      call check_finite(err, g, 'velocity_wavenumber', p%velocity_wavenumber, ' [rad/m]')
       call positive_real(err, g, 'temperature', p%temperature, ' [K]')
       call positive_real(err, g, 'heat_capacity', p%heat_capacity, ' [J/kg/K]')
       call non_negative(err, g, 'conductivity', p%conductivity, ' [W/m/K]')

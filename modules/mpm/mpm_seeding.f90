@@ -4,7 +4,8 @@
 !! half-space {x : (x - plane_point) . plane_normal <= 0}). Inactive dimensions are ignored by
 !! the shape tests.
 !!
-!! Each particle gets volume V_c / prod(ppc), mass (1 - porosity) density V, the initial velocity,
+!! Each particle gets volume V_c / prod(ppc), mass (1 - porosity) density V, the initial velocity
+!! (uniform, or shaped by `velocity_wavenumber`),
 !! temperature, F = I, the GIMP half-width dx/(2 ppc) and a global id from its global cell and
 !! sub-cell index (the same at any rank count). With `geostatic`, the initial effective stress is
 !! sigma_v = -(1 - n) rho |g| (top - z_v) along the gravity direction v (top: highest point of
@@ -58,7 +59,7 @@ contains
                 n = p%np + 1
                 p%np = n
                 p%x(:, n) = xp
-                p%v(:, n) = merge(s%velocity, 0.0_wp, grid%active)
+                p%v(:, n) = merge(s%velocity, 0.0_wp, grid%active) * velocity_profile(s, xp)
                 p%volume(n) = vol
                 p%volume0(n) = vol
                 p%mass(n) = rho * vol
@@ -82,6 +83,19 @@ contains
       end do
     end do
   end subroutine seed_solid
+
+  !> Factor of the initial velocity at `x`: the product of sin(k_d (x_d - lower_d)) over the
+  !! entries k_d /= 0 of `velocity_wavenumber` (1 when all are 0).
+  pure real(wp) function velocity_profile(s, x) result(factor)
+    type(solid_params_t), intent(in) :: s   !< `&solid` parameters
+    real(wp), intent(in) :: x(3)            !< point [m]
+    integer :: d
+    factor = 1.0_wp
+    do d = 1, 3
+      if (s%velocity_wavenumber(d) /= 0.0_wp) factor = factor * &
+        sin(s%velocity_wavenumber(d) * (x(d) - s%lower(d)))
+    end do
+  end function velocity_profile
 
   !> True when `x` lies inside the shape of solid `s` (only `active` dimensions are tested).
   pure logical function inside_shape(s, active, x) result(inside)
