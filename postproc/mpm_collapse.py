@@ -1,0 +1,98 @@
+"""2D granular column collapse (dry sand, Mohr-Coulomb phi' = 30 deg) at aspect ratios a = H0/L0
+of 0.5 and 2: normalised run-out (L_inf - L0)/L0 and final height H_inf/L0 against the
+experimental scaling of two-dimensional collapses (Lube et al. 2005, Phys. Rev. E 72, 041301;
+Lajeunesse et al. 2005, Phys. Fluids 17, 103302), as quoted in docs/validation/mpm_collapse.md:
+    (L_inf - L0)/L0 = 1.2 a  (a < 1.8),   H_inf/L0 = a  (a < 1.15, the top is not reached),
+    H_inf/L0 = a^0.4 (a > 1.15).
+L_inf is the largest particle x and H_inf the largest particle y of the deposit at t = 1 s
+(kinetic energy checked to have decayed below 1e-3 of the initial potential energy scale).
+
+Usage:  python -m postproc.mpm_collapse [--out docs/validation] [--nranks 1]
+Writes mpm_collapse.png and mpm_collapse.csv.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import tempfile
+
+import numpy as np
+
+from postproc.mpm_common import dump_paths, particles, series
+from postproc.run_case import ROOT, run_mpmice
+
+NAMELIST = os.path.join(ROOT, "namelists", "mpm_collapse_2d.nml")
+L0 = 0.2
+
+
+def scaling(a: float) -> tuple[float, float]:
+    """Experimental (L_inf - L0)/L0 and H_inf/L0 for aspect ratio a (see module notes)."""
+    runout = 1.2 * a
+    height = a if a < 1.15 else a ** 0.4
+    return runout, height
+
+
+def run_collapse(workdir: str, a: float, nranks: int = 1) -> dict:
+    """Run the collapse of aspect ratio a; return the deposit measures."""
+    out = os.path.join(workdir, f"collapse_a{a}")
+    run_mpmice([NAMELIST, "--set", f"&solid name = 'sand', upper = {L0}, {a * L0!r}, 1.0 /",
+                "--set", f"&run output_dir = '{out}' /"], nranks=nranks, cwd=workdir)
+    paths = dump_paths(out, "collapse2d")
+    _, p0 = particles(paths[0], "sand")
+    time, p1 = particles(paths[-1], "sand")
+    s = series(out, "collapse2d")
+    potential = float(np.sum(p0["mass"] * 9.81 * p0["y"]))
+    runout = (float(np.max(p1["x"])) - L0) / L0
+    height = float(np.max(p1["y"])) / L0
+    expected = scaling(a)
+    return {"a": a, "time": time, "x0": p0["x"], "y0": p0["y"], "x": p1["x"], "y": p1["y"],
+            "runout": runout, "height": height, "runout_expected": expected[0],
+            "height_expected": expected[1], "kinetic_ratio": float(s["kinetic_energy"][-1])
+            / potential, "particles": len(p1["x"])}
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
+    parser.add_argument("--nranks", type=int, default=1)
+    args = parser.parse_args(argv)
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    os.makedirs(args.out, exist_ok=True)
+    rows = []
+    with tempfile.TemporaryDirectory() as work:
+        for a in (0.5, 2.0):
+            r = run_collapse(work, a, args.nranks)
+            rows.append(r)
+            print(f"a = {a}: run-out (L-L0)/L0 = {r['runout']:.3f} (scaling {r['runout_expected']:.3f},"
+                  f" {100 * (r['runout'] / r['runout_expected'] - 1):+.1f} %), H/L0 = "
+                  f"{r['height']:.3f} (scaling {r['height_expected']:.3f}, "
+                  f"{100 * (r['height'] / r['height_expected'] - 1):+.1f} %), kinetic/potential "
+                  f"at t = {r['time']:.2f} s: {r['kinetic_ratio']:.1e}")
+    fig, axes = plt.subplots(2, 1, figsize=(9, 6))
+    for ax, r in zip(axes, rows):
+        ax.plot(r["x0"], r["y0"], ".", ms=1, color="0.75", label="initial")
+        ax.plot(r["x"], r["y"], ".", ms=1, label=f"MPM, t = {r['time']:.2f} s")
+        ax.axvline(L0 * (1 + r["runout_expected"]), color="k", ls="--", lw=1,
+                   label="run-out scaling 1.2 a")
+        ax.axhline(L0 * r["height_expected"], color="k", ls=":", lw=1, label="final height scaling")
+        ax.set_aspect("equal")
+        ax.set_xlim(0.0, 1.2)
+        ax.set_ylim(0.0, max(0.45, 1.1 * L0 * r["a"]))
+        ax.set_title(f"a = {r['a']}")
+        ax.legend(fontsize=7, loc="upper right")
+    axes[-1].set_xlabel("x [m]")
+    fig.tight_layout()
+    fig.savefig(os.path.join(args.out, "mpm_collapse.png"), dpi=120)
+    with open(os.path.join(args.out, "mpm_collapse.csv"), "w", encoding="utf-8") as f:
+        f.write("a,runout,runout_scaling,height,height_scaling,kinetic_ratio\n")
+        for r in rows:
+            f.write(f"{r['a']},{r['runout']:.6f},{r['runout_expected']:.6f},{r['height']:.6f},"
+                    f"{r['height_expected']:.6f},{r['kinetic_ratio']:.3e}\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
