@@ -9,11 +9,13 @@
 !! rho_f u_f dt A and every other flux is the mass flux times the reconstructed specific value
 !! ("compatible" fluxes: a uniform specific quantity stays uniform). The update is unsplit (all
 !! directions from the same Lagrangian state). Needs rho and `lag` valid in two ghost layers.
-!! Energy (departure from eq. 60, docs/ice.md): the specific total energy cv T + |u|^2/2 is
+!! Energy with one fluid (departure from eq. 60, docs/ice.md): the specific total energy
+!! cv T + |u|^2/2 is
 !! advected (its face value from the reconstructed cv T and velocity components) and the new
 !! temperature is (E/m - |u|^2/2)/cv, so the kinetic energy that momentum advection removes
 !! reappears as heat and total energy is conserved; advecting cv T alone left the Sod post-shock
-!! pressure 0.3 % low.
+!! pressure 0.3 % low. With several fluids cv T is advected (eq. 60): E/m - |u|^2/2 is
+!! ill-conditioned for a fluid with a tiny mass in a cell.
 module ice_advection
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
@@ -36,9 +38,11 @@ contains
     integer, intent(out) :: negative           !< owned cells with negative new mass
     integer :: d, m, n, i, j, k, o(3), r(2, 3), up(3)
     real(wp) :: area, u, sweep, dist, rho_f, mflux, q_f, vol
+    logical :: total
 
     vol = grid%cell_volume
     negative = 0
+    total = state%nfluids == 1
     do m = 1, state%nfluids
       associate (f => state%fluid(m), c => state%cons)
         do k = grid%lo(3), grid%hi(3)
@@ -48,7 +52,8 @@ contains
               do n = 1, 5
                 c(i, j, k, 1 + n) = c(i, j, k, 1) * f%lag(i, j, k, n)
               end do
-              c(i, j, k, 5) = c(i, j, k, 5) + 0.5_wp * c(i, j, k, 1) * sum(f%lag(i, j, k, 1:3)**2)
+              if (total) c(i, j, k, 5) = c(i, j, k, 5) + &
+                0.5_wp * c(i, j, k, 1) * sum(f%lag(i, j, k, 1:3)**2)
             end do
           end do
         end do
@@ -84,7 +89,7 @@ contains
                   if (order > 1) q_f = q_f + dist * limited_slope(f%lag(up(1) - o(1), &
                     up(2) - o(2), up(3) - o(3), n), q_f, &
                     f%lag(up(1) + o(1), up(2) + o(2), up(3) + o(3), n), grid%dx(d))
-                  if (n == 4) q_f = q_f + 0.5_wp * ke_face(up, o, dist)
+                  if (n == 4 .and. total) q_f = q_f + 0.5_wp * ke_face(up, o, dist)
                   c(i - o(1), j - o(2), k - o(3), 1 + n) = &
                     c(i - o(1), j - o(2), k - o(3), 1 + n) - mflux * q_f
                   c(i, j, k, 1 + n) = c(i, j, k, 1 + n) + mflux * q_f
@@ -101,8 +106,12 @@ contains
               f%rho(i, j, k) = c(i, j, k, 1) / vol
               if (c(i, j, k, 1) > 0.0_wp) then
                 f%vel(i, j, k, 1:3) = c(i, j, k, 2:4) / c(i, j, k, 1)
-                f%temp(i, j, k) = (c(i, j, k, 5) / c(i, j, k, 1) - 0.5_wp * &
-                  sum(f%vel(i, j, k, 1:3)**2)) / f%eos%cv
+                if (total) then
+                  f%temp(i, j, k) = (c(i, j, k, 5) / c(i, j, k, 1) - 0.5_wp * &
+                    sum(f%vel(i, j, k, 1:3)**2)) / f%eos%cv
+                else
+                  f%temp(i, j, k) = c(i, j, k, 5) / (c(i, j, k, 1) * f%eos%cv)
+                end if
                 f%spvol(i, j, k) = c(i, j, k, 6) / c(i, j, k, 1)
               else
                 f%vel(i, j, k, 1:3) = 0.0_wp

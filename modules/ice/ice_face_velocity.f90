@@ -4,6 +4,10 @@
 !! eq. 30 is zero at faces (as the paper and Uintah's computeVelFace take it; errata E4 moot).
 !!
 !! Faces on a non-periodic domain boundary carry zero normal velocity (wall, free slip).
+!! Departure: where a fluid has mass on one side of a face only, its face specific volume is that
+!! side's (not the harmonic mean with the EOS value of the empty side); this keeps a fluid at
+!! rest across an air-water interface that lies on a face in exact discrete balance (the
+!! hydrostatic initialisation of `ice_initial` uses the mixture densities of the two cells).
 module ice_face_velocity
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
@@ -11,7 +15,7 @@ module ice_face_velocity
   implicit none
   private
 
-  public :: ice_face_velocities, boundary_face, face_range
+  public :: ice_face_velocities, boundary_face, face_range, upwind
 
 contains
 
@@ -38,14 +42,21 @@ contains
               do i = r(1, 1), r(2, 1)
                 vl = f%spvol(i - o(1), j - o(2), k - o(3))
                 vr = f%spvol(i, j, k)
-                vhat = 2.0_wp * vl * vr / (vl + vr)
+                rl = f%rho(i - o(1), j - o(2), k - o(3))
+                rr = f%rho(i, j, k)
+                ! a fluid absent on one side takes the specific volume of the side it fills
+                if (rl > 0.0_wp .and. rr <= 0.0_wp) then
+                  vhat = vl
+                else if (rr > 0.0_wp .and. rl <= 0.0_wp) then
+                  vhat = vr
+                else
+                  vhat = 2.0_wp * vl * vr / (vl + vr)
+                end if
                 f%vface(i, j, k, d) = vhat
                 if (boundary_face(grid, d, [i, j, k])) then
                   f%uface(i, j, k, d) = 0.0_wp
                   cycle
                 end if
-                rl = f%rho(i - o(1), j - o(2), k - o(3))
-                rr = f%rho(i, j, k)
                 if (rl + rr > 0.0_wp) then
                   f%uface(i, j, k, d) = (rl * f%vel(i - o(1), j - o(2), k - o(3), d) + &
                     rr * f%vel(i, j, k, d)) / (rl + rr)
@@ -80,4 +91,16 @@ contains
     integer, intent(in) :: idx(3)     !< face index (low face of cell idx)
     boundary_face = .not. grid%periodic(d) .and. (idx(d) == 1 .or. idx(d) == grid%ncells(d) + 1)
   end function boundary_face
+
+  !> Upwind value of a face quantity: `left` for u >= 0, `right` otherwise.
+  pure real(wp) function upwind(u, left, right)
+    real(wp), intent(in) :: u      !< face velocity [m/s]
+    real(wp), intent(in) :: left   !< value in the low cell
+    real(wp), intent(in) :: right  !< value in the high cell
+    if (u >= 0.0_wp) then
+      upwind = left
+    else
+      upwind = right
+    end if
+  end function upwind
 end module ice_face_velocity

@@ -12,7 +12,7 @@ module ice_pressure
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
-  use ice_face_velocity, only: boundary_face, face_range
+  use ice_face_velocity, only: boundary_face, face_range, upwind
   implicit none
   private
 
@@ -144,11 +144,13 @@ contains
     end do
   end subroutine ice_pressure_correct
 
-  !> Face pressures of eq. 37 (weights: total bulk density of the two cells); a boundary face
-  !! takes the pressure of its inner cell. Needs the pressure valid in one ghost layer.
-  subroutine ice_face_pressure(state, grid)
+  !> Face pressures of eq. 37 (weights: total bulk density of the two cells); a wall face takes
+  !! the pressure of its inner cell extrapolated hydrostatically, p_c -+ rho_c g dx/2, so that the
+  !! wall carries the weight of a fluid at rest. Needs the pressure valid in one ghost layer.
+  subroutine ice_face_pressure(state, grid, gravity)
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
     type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
     integer :: d, m, i, j, k, o(3), r(2, 3)
     real(wp) :: rl, rr, pl, pr
 
@@ -162,36 +164,24 @@ contains
           do i = r(1, 1), r(2, 1)
             pl = state%pressure(i - o(1), j - o(2), k - o(3))
             pr = state%pressure(i, j, k)
-            if (boundary_face(grid, d, [i, j, k])) then
-              if (i * o(1) + j * o(2) + k * o(3) == 1) then
-                state%pface(i, j, k, d) = pr
-              else
-                state%pface(i, j, k, d) = pl
-              end if
-              cycle
-            end if
             rl = 0.0_wp
             rr = 0.0_wp
             do m = 1, state%nfluids
               rl = rl + state%fluid(m)%rho(i - o(1), j - o(2), k - o(3))
               rr = rr + state%fluid(m)%rho(i, j, k)
             end do
+            if (boundary_face(grid, d, [i, j, k])) then
+              if (i * o(1) + j * o(2) + k * o(3) == 1) then
+                state%pface(i, j, k, d) = pr - 0.5_wp * rr * gravity(d) * grid%dx(d)
+              else
+                state%pface(i, j, k, d) = pl + 0.5_wp * rl * gravity(d) * grid%dx(d)
+              end if
+              cycle
+            end if
             state%pface(i, j, k, d) = (pl * rr + pr * rl) / (rl + rr)
           end do
         end do
       end do
     end do
   end subroutine ice_face_pressure
-
-  !> Upwind value of a face quantity: `left` for u >= 0, `right` otherwise.
-  pure real(wp) function upwind(u, left, right)
-    real(wp), intent(in) :: u      !< face velocity [m/s]
-    real(wp), intent(in) :: left   !< value in the low cell
-    real(wp), intent(in) :: right  !< value in the high cell
-    if (u >= 0.0_wp) then
-      upwind = left
-    else
-      upwind = right
-    end if
-  end function upwind
 end module ice_pressure

@@ -2,8 +2,9 @@
 !! the implicit pressure equation solved by hypre PCG + PFMG (paper eqs. 29-37, 42-46, 54-65,
 !! fluid part). One step (docs/ice.md):
 !!  equilibration -> face velocities (eq. 31) -> outer iteration of the pressure equation
-!!  (eq. 35, face-velocity correction, eq. 36) -> face pressures (eq. 37) -> Lagrangian values
-!!  (eqs. 42-46, 56-57) -> advection (eqs. 58-65).
+!!  (face exchange eq. 34, outer iteration of the pressure equation eq. 35 with the
+!!  face-velocity correction, eq. 36) -> face pressures (eq. 37) -> Lagrangian values
+!!  (eqs. 42-46, 56-57) -> cell exchange (eqs. 50-51) -> advection (eqs. 58-65).
 !! Walls (zero normal velocity, free slip, adiabatic) on every non-periodic face.
 module ice_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -15,13 +16,13 @@ module ice_scene
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_exchange_cell, halo_free
   use parallel_reduce, only: global_max, global_min, global_sum
-  use grid_layout, only: grid_t, cell_centre
+  use grid_layout, only: grid_t
   use solver_pressure, only: struct_solver_t, struct_solver_init, struct_solver_set_operator, &
     struct_solver_solve, struct_solver_free
   use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field
   use io_xdmf, only: xdmf_particles_t
   use driver_scene, only: scene_t
-  use ice_eos, only: eos_t, eos_kind_from_name, eos_density, eos_sound_speed2
+  use ice_eos, only: eos_t, eos_kind_from_name, eos_sound_speed2
   use ice_state, only: ice_state_t, ice_state_alloc, ice_state_free
   use ice_equilibration, only: ice_equilibrate
   use ice_face_velocity, only: ice_face_velocities
@@ -30,6 +31,8 @@ module ice_scene
   use ice_lagrangian, only: ice_lagrangian_values
   use ice_advection, only: ice_advect
   use ice_bc, only: ice_bc_fill
+  use ice_exchange, only: ice_exchange_faces, ice_exchange_cells
+  use ice_initial, only: ice_initial_state
   implicit none
   private
 
@@ -41,6 +44,8 @@ module ice_scene
     type(halo_t) :: halo                      !< halo buffers
     type(struct_solver_t) :: solver           !< hypre PCG + PFMG for eq. 35
     real(wp) :: gravity(3) = 0.0_wp           !< [m/s^2]
+    real(wp) :: k_exchange = 0.0_wp           !< momentum exchange coefficient [kg/m^3/s]
+    real(wp) :: h_exchange = 0.0_wp           !< heat exchange coefficient [W/m^3/K]
     real(wp) :: cfl = 0.5_wp                  !< Courant number
     real(wp) :: sound_speed_factor = 0.0_wp   !< weight of c in the CFL limit (0: advective only)
     real(wp) :: outer_tolerance = 1.0e-7_wp   !< max |rhs|/V of eq. 35
@@ -85,8 +90,7 @@ contains
     type(domain_t), intent(in) :: dom            !< decomposition
     type(grid_t), intent(in) :: grid             !< block geometry
     type(timer_set_t), intent(inout) :: timers   !< stage timers
-    integer :: m, r, i, j, k, its, failed
-    real(wp) :: x(3), phi, t, p, v(3), psum, fsum
+    integer :: m, its, failed
 
     self%t_equil = timer_register(timers, 'ICE equilibration')
     self%t_face = timer_register(timers, 'ICE face velocities')
@@ -95,6 +99,8 @@ contains
     self%t_advect = timer_register(timers, 'ICE advection')
     self%t_halo = timer_register(timers, 'ICE halo exchange')
     self%gravity = cfg%physics%gravity
+    self%k_exchange = cfg%ice%exchange_coefficient
+    self%h_exchange = cfg%ice%heat_exchange_coefficient
     self%cfl = cfg%time%cfl
     self%sound_speed_factor = cfg%ice%sound_speed_factor
     self%outer_tolerance = cfg%ice%outer_tolerance
@@ -103,8 +109,6 @@ contains
     self%eq_max = cfg%ice%max_equilibration_iterations
     self%order = cfg%numerics%advection_order
     if (cfg%nfluids < 1) call fatal('ice scene: no &fluid group')
-    if (cfg%nfluids > 1) call log_warning('ice scene: between-fluid exchange is not implemented '&
-      // 'yet; fluids are coupled through the common pressure only')
 
     call ice_state_alloc(self%state, grid, cfg%nfluids)
     do m = 1, cfg%nfluids
@@ -119,43 +123,7 @@ contains
       end associate
     end do
 
-    do k = grid%lo(3), grid%hi(3)
-      do j = grid%lo(2), grid%hi(2)
-        do i = grid%lo(1), grid%hi(1)
-          x = cell_centre(grid, [1, 2, 3], [i, j, k])
-          psum = 0.0_wp
-          fsum = 0.0_wp
-          do m = 1, cfg%nfluids
-            associate (f => self%state%fluid(m), c => cfg%fluids(m))
-              phi = c%volume_fraction
-              t = c%temperature
-              p = c%pressure
-              v = c%velocity
-              do r = 1, cfg%nregions
-                if (cfg%regions(r)%material /= c%name) cycle
-                if (all(x >= cfg%regions(r)%lower .and. x <= cfg%regions(r)%upper .or. &
-                  .not. grid%active)) then
-                  phi = cfg%regions(r)%volume_fraction
-                  t = cfg%regions(r)%temperature
-                  p = cfg%regions(r)%pressure
-                  v = cfg%regions(r)%velocity
-                end if
-              end do
-              f%rho(i, j, k) = phi * eos_density(f%eos, p, t)
-              f%temp(i, j, k) = t
-              f%vel(i, j, k, :) = v
-              f%spvol(i, j, k) = 1.0_wp / eos_density(f%eos, p, t)
-              psum = psum + phi * p
-              fsum = fsum + phi
-            end associate
-          end do
-          if (abs(fsum - 1.0_wp) > 1.0e-6_wp) call fatal('ice scene: initial volume fractions ' &
-            // 'sum to ' // real_short_text(fsum) // ' in a cell, not 1 (check &fluid and ' &
-            // '&region volume_fraction)')
-          self%state%pressure(i, j, k) = psum
-        end do
-      end do
-    end do
+    call ice_initial_state(self%state, cfg, grid)
 
     call halo_init(self%halo, dom, grid, 1)
     call struct_solver_init(self%solver, dom, grid, cfg%solver%tolerance, &
@@ -230,13 +198,16 @@ contains
 
     call timer_start(timers, self%t_face)
     call ice_face_velocities(self%state, grid, dt, self%gravity)
+    call ice_exchange_faces(self%state, grid, dt, self%k_exchange)
     call timer_stop(timers, self%t_face)
 
     call timer_start(timers, self%t_pressure)
     self%state%dp_total = 0.0_wp
     residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt))
     outer = 0
-    do while (residual > self%outer_tolerance .and. outer < self%max_outer)
+    ! at least one solve: skipping it when the constraint residual is small would make the step
+    ! explicit in the acoustics (unstable at dt > dx/c) and let round-off grow
+    do while ((residual > self%outer_tolerance .or. outer == 0) .and. outer < self%max_outer)
       outer = outer + 1
       call ice_pressure_assemble(self%state, grid, dt)
       call struct_solver_set_operator(self%solver, grid, self%state%diag, &
@@ -268,8 +239,9 @@ contains
     call timer_stop(timers, self%t_halo)
 
     call timer_start(timers, self%t_lagrange)
-    call ice_face_pressure(self%state, grid)
+    call ice_face_pressure(self%state, grid, self%gravity)
     call ice_lagrangian_values(self%state, grid, dt, self%gravity)
+    call ice_exchange_cells(self%state, grid, dt, self%k_exchange, self%h_exchange)
     call timer_stop(timers, self%t_lagrange)
 
     call timer_start(timers, self%t_halo)

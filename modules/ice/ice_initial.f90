@@ -1,0 +1,155 @@
+!> Initial state of the ICE fluids from `&fluid` and `&region`, optionally in hydrostatic
+!! balance (`&physics hydrostatic_init`).
+!!
+!! Each fluid starts from its `&fluid` values; every `&region` naming it and containing the cell
+!! centre overrides them (later regions win). Without hydrostatic initialisation the bulk density
+!! is phi rho(p, T) with the fluid's or region's pressure. With it, gravity must point along one
+!! active axis; the pressure is integrated down every column from `&physics reference_pressure`
+!! at the top face in the discrete form the step keeps in balance:
+!!   p_top_cell = p_ref + rho_c |g| dx/2,   p_below = p_above + |g| dx (rho_above + rho_below)/2,
+!! rho = sum_m phi_m rho_m(p, T_m) (fixed-point iteration to round-off per cell). With these
+!! pressures the face velocities (eq. 31) and the cell momentum with the face pressures of
+!! eq. 37 are in exact balance in cells holding one fluid. Every rank integrates the columns
+!! through its own block from the global top, so the result does not depend on the ranks.
+module ice_initial
+  use mpmice_kinds, only: wp
+  use mpmice_errors, only: fatal, real_short_text
+  use config_types, only: config_t
+  use grid_layout, only: grid_t, cell_centre
+  use ice_eos, only: eos_density
+  use ice_state, only: ice_state_t
+  implicit none
+  private
+
+  public :: ice_initial_state
+
+contains
+
+  !> Fill rho, temp, vel, spvol and pressure of the owned cells.
+  subroutine ice_initial_state(state, cfg, grid)
+    type(ice_state_t), intent(inout) :: state  !< fluids (parameters set)
+    type(config_t), intent(in) :: cfg          !< configuration
+    type(grid_t), intent(in) :: grid           !< block geometry
+    integer :: i, j, k, m, dg, c
+    real(wp) :: phi(cfg%nfluids), t(cfg%nfluids), p(cfg%nfluids), v(3, cfg%nfluids), fsum
+
+    dg = 0
+    if (cfg%physics%hydrostatic_init) then
+      do c = 1, 3
+        if (cfg%physics%gravity(c) /= 0.0_wp) then
+          if (dg /= 0 .or. .not. grid%active(c)) call fatal('ice scene: hydrostatic_init ' // &
+            'needs gravity along one active axis')
+          dg = c
+        end if
+      end do
+    end if
+    do k = grid%lo(3), grid%hi(3)
+      do j = grid%lo(2), grid%hi(2)
+        do i = grid%lo(1), grid%hi(1)
+          call material_state(cfg, grid, [i, j, k], phi, t, p, v)
+          fsum = sum(phi)
+          if (abs(fsum - 1.0_wp) > 1.0e-6_wp) call fatal('ice scene: initial volume fractions '&
+            // 'sum to ' // real_short_text(fsum) // ' in a cell, not 1 (check &fluid and ' // &
+            '&region volume_fraction)')
+          if (dg /= 0) p = hydrostatic_pressure(state, cfg, grid, dg, [i, j, k])
+          do m = 1, cfg%nfluids
+            associate (f => state%fluid(m))
+              f%rho(i, j, k) = phi(m) * eos_density(f%eos, p(m), t(m))
+              f%temp(i, j, k) = t(m)
+              f%vel(i, j, k, :) = v(:, m)
+              f%spvol(i, j, k) = 1.0_wp / eos_density(f%eos, p(m), t(m))
+            end associate
+          end do
+          state%pressure(i, j, k) = sum(phi * p)
+        end do
+      end do
+    end do
+  end subroutine ice_initial_state
+
+  !> Volume fraction, temperature, pressure and velocity of every fluid in global cell `idx`.
+  subroutine material_state(cfg, grid, idx, phi, t, p, v)
+    type(config_t), intent(in) :: cfg     !< configuration
+    type(grid_t), intent(in) :: grid      !< block geometry
+    integer, intent(in) :: idx(3)         !< global cell index
+    real(wp), intent(out) :: phi(:)       !< volume fractions
+    real(wp), intent(out) :: t(:)         !< temperatures [K]
+    real(wp), intent(out) :: p(:)         !< pressures [Pa]
+    real(wp), intent(out) :: v(:, :)      !< velocities (3, fluid) [m/s]
+    integer :: m, r
+    real(wp) :: x(3)
+    x = cell_centre(grid, [1, 2, 3], idx)
+    do m = 1, cfg%nfluids
+      associate (c => cfg%fluids(m))
+        phi(m) = c%volume_fraction
+        t(m) = c%temperature
+        p(m) = c%pressure
+        v(:, m) = c%velocity
+        do r = 1, cfg%nregions
+          if (cfg%regions(r)%material /= c%name) cycle
+          if (all(x >= cfg%regions(r)%lower .and. x <= cfg%regions(r)%upper .or. &
+            .not. grid%active)) then
+            phi(m) = cfg%regions(r)%volume_fraction
+            t(m) = cfg%regions(r)%temperature
+            p(m) = cfg%regions(r)%pressure
+            v(:, m) = cfg%regions(r)%velocity
+          end if
+        end do
+      end associate
+    end do
+  end subroutine material_state
+
+  !> Hydrostatic pressure [Pa] of global cell `cell`, integrated from the top face of its column
+  !! (gravity along dimension `dg`).
+  function hydrostatic_pressure(state, cfg, grid, dg, cell) result(pc)
+    type(ice_state_t), intent(in) :: state  !< fluids (EOS parameters)
+    type(config_t), intent(in) :: cfg       !< configuration
+    type(grid_t), intent(in) :: grid        !< block geometry
+    integer, intent(in) :: dg               !< gravity dimension
+    integer, intent(in) :: cell(3)          !< global cell index
+    real(wp) :: pc
+    integer :: c, top, step, it, idx(3)
+    real(wp) :: g, h, rho, rho_prev, p_prev, pnew
+    real(wp) :: phi(cfg%nfluids), t(cfg%nfluids), p(cfg%nfluids), v(3, cfg%nfluids)
+
+    g = abs(cfg%physics%gravity(dg))
+    h = 0.5_wp * g * grid%dx(dg)
+    if (cfg%physics%gravity(dg) < 0.0_wp) then
+      top = grid%ncells(dg)
+      step = -1
+    else
+      top = 1
+      step = 1
+    end if
+    idx = cell
+    p_prev = cfg%physics%reference_pressure
+    rho_prev = 0.0_wp
+    pc = p_prev
+    do c = top, cell(dg), step
+      idx(dg) = c
+      call material_state(cfg, grid, idx, phi, t, p, v)
+      do it = 1, 200
+        rho = mixture_density(state, phi, t, pc)
+        pnew = p_prev + h * (rho_prev + rho)
+        if (abs(pnew - pc) <= 4.0_wp * epsilon(1.0_wp) * abs(pnew)) exit
+        pc = pnew
+      end do
+      pc = pnew
+      p_prev = pc
+      rho_prev = mixture_density(state, phi, t, pc)
+    end do
+  end function hydrostatic_pressure
+
+  !> Mixture bulk density sum_m phi_m rho_m(p, T_m) [kg/m^3].
+  pure function mixture_density(state, phi, t, p) result(rho)
+    type(ice_state_t), intent(in) :: state  !< fluids (EOS parameters)
+    real(wp), intent(in) :: phi(:)          !< volume fractions
+    real(wp), intent(in) :: t(:)            !< temperatures [K]
+    real(wp), intent(in) :: p               !< pressure [Pa]
+    real(wp) :: rho
+    integer :: m
+    rho = 0.0_wp
+    do m = 1, size(phi)
+      if (phi(m) > 0.0_wp) rho = rho + phi(m) * eos_density(state%fluid(m)%eos, p, t(m))
+    end do
+  end function mixture_density
+end module ice_initial
