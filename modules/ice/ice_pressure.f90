@@ -23,10 +23,11 @@ contains
   !> Operator of eq. 35: low-face coefficients `state%coef` and diagonal `state%diag`
   !! (hypre's convention of `solver_pressure`); boundary faces do not couple (walls: zero
   !! normal velocity and a homogeneous Neumann condition on dp).
-  subroutine ice_pressure_assemble(state, grid, dt)
+  subroutine ice_pressure_assemble(state, grid, dt, theta)
     type(ice_state_t), intent(inout) :: state  !< fluids (uface, vface, vfrac read)
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
+    real(wp), intent(in) :: theta              !< implicit weight of the pressure change
     integer :: d, m, i, j, k, o(3), r(2, 3)
     real(wp) :: area, s, phi
 
@@ -49,7 +50,7 @@ contains
                 s = s + phi * f%vface(i, j, k, d)
               end associate
             end do
-            state%coef(i, j, k, d) = dt**2 * area / grid%dx(d) * s
+            state%coef(i, j, k, d) = theta * dt**2 * area / grid%dx(d) * s
           end do
         end do
       end do
@@ -109,10 +110,11 @@ contains
 
   !> After a solve (dp valid in one ghost layer): p += dp, dp_total += dp on the owned cells and
   !! u_m,f -= dt v_m,f (dp_R - dp_L)/dx on the faces of the owned cells.
-  subroutine ice_pressure_correct(state, grid, dt)
+  subroutine ice_pressure_correct(state, grid, dt, theta)
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
+    real(wp), intent(in) :: theta              !< implicit weight of the pressure change
     integer :: d, m, i, j, k, o(3), r(2, 3)
     real(wp) :: g
 
@@ -133,7 +135,7 @@ contains
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
             if (boundary_face(grid, d, [i, j, k])) cycle
-            g = (state%dp(i, j, k) - state%dp(i - o(1), j - o(2), k - o(3))) / grid%dx(d)
+            g = theta * (state%dp(i, j, k) - state%dp(i - o(1), j - o(2), k - o(3))) / grid%dx(d)
             do m = 1, state%nfluids
               state%fluid(m)%uface(i, j, k, d) = state%fluid(m)%uface(i, j, k, d) - &
                 dt * state%fluid(m)%vface(i, j, k, d) * g

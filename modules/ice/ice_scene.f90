@@ -53,6 +53,7 @@ module ice_scene
     real(wp) :: eq_tolerance = 1.0e-10_wp     !< equilibration tolerance
     integer :: eq_max = 100                   !< equilibration iteration limit
     integer :: order = 2                      !< advection order
+    real(wp) :: theta = 1.0_wp                !< implicit weight of the pressure change
     integer :: steps = 0                      !< accepted steps
     integer :: total_outer = 0                !< outer iterations summed
     integer :: max_outer_seen = 0             !< largest outer-iteration count
@@ -108,6 +109,7 @@ contains
     self%eq_tolerance = cfg%ice%equilibration_tolerance
     self%eq_max = cfg%ice%max_equilibration_iterations
     self%order = cfg%numerics%advection_order
+    self%theta = cfg%numerics%time_theta
     if (cfg%nfluids < 1) call fatal('ice scene: no &fluid group')
 
     call ice_state_alloc(self%state, grid, cfg%nfluids)
@@ -209,7 +211,7 @@ contains
     ! explicit in the acoustics (unstable at dt > dx/c) and let round-off grow
     do while ((residual > self%outer_tolerance .or. outer == 0) .and. outer < self%max_outer)
       outer = outer + 1
-      call ice_pressure_assemble(self%state, grid, dt)
+      call ice_pressure_assemble(self%state, grid, dt, self%theta)
       call struct_solver_set_operator(self%solver, grid, self%state%diag, &
         self%state%coef(:, :, :, 1), self%state%coef(:, :, :, 2), self%state%coef(:, :, :, 3))
       self%state%dp = 0.0_wp
@@ -220,7 +222,7 @@ contains
       self%max_pcg_seen = max(self%max_pcg_seen, pcg)
       call halo_exchange_cell(self%halo, dom, grid, self%state%dp, 1)
       call ice_bc_fill(grid, self%state%dp, 0)
-      call ice_pressure_correct(self%state, grid, dt)
+      call ice_pressure_correct(self%state, grid, dt, self%theta)
       residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt))
     end do
     call timer_stop(timers, self%t_pressure)
@@ -233,6 +235,9 @@ contains
     self%total_outer = self%total_outer + outer
     self%max_outer_seen = max(self%max_outer_seen, outer)
 
+    ! forces and work with p_eq + theta dp_total (theta = 1: p^{n+1}, backward Euler)
+    if (self%theta /= 1.0_wp) self%state%pressure = self%state%p_eq + &
+      self%theta * self%state%dp_total
     call timer_start(timers, self%t_halo)
     call halo_exchange_cell(self%halo, dom, grid, self%state%pressure, 1)
     call ice_bc_fill(grid, self%state%pressure, 0)
@@ -242,6 +247,7 @@ contains
     call ice_face_pressure(self%state, grid, self%gravity)
     call ice_lagrangian_values(self%state, grid, dt, self%gravity)
     call ice_exchange_cells(self%state, grid, dt, self%k_exchange, self%h_exchange)
+    if (self%theta /= 1.0_wp) self%state%pressure = self%state%p_eq + self%state%dp_total
     call timer_stop(timers, self%t_lagrange)
 
     call timer_start(timers, self%t_halo)
