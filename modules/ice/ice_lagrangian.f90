@@ -3,8 +3,9 @@
 !!
 !! Per owned cell and fluid m (mass M = rho_bar V, face area A_d = V/dx_d, outward sums over the
 !! two faces of each active direction):
-!!   (M u)_L = M u - dt V phi (p_f,hi - p_f,lo)/dx + dt M g               (eqs. 42, 45)
-!!   (M e)_L = M cv T - dt sum_f A p_f phi_f u_f - (1/2) M (|u_L|^2 - |u|^2)  (eqs. 43, 46)
+!!   (M u)_L = M u - dt V phi (p_f,hi - p_f,lo)/dx + dt M g + viscous      (eqs. 42, 45)
+!!   (M e)_L = M cv T - dt sum_f A p_f phi_f u_f - (1/2) M (|u_L|^2 - |u|^2) + conduction
+!!                                                                        (eqs. 43, 46)
 !! with phi_f the upwind face volume fraction (the fluid's own volume flux, as in eq. 35)
 !!   (M v)_L = M v - V phi kappa dp_total                                 (eqs. 56-57)
 !! Departure from eq. 43 for ONE fluid (docs/ice.md): the work term is the pressure work through
@@ -13,8 +14,10 @@
 !! post-shock state 0.7 % low in pressure (a wrong shock jump); this form gives the exact plateau.
 !! With several fluids the Uintah form (M e)_L = M cv T + V phi kappa p dp_total is used: the
 !! face form gives a fluid with a tiny mass in a cell the whole work of the volume flux entering
-!! it (measured: runaway temperatures at an air-water interface). The specific-volume change uses the pressure change of the implicit
-!! solve (phi kappa dp = -dt div(phi u_f) at convergence), as Uintah's ICE does.
+!! it (measured: runaway temperatures at an air-water interface). The specific-volume change
+!! uses the pressure change of the implicit solve (phi kappa dp = -dt div(phi u_f) at
+!! convergence), as Uintah's ICE does. Viscous momentum and conducted heat come from
+!! `ice_viscous` (explicit, state at time n).
 module ice_lagrangian
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
@@ -29,11 +32,14 @@ contains
 
   !> Fill `lag(:,:,:,1:5)` = (u, v, w, cv T, v) after the Lagrangian sources, owned cells.
   !! Needs the face pressures and face velocities of the owned cells.
-  subroutine ice_lagrangian_values(state, grid, dt, gravity)
+  subroutine ice_lagrangian_values(state, grid, dt, gravity, sources)
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
+    !> viscous momentum (1:3) [kg m/s] and conducted heat (4) [J] of the step per fluid,
+    !! (i, j, k, 4, fluid), from `ice_viscous_sources`
+    real(wp), intent(in) :: sources(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :, :)
     integer :: d, m, i, j, k, o(3)
     real(wp) :: mass, vol, mom, work, phi, uh, ul
 
@@ -53,7 +59,7 @@ contains
               end if
               work = 0.0_wp
               do d = 1, 3
-                mom = mass * (f%vel(i, j, k, d) + dt * gravity(d))
+                mom = mass * (f%vel(i, j, k, d) + dt * gravity(d)) + sources(i, j, k, d, m)
                 if (grid%active(d)) then
                   o = 0
                   o(d) = 1
@@ -80,7 +86,8 @@ contains
                 work = vol * phi * f%kappa(i, j, k) * state%pressure(i, j, k) * &
                   state%dp_total(i, j, k)
               end if
-              f%lag(i, j, k, 4) = f%eos%cv * f%temp(i, j, k) + work / mass
+              f%lag(i, j, k, 4) = f%eos%cv * f%temp(i, j, k) + (work + sources(i, j, k, 4, m)) &
+                / mass
               f%lag(i, j, k, 5) = f%spvol(i, j, k) - &
                 vol * phi * f%kappa(i, j, k) * state%dp_total(i, j, k) / mass
             end do

@@ -33,6 +33,7 @@ module ice_scene
   use ice_bc, only: ice_bc_fill
   use ice_exchange, only: ice_exchange_faces, ice_exchange_cells
   use ice_initial, only: ice_initial_state
+  use ice_viscous, only: ice_viscous_sources, ice_viscous_dt
   implicit none
   private
 
@@ -43,6 +44,7 @@ module ice_scene
     type(ice_state_t) :: state                !< fluids and pressure
     type(halo_t) :: halo                      !< halo buffers
     type(struct_solver_t) :: solver           !< hypre PCG + PFMG for eq. 35
+    real(wp), allocatable :: sources(:, :, :, :, :) !< viscous momentum and heat (i,j,k,4,fluid)
     real(wp) :: gravity(3) = 0.0_wp           !< [m/s^2]
     real(wp) :: k_exchange = 0.0_wp           !< momentum exchange coefficient [kg/m^3/s]
     real(wp) :: h_exchange = 0.0_wp           !< heat exchange coefficient [W/m^3/K]
@@ -126,6 +128,8 @@ contains
     end do
 
     call ice_initial_state(self%state, cfg, grid)
+    allocate(self%sources(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+      grid%lbc(3):grid%ubc(3), 4, cfg%nfluids), source=0.0_wp)
 
     call halo_init(self%halo, dom, grid, 1)
     call struct_solver_init(self%solver, dom, grid, cfg%solver%tolerance, &
@@ -138,7 +142,8 @@ contains
   end subroutine ice_scene_init
 
   !> CFL limit: cfl * min over cells, directions and fluids of dx / (|u| + f c), f the
-  !! sound-speed factor (0: the advective limit of the implicit scheme).
+  !! sound-speed factor (0: the advective limit of the implicit scheme), and cfl times the
+  !! explicit viscosity/conduction limit (`ice_viscous_dt`).
   function ice_scene_stable_dt(self, dom, grid) result(dt)
     class(ice_scene_t), intent(inout) :: self  !< scene
     type(domain_t), intent(in) :: dom          !< decomposition
@@ -173,6 +178,8 @@ contains
     else
       dt = huge(1.0_wp)
     end if
+    ! explicit viscosity and conduction
+    dt = min(dt, self%cfl * global_min(dom, ice_viscous_dt(self%state, grid)))
   end function ice_scene_stable_dt
 
   !> One ICE step; rejected (state unchanged) when the outer iteration does not converge or a
@@ -185,7 +192,7 @@ contains
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
     logical, intent(out) :: accepted             !< the step was taken
-    integer :: its, failed, outer, pcg, negative
+    integer :: its, failed, outer, pcg, negative, m
     real(wp) :: residual, relres
     logical :: converged
 
@@ -245,7 +252,12 @@ contains
 
     call timer_start(timers, self%t_lagrange)
     call ice_face_pressure(self%state, grid, self%gravity)
-    call ice_lagrangian_values(self%state, grid, dt, self%gravity)
+    do m = 1, self%state%nfluids
+      self%sources(:, :, :, :, m) = 0.0_wp
+      call ice_viscous_sources(self%state, grid, m, dt, self%sources(:, :, :, 1:3, m), &
+        self%sources(:, :, :, 4, m))
+    end do
+    call ice_lagrangian_values(self%state, grid, dt, self%gravity, self%sources)
     call ice_exchange_cells(self%state, grid, dt, self%k_exchange, self%h_exchange)
     if (self%theta /= 1.0_wp) self%state%pressure = self%state%p_eq + self%state%dp_total
     call timer_stop(timers, self%t_lagrange)
@@ -420,5 +432,6 @@ contains
     call struct_solver_free(self%solver)
     call halo_free(self%halo)
     call ice_state_free(self%state)
+    if (allocated(self%sources)) deallocate(self%sources)
   end subroutine ice_scene_free
 end module ice_scene
