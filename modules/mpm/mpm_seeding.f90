@@ -31,6 +31,7 @@ contains
     integer :: ppc(3), i, j, k, a, b, c, n, dv, dd
     integer(i8) :: cell_id, nsub
     real(wp) :: xp(3), vol, rho, top, sv, k0, gmag
+    call particles_reserve(p, max(p%np, 1))   ! arrays allocated even on a rank without particles
     ppc = merge(s%particles_per_cell, 1, grid%active)
     nsub = int(product(ppc), i8)
     vol = grid%cell_volume / real(product(ppc), wp)
