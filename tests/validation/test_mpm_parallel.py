@@ -72,3 +72,15 @@ def test_restart_is_bitwise_identical(tmp_path, nranks):
             assert set(group_a) == set(group_b)
             for name in group_a:
                 assert np.array_equal(group_a[name][...], group_b[name][...]), (path, name)
+
+
+def test_rank_without_particles(tmp_path):
+    """Collapse on 2 ranks split along x: the right rank seeds no particle; 5 steps, the dumps and
+    the checkpoint (collective particle writes) complete and hold all 3200 particles."""
+    namelist = os.path.join(ROOT, "namelists", "mpm_collapse_2d.nml")
+    out = tmp_path / "empty_rank"
+    run_mpmice([namelist, "--set", f"&run output_dir = '{out}', max_steps = 5 /",
+                "--set", "&grid dims = 2, 1, 1 /"], nranks=2, cwd=str(tmp_path), timeout=120)
+    with h5py.File(out / "collapse2d_checkpoint_000005.h5") as f:
+        assert f["checkpoint/particles/sand/id"].shape == (3200,)
+        assert list(f["checkpoint/particles/sand/rank_counts"][...]) == [3200, 0]
