@@ -1,44 +1,100 @@
-!> Ghost cells of the ICE fields on non-periodic domain boundaries (walls): scalars are mirrored
-!! (zero normal gradient), the normal velocity component is mirrored with a sign change (zero
-!! normal velocity at the wall; tangential components mirrored: free slip). Called after the halo
-!! exchange; the dimensions are filled in order x, y, z over the full extent of the others so that
-!! edges and corners beyond a wall are filled too.
+!> Ghost cells of the ICE fields on non-periodic domain faces, from `&boundary` (one condition
+!! per face, defaults: fluid 'wall', thermal 'adiabatic').
+!!
+!! Fluid conditions implemented: 'wall' (no slip: every velocity component odd across the face,
+!! so the wall velocity is zero) and 'free_slip' (normal component odd, tangential even). Both
+!! have zero normal face velocity (`ice_face_velocity`) and a homogeneous Neumann condition on the
+!! pressure correction. 'pressure', 'inflow' and 'outflow' are not implemented yet (stopped at
+!! initialisation). Thermal: 'adiabatic' (temperature even: zero flux) or 'fixed' (ghost
+!! 2 T_wall - T, so the face temperature is T_wall). Other scalars are mirrored. Called after the
+!! halo exchange; dimensions are filled in order x, y, z over the full extent of the others so
+!! that edges and corners beyond a face are filled too.
 module ice_bc
   use mpmice_kinds, only: wp
+  use mpmice_errors, only: fatal
+  use config_types, only: config_t, boundary_params_t, boundary_for_face
   use grid_layout, only: grid_t
   implicit none
   private
 
-  public :: ice_bc_fill
+  public :: ice_bc_t, ice_bc_init, ice_bc_fill, bc_scalar, bc_temperature
+
+  integer, parameter :: bc_scalar = 0       !< kind: even scalar (density, pressure, ...)
+  integer, parameter :: bc_temperature = -1 !< kind: temperature-like (fixed walls: odd about T_w)
+
+  !> Conditions of the six faces (x-, x+, y-, y+, z-, z+).
+  type :: ice_bc_t
+    logical :: no_slip(6) = .true.          !< 'wall' (else 'free_slip')
+    logical :: fixed_t(6) = .false.         !< thermal 'fixed' (else 'adiabatic')
+    real(wp) :: t_wall(6) = 300.0_wp        !< wall temperature [K]
+  end type ice_bc_t
 
 contains
 
-  !> Fill the wall ghosts of `field`; `normal_component` = d makes the field odd across the
-  !! faces normal to direction d (velocity component d), 0 keeps it even.
-  subroutine ice_bc_fill(grid, field, normal_component)
-    type(grid_t), intent(in) :: grid          !< block geometry
-    real(wp), intent(inout) :: field(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell field
-    integer, intent(in) :: normal_component   !< 0 or the velocity component 1..3
-    integer :: d, g, lo, hi
-    real(wp) :: s
+  !> Conditions from the configuration; stops on a fluid condition not implemented yet.
+  subroutine ice_bc_init(bc, cfg)
+    type(ice_bc_t), intent(out) :: bc   !< face conditions
+    type(config_t), intent(in) :: cfg   !< configuration
+    type(boundary_params_t) :: b
+    integer :: f
+    do f = 1, 6
+      b = boundary_for_face(cfg, f)
+      select case (trim(b%fluid))
+      case ('wall')
+        bc%no_slip(f) = .true.
+      case ('free_slip')
+        bc%no_slip(f) = .false.
+      case default
+        call fatal('ice scene: &boundary face = ''' // trim(b%face) // ''' fluid = ''' // &
+          trim(b%fluid) // ''' is not implemented yet (wall, free_slip)')
+      end select
+      bc%fixed_t(f) = trim(b%thermal) == 'fixed'
+      bc%t_wall(f) = b%temperature
+    end do
+  end subroutine ice_bc_init
 
+  !> Fill the ghosts of `field` beyond non-periodic domain faces. `kind`: `bc_scalar`,
+  !! `bc_temperature` (then `scale` multiplies T_wall: 1 for T, cv for cv T) or the velocity
+  !! component 1..3.
+  subroutine ice_bc_fill(grid, bc, field, kind, scale)
+    type(grid_t), intent(in) :: grid          !< block geometry
+    type(ice_bc_t), intent(in) :: bc          !< face conditions
+    real(wp), intent(inout) :: field(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell field
+    integer, intent(in) :: kind               !< field kind
+    real(wp), intent(in), optional :: scale   !< factor of T_wall for bc_temperature
+    integer :: d, g, lo, hi, side, f
+    real(wp) :: s(2), w(2), sc
+
+    sc = 1.0_wp
+    if (present(scale)) sc = scale
     do d = 1, 3
       if (.not. grid%active(d) .or. grid%periodic(d)) cycle
-      s = 1.0_wp
-      if (normal_component == d) s = -1.0_wp
+      do side = 1, 2
+        f = 2 * (d - 1) + side
+        s(side) = 1.0_wp
+        w(side) = 0.0_wp
+        if (kind == d) then
+          s(side) = -1.0_wp
+        else if (kind > 0) then
+          if (bc%no_slip(f)) s(side) = -1.0_wp
+        else if (kind == bc_temperature .and. bc%fixed_t(f)) then
+          s(side) = -1.0_wp
+          w(side) = 2.0_wp * sc * bc%t_wall(f)
+        end if
+      end do
       lo = grid%lo(d)
       hi = grid%hi(d)
       do g = 1, grid%ng(d)
         select case (d)
         case (1)
-          if (grid%at_lower(1)) field(lo - g, :, :) = s * field(lo + g - 1, :, :)
-          if (grid%at_upper(1)) field(hi + g, :, :) = s * field(hi - g + 1, :, :)
+          if (grid%at_lower(1)) field(lo - g, :, :) = w(1) + s(1) * field(lo + g - 1, :, :)
+          if (grid%at_upper(1)) field(hi + g, :, :) = w(2) + s(2) * field(hi - g + 1, :, :)
         case (2)
-          if (grid%at_lower(2)) field(:, lo - g, :) = s * field(:, lo + g - 1, :)
-          if (grid%at_upper(2)) field(:, hi + g, :) = s * field(:, hi - g + 1, :)
+          if (grid%at_lower(2)) field(:, lo - g, :) = w(1) + s(1) * field(:, lo + g - 1, :)
+          if (grid%at_upper(2)) field(:, hi + g, :) = w(2) + s(2) * field(:, hi - g + 1, :)
         case default
-          if (grid%at_lower(3)) field(:, :, lo - g) = s * field(:, :, lo + g - 1)
-          if (grid%at_upper(3)) field(:, :, hi + g) = s * field(:, :, hi - g + 1)
+          if (grid%at_lower(3)) field(:, :, lo - g) = w(1) + s(1) * field(:, :, lo + g - 1)
+          if (grid%at_upper(3)) field(:, :, hi + g) = w(2) + s(2) * field(:, :, hi - g + 1)
         end select
       end do
     end do

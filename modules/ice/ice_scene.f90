@@ -5,7 +5,8 @@
 !!  (face exchange eq. 34, outer iteration of the pressure equation eq. 35 with the
 !!  face-velocity correction, eq. 36) -> face pressures (eq. 37) -> Lagrangian values
 !!  (eqs. 42-46, 56-57) -> cell exchange (eqs. 50-51) -> advection (eqs. 58-65).
-!! Walls (zero normal velocity, free slip, adiabatic) on every non-periodic face.
+!! Face conditions from `&boundary` (`ice_bc`): no-slip or free-slip walls, adiabatic or fixed
+!! temperature.
 module ice_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use mpmice_kinds, only: wp, name_len
@@ -30,7 +31,7 @@ module ice_scene
     ice_face_pressure
   use ice_lagrangian, only: ice_lagrangian_values
   use ice_advection, only: ice_advect
-  use ice_bc, only: ice_bc_fill
+  use ice_bc, only: ice_bc_t, ice_bc_init, ice_bc_fill, bc_scalar, bc_temperature
   use ice_exchange, only: ice_exchange_faces, ice_exchange_cells
   use ice_initial, only: ice_initial_state
   use ice_viscous, only: ice_viscous_sources, ice_viscous_dt
@@ -44,6 +45,7 @@ module ice_scene
     type(ice_state_t) :: state                !< fluids and pressure
     type(halo_t) :: halo                      !< halo buffers
     type(struct_solver_t) :: solver           !< hypre PCG + PFMG for eq. 35
+    type(ice_bc_t) :: bc                      !< conditions of the domain faces
     real(wp), allocatable :: sources(:, :, :, :, :) !< viscous momentum and heat (i,j,k,4,fluid)
     real(wp) :: gravity(3) = 0.0_wp           !< [m/s^2]
     real(wp) :: k_exchange = 0.0_wp           !< momentum exchange coefficient [kg/m^3/s]
@@ -127,6 +129,7 @@ contains
       end associate
     end do
 
+    call ice_bc_init(self%bc, cfg)
     call ice_initial_state(self%state, cfg, grid)
     allocate(self%sources(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3), 4, cfg%nfluids), source=0.0_wp)
@@ -228,7 +231,7 @@ contains
       self%total_pcg = self%total_pcg + pcg
       self%max_pcg_seen = max(self%max_pcg_seen, pcg)
       call halo_exchange_cell(self%halo, dom, grid, self%state%dp, 1)
-      call ice_bc_fill(grid, self%state%dp, 0)
+      call ice_bc_fill(grid, self%bc, self%state%dp, bc_scalar)
       call ice_pressure_correct(self%state, grid, dt, self%theta)
       residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt))
     end do
@@ -247,7 +250,7 @@ contains
       self%theta * self%state%dp_total
     call timer_start(timers, self%t_halo)
     call halo_exchange_cell(self%halo, dom, grid, self%state%pressure, 1)
-    call ice_bc_fill(grid, self%state%pressure, 0)
+    call ice_bc_fill(grid, self%bc, self%state%pressure, bc_scalar)
     call timer_stop(timers, self%t_halo)
 
     call timer_start(timers, self%t_lagrange)
@@ -289,19 +292,19 @@ contains
     do m = 1, self%state%nfluids
       associate (f => self%state%fluid(m))
         call halo_exchange_cell(self%halo, dom, grid, f%rho)
-        call ice_bc_fill(grid, f%rho, 0)
+        call ice_bc_fill(grid, self%bc, f%rho, bc_scalar)
         call halo_exchange_cell(self%halo, dom, grid, f%temp)
-        call ice_bc_fill(grid, f%temp, 0)
+        call ice_bc_fill(grid, self%bc, f%temp, bc_temperature)
         call halo_exchange_cell(self%halo, dom, grid, f%spvol)
-        call ice_bc_fill(grid, f%spvol, 0)
+        call ice_bc_fill(grid, self%bc, f%spvol, bc_scalar)
         do d = 1, 3
           call halo_exchange_cell(self%halo, dom, grid, f%vel(:, :, :, d))
-          call ice_bc_fill(grid, f%vel(:, :, :, d), d)
+          call ice_bc_fill(grid, self%bc, f%vel(:, :, :, d), d)
         end do
       end associate
     end do
     call halo_exchange_cell(self%halo, dom, grid, self%state%pressure)
-    call ice_bc_fill(grid, self%state%pressure, 0)
+    call ice_bc_fill(grid, self%bc, self%state%pressure, bc_scalar)
   end subroutine exchange_primitives
 
   !> Halo exchange and wall ghosts of the Lagrangian mass-specific quantities.
@@ -313,7 +316,14 @@ contains
     do m = 1, self%state%nfluids
       do n = 1, 5
         call halo_exchange_cell(self%halo, dom, grid, self%state%fluid(m)%lag(:, :, :, n))
-        call ice_bc_fill(grid, self%state%fluid(m)%lag(:, :, :, n), merge(n, 0, n <= 3))
+        if (n <= 3) then
+          call ice_bc_fill(grid, self%bc, self%state%fluid(m)%lag(:, :, :, n), n)
+        else if (n == 4) then
+          call ice_bc_fill(grid, self%bc, self%state%fluid(m)%lag(:, :, :, n), bc_temperature, &
+            self%state%fluid(m)%eos%cv)
+        else
+          call ice_bc_fill(grid, self%bc, self%state%fluid(m)%lag(:, :, :, n), bc_scalar)
+        end if
       end do
     end do
   end subroutine exchange_lagrangian
