@@ -5,6 +5,7 @@
 !! Boundary conditions per face (`&boundary solid`): fixed (v = 0), roller (normal component 0,
 !! free slip), free (nothing), velocity (v = prescribed), applied on the face nodes and on the
 !! ghost nodes beyond the face. Inactive dimensions carry no motion.
+!! Nodes touched by a rigid material (`q(8) > 0`) take its velocity before the face conditions.
 !! Local (Cundall) damping: f <- f - alpha |f| sign(v) per component. Every allocated node is
 !! solved (ghost copies hold global values after the reverse halo), so no exchange follows.
 module mpm_nodal
@@ -60,16 +61,24 @@ contains
       do j = grid%lbn(2), grid%ubn(2)
         do i = grid%lbn(1), grid%ubn(1)
           m = nodes%q(1, i, j, k)
-          if (m <= min_mass) then
+          if (m <= min_mass .and. nodes%q(8, i, j, k) <= min_mass) then
             nodes%vel(:, i, j, k) = 0.0_wp
             nodes%vel_l(:, i, j, k) = 0.0_wp
             nodes%acc(:, i, j, k) = 0.0_wp
             cycle
           end if
-          v = nodes%q(2:4, i, j, k) / m
-          f = nodes%q(5:7, i, j, k) + m * gravity                 ! eq. 40
-          if (damping > 0.0_wp) f = f - damping * abs(f) * merge(sign(1.0_wp, v), 0.0_wp, v /= 0.0_wp)
-          vl = (v + f / m * dt) * on                               ! eq. 41
+          if (m > min_mass) then
+            v = nodes%q(2:4, i, j, k) / m
+            f = nodes%q(5:7, i, j, k) + m * gravity                 ! eq. 40
+            if (damping > 0.0_wp) f = f - damping * abs(f) * &
+              merge(sign(1.0_wp, v), 0.0_wp, v /= 0.0_wp)
+            vl = (v + f / m * dt) * on                               ! eq. 41
+          else
+            v = 0.0_wp
+            vl = 0.0_wp
+          end if
+          ! a node touched by a rigid body moves with it (no-slip contact)
+          if (nodes%q(8, i, j, k) > min_mass) vl = nodes%q(9:11, i, j, k) / nodes%q(8, i, j, k) * on
           idx = [i, j, k]
           do face = 1, 6
             d = (face + 1) / 2

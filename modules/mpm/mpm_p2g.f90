@@ -13,7 +13,7 @@ module mpm_p2g
   implicit none
   private
 
-  public :: p2g_scatter, p2g_accumulate, p2g_complete
+  public :: p2g_scatter, p2g_accumulate, p2g_accumulate_rigid, p2g_complete
 
 contains
 
@@ -24,7 +24,7 @@ contains
     integer, intent(in) :: kind                  !< shape_linear or shape_gimp
     type(domain_t), intent(in) :: dom            !< decomposition
     type(grid_t), intent(in) :: grid             !< block geometry
-    type(halo_t), intent(inout) :: halo          !< halo buffers (>= 7 components)
+    type(halo_t), intent(inout) :: halo          !< halo buffers (>= nq components)
     nodes%q(:, :, :, :) = 0.0_wp
     call p2g_accumulate(p, nodes%q, kind, grid)
     call p2g_complete(nodes, dom, grid, halo)
@@ -35,7 +35,7 @@ contains
     type(mpm_nodes_t), intent(inout) :: nodes    !< node fields
     type(domain_t), intent(in) :: dom            !< decomposition
     type(grid_t), intent(in) :: grid             !< block geometry
-    type(halo_t), intent(inout) :: halo          !< halo buffers (>= 7 components)
+    type(halo_t), intent(inout) :: halo          !< halo buffers (>= nq components)
     call halo_reverse_node(halo, dom, grid, nodes%q)
   end subroutine p2g_complete
 
@@ -78,4 +78,30 @@ contains
       end do
     end do
   end subroutine p2g_accumulate
+
+  !> Add the mass and momentum of the rigid particles `p` to components 8-11 of `q`.
+  subroutine p2g_accumulate_rigid(p, q, kind, grid)
+    type(particles_t), intent(in) :: p           !< rigid particles (velocity set)
+    type(grid_t), intent(in) :: grid             !< block geometry
+    real(wp), intent(inout) :: q(:, grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< node fields
+    integer, intent(in) :: kind                  !< shape_linear or shape_gimp
+    integer :: ip, i, j, k, a, b, c, first(3), nn(3)
+    real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s, m
+    do ip = 1, p%np
+      call particle_stencil(kind, grid, p%x(:, ip), p%half_width, first, nn, w, dw)
+      m = p%mass(ip)
+      do c = 1, nn(3)
+        k = first(3) + c - 1
+        do b = 1, nn(2)
+          j = first(2) + b - 1
+          do a = 1, nn(1)
+            i = first(1) + a - 1
+            s = w(a, 1) * w(b, 2) * w(c, 3) * m
+            q(8, i, j, k) = q(8, i, j, k) + s
+            q(9:11, i, j, k) = q(9:11, i, j, k) + s * p%v(:, ip)
+          end do
+        end do
+      end do
+    end do
+  end subroutine p2g_accumulate_rigid
 end module mpm_p2g

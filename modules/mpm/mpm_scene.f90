@@ -26,10 +26,12 @@ module mpm_scene
   use mpm_seeding, only: seed_solid
   use mpm_shape, only: shape_kind_from_name
   use mpm_nodes, only: mpm_nodes_t, nodes_init, nodes_free, nq
-  use mpm_p2g, only: p2g_accumulate, p2g_complete
+  use mpm_p2g, only: p2g_accumulate, p2g_accumulate_rigid, p2g_complete
   use mpm_nodal, only: nodal_bc_t, nodal_solve, bc_kind_from_name
   use mpm_g2p, only: g2p_update
-  use mpm_constitutive, only: material_t, material_init, model_from_name, wave_speed
+  use mpm_constitutive, only: material_t, material_init, model_from_name, wave_speed, &
+    model_rigid
+  use mpm_rigid, only: rigid_motion_t, rigid_velocity, rigid_displacement
   use mpm_migration, only: migration_t, migration_init, migrate_particles
   use mpm_output, only: write_particle_dump, write_particle_checkpoint, &
     read_particle_checkpoint, particle_xdmf_set
@@ -44,6 +46,7 @@ module mpm_scene
     character(len=name_len), allocatable :: names(:)        !< solid names
     type(particles_t), allocatable :: parts(:)              !< particles per solid
     type(material_t), allocatable :: mats(:)                !< constitutive model per solid
+    type(rigid_motion_t), allocatable :: motions(:)         !< prescribed motion (rigid solids)
     integer(i8), allocatable :: global_np(:)                !< particles per solid, all ranks
     type(mpm_nodes_t) :: nodes                              !< shared node fields
     type(halo_t) :: halo                                    !< halo buffers
@@ -91,7 +94,7 @@ contains
     self%t_migrate = timer_register(timers, 'MPM migration')
     self%nsolids = cfg%nsolids
     allocate(self%names(self%nsolids), self%parts(self%nsolids), self%mats(self%nsolids), &
-      self%global_np(self%nsolids))
+      self%global_np(self%nsolids), self%motions(self%nsolids))
     self%shape_kind = shape_kind_from_name(cfg%numerics%shape_function)
     self%gravity = cfg%physics%gravity
     self%ramp_time = cfg%mpm%gravity_ramp_time
@@ -105,7 +108,10 @@ contains
         self%mats(s) = material_init(model_from_name(sp%model), (1.0_wp - sp%porosity) * &
           sp%density, sp%youngs_modulus, sp%poisson_ratio, sp%cohesion, sp%friction_angle, &
           sp%dilation_angle, sp%tension_cutoff, sp%tensile_strength)
+        self%motions(s) = rigid_motion_t(sp%prescribed_velocity, sp%acceleration_amplitude, &
+          sp%acceleration_frequency)
         call seed_solid(self%parts(s), sp, grid, self%gravity)
+        if (self%mats(s)%model == model_rigid) call move_rigid(self, s, grid, 0.0_wp, 0.0_wp)
         if (self%parts(s)%np > 0) mmin = min(mmin, minval(self%parts(s)%mass(1:self%parts(s)%np)))
         self%global_np(s) = global_sum(dom, int(self%parts(s)%np, i8))
         call log_info('mpm: solid ' // trim(sp%name) // ' (' // trim(sp%model) // '): ' // &
@@ -161,7 +167,11 @@ contains
     call timer_start(timers, self%t_p2g)
     self%nodes%q(:, :, :, :) = 0.0_wp
     do s = 1, self%nsolids
-      call p2g_accumulate(self%parts(s), self%nodes%q, self%shape_kind, grid)
+      if (self%mats(s)%model == model_rigid) then
+        call p2g_accumulate_rigid(self%parts(s), self%nodes%q, self%shape_kind, grid)
+      else
+        call p2g_accumulate(self%parts(s), self%nodes%q, self%shape_kind, grid)
+      end if
     end do
     call p2g_complete(self%nodes, dom, grid, self%halo)
     call timer_stop(timers, self%t_p2g)
@@ -173,8 +183,12 @@ contains
     call timer_stop(timers, self%t_nodal)
     call timer_start(timers, self%t_g2p)
     do s = 1, self%nsolids
-      call g2p_update(self%parts(s), self%nodes, self%mats(s), self%shape_kind, grid, dt, &
-        self%flip)
+      if (self%mats(s)%model == model_rigid) then
+        call move_rigid(self, s, grid, time, dt)
+      else
+        call g2p_update(self%parts(s), self%nodes, self%mats(s), self%shape_kind, grid, dt, &
+          self%flip)
+      end if
     end do
     call timer_stop(timers, self%t_g2p)
     call timer_start(timers, self%t_migrate)
@@ -192,6 +206,24 @@ contains
     call write_series(self, dom, time + dt)
     accepted = .true.
   end subroutine mpm_step
+
+  !> Move the particles of rigid solid `s` from `time` to `time + dt` along the prescribed
+  !! motion and set their velocity to v(time + dt) (inactive dimensions stay at rest).
+  subroutine move_rigid(self, s, grid, time, dt)
+    class(mpm_scene_t), intent(inout) :: self  !< scene
+    integer, intent(in) :: s                   !< rigid solid
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: time               !< start of the step [s]
+    real(wp), intent(in) :: dt                 !< step [s]
+    real(wp) :: dx(3), v(3)
+    integer :: ip
+    dx = merge(rigid_displacement(self%motions(s), time, dt), 0.0_wp, grid%active)
+    v = merge(rigid_velocity(self%motions(s), time + dt), 0.0_wp, grid%active)
+    do ip = 1, self%parts(s)%np
+      self%parts(s)%x(:, ip) = self%parts(s)%x(:, ip) + dx
+      self%parts(s)%v(:, ip) = v
+    end do
+  end subroutine move_rigid
 
   !> Append the energies and extents at `time` to the series file (rank 0 writes).
   subroutine write_series(self, dom, time)
@@ -331,7 +363,7 @@ contains
       do s = 1, size(self%parts)
         call particles_free(self%parts(s))
       end do
-      deallocate(self%parts, self%mats, self%names, self%global_np)
+      deallocate(self%parts, self%mats, self%names, self%global_np, self%motions)
     end if
     call nodes_free(self%nodes)
     call halo_free(self%halo)

@@ -1,0 +1,54 @@
+!> Rigid / prescribed-motion material (`&solid model = 'rigid'`): beds, walls, shaking tables.
+!!
+!! The body moves with the prescribed history v(t) = v0 + integral of a, a(t) = A sin(2 pi f t)
+!! (`prescribed_velocity` v0, `acceleration_amplitude` A, `acceleration_frequency` f), i.e.
+!!   v(t) = v0 + A (1 - cos(2 pi f t)) / (2 pi f),
+!!   x(t) = x0 + v0 t + A / (2 pi f) (t - sin(2 pi f t) / (2 pi f)),
+!! integrated exactly by `rigid_displacement`. Its particles do not enter the deformable P2G; they
+!! scatter their mass and momentum into separate node components, and every node they touch takes
+!! the rigid velocity (no-slip contact with the deformable material, `mpm_nodal`).
+module mpm_rigid
+  use mpmice_kinds, only: wp
+  implicit none
+  private
+
+  public :: rigid_motion_t, rigid_velocity, rigid_displacement
+
+  real(wp), parameter :: two_pi = 2.0_wp * acos(-1.0_wp)  !< 2 pi
+
+  !> Prescribed motion of a rigid body.
+  type :: rigid_motion_t
+    real(wp) :: velocity(3) = 0.0_wp       !< v0 [m/s]
+    real(wp) :: amplitude(3) = 0.0_wp      !< A [m/s^2]
+    real(wp) :: frequency = 0.0_wp         !< f [Hz]
+  end type rigid_motion_t
+
+contains
+
+  !> Velocity [m/s] at time `t` [s].
+  pure function rigid_velocity(m, t) result(v)
+    type(rigid_motion_t), intent(in) :: m  !< motion
+    real(wp), intent(in) :: t              !< time [s]
+    real(wp) :: v(3)
+    real(wp) :: w
+    v = m%velocity
+    if (m%frequency > 0.0_wp) then
+      w = two_pi * m%frequency
+      v = v + m%amplitude * (1.0_wp - cos(w * t)) / w
+    end if
+  end function rigid_velocity
+
+  !> Displacement [m] from `t` to `t + dt` [s] (exact integral of `rigid_velocity`).
+  pure function rigid_displacement(m, t, dt) result(dx)
+    type(rigid_motion_t), intent(in) :: m  !< motion
+    real(wp), intent(in) :: t              !< start time [s]
+    real(wp), intent(in) :: dt             !< step [s]
+    real(wp) :: dx(3)
+    real(wp) :: w
+    dx = m%velocity * dt
+    if (m%frequency > 0.0_wp) then
+      w = two_pi * m%frequency
+      dx = dx + m%amplitude / w * (dt - (sin(w * (t + dt)) - sin(w * t)) / w)
+    end if
+  end function rigid_displacement
+end module mpm_rigid
