@@ -22,7 +22,7 @@ for ranks in 1 2; do
   echo "== $ranks rank(s), $n^3 = $cells cells, $steps steps"
   grep -E "pressure solves" "$log" | sed 's/^/   /'
   awk -v cells="$cells" -v steps="$steps" '
-    /^ *ICE [a-zA-Z]/ { name = $0; sub(/^ */, "", name); sub(/ +[0-9].*$/, "", name)
+    /^ *ICE / { name = $0; sub(/^ */, "", name); sub(/ +[0-9].*$/, "", name)
                         n = split($0, f, " "); printf "   %-24s %8.3f us/cell-step\n", name, f[n-3] / cells / steps * 1e6 }
     /total run/ { n = split($0, f, " "); printf "   %-24s %8.3f us/cell-step\n", "total run", f[n] / cells / steps * 1e6 }' "$log"
 done

@@ -67,6 +67,8 @@ module ice_scene
     integer :: t_equil = 0                    !< timer id
     integer :: t_face = 0                     !< timer id
     integer :: t_pressure = 0                 !< timer id
+    integer :: t_operator = 0                 !< timer id
+    integer :: t_pcg = 0                      !< timer id
     integer :: t_lagrange = 0                 !< timer id
     integer :: t_advect = 0                   !< timer id
     integer :: t_halo = 0                     !< timer id
@@ -100,6 +102,8 @@ contains
     self%t_equil = timer_register(timers, 'ICE equilibration')
     self%t_face = timer_register(timers, 'ICE face velocities')
     self%t_pressure = timer_register(timers, 'ICE pressure (hypre)')
+    self%t_operator = timer_register(timers, 'ICE  of which operator')
+    self%t_pcg = timer_register(timers, 'ICE  of which PCG solve')
     self%t_lagrange = timer_register(timers, 'ICE Lagrangian values')
     self%t_advect = timer_register(timers, 'ICE advection')
     self%t_halo = timer_register(timers, 'ICE halo exchange')
@@ -221,12 +225,16 @@ contains
     ! explicit in the acoustics (unstable at dt > dx/c) and let round-off grow
     do while ((residual > self%outer_tolerance .or. outer == 0) .and. outer < self%max_outer)
       outer = outer + 1
+      call timer_start(timers, self%t_operator)
       call ice_pressure_assemble(self%state, grid, dt, self%theta)
       call struct_solver_set_operator(self%solver, grid, self%state%diag, &
         self%state%coef(:, :, :, 1), self%state%coef(:, :, :, 2), self%state%coef(:, :, :, 3))
+      call timer_stop(timers, self%t_operator)
       self%state%dp = 0.0_wp
+      call timer_start(timers, self%t_pcg)
       call struct_solver_solve(self%solver, grid, self%state%rhs, self%state%dp, pcg, relres, &
         converged)
+      call timer_stop(timers, self%t_pcg)
       self%solves = self%solves + 1
       self%total_pcg = self%total_pcg + pcg
       self%max_pcg_seen = max(self%max_pcg_seen, pcg)
