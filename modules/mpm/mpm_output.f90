@@ -1,16 +1,19 @@
 !> HDF5 datasets of the MPM particles (design §7): dumps `/particles/<solid>/{x, y, z,
 !! velocity_x.., stress_xx.., pore_pressure, temperature, volume, mass, plastic_strain, id}` and
-!! checkpoints `/checkpoint/particles/<solid>/...` with the full state (bitwise restart).
+!! `/cell/<solid>/{volume_fraction, velocity_x, velocity_y, velocity_z, temperature}` (particle
+!! volume per cell volume; mass-weighted particle averages, 0 in empty cells), and checkpoints
+!! `/checkpoint/particles/<solid>/...` with the full state (bitwise restart).
 module mpm_output
   use mpmice_kinds, only: wp, i8, name_len
-  use io_hdf5, only: h5_file_t, h5_write_particles, h5_read_particles
+  use io_hdf5, only: h5_file_t, h5_write_particles, h5_read_particles, h5_write_cell_field
+  use grid_layout, only: grid_t
   use io_xdmf, only: xdmf_particles_t
   use mpm_particles, only: particles_t, particles_resize
   implicit none
   private
 
   public :: write_particle_dump, write_particle_checkpoint, read_particle_checkpoint
-  public :: particle_xdmf_set
+  public :: particle_xdmf_set, write_cell_dump, cell_dump_paths
 
   character(len=2), parameter :: sym_names(6) = ['xx', 'yy', 'zz', 'xy', 'yz', 'xz']  !< stress
   character(len=1), parameter :: axis(3) = ['x', 'y', 'z']                          !< components
@@ -131,4 +134,49 @@ contains
     call h5_read_particles(file, g // 'pore_pressure', a1)
     p%pore_pressure(1:n) = a1
   end subroutine read_particle_checkpoint
+
+  !> Cell dataset paths written by `write_cell_dump` for solid `name`.
+  function cell_dump_paths(name) result(paths)
+    character(len=*), intent(in) :: name   !< solid name
+    character(len=name_len) :: paths(5)
+    paths(1) = 'cell/' // trim(name) // '/volume_fraction'
+    paths(2) = 'cell/' // trim(name) // '/velocity_x'
+    paths(3) = 'cell/' // trim(name) // '/velocity_y'
+    paths(4) = 'cell/' // trim(name) // '/velocity_z'
+    paths(5) = 'cell/' // trim(name) // '/temperature'
+  end function cell_dump_paths
+
+  !> Cell averages of one solid's particles (each particle counts in the owned cell containing
+  !! it) under `cell/<name>/` (collective).
+  subroutine write_cell_dump(file, name, p, grid)
+    type(h5_file_t), intent(in) :: file    !< open dump
+    character(len=*), intent(in) :: name   !< solid name
+    type(particles_t), intent(in) :: p     !< particles
+    type(grid_t), intent(in) :: grid       !< block geometry
+    real(wp), allocatable :: acc(:, :, :, :), field(:, :, :)
+    character(len=name_len) :: paths(5)
+    integer :: ip, d, c(3)
+    allocate(acc(6, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), grid%lbc(3):grid%ubc(3)), &
+      source=0.0_wp)
+    allocate(field(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), grid%lbc(3):grid%ubc(3)), &
+      source=0.0_wp)
+    do ip = 1, p%np
+      do d = 1, 3
+        c(d) = min(max(floor((p%x(d, ip) - grid%lower(d)) / grid%dx(d)) + 1, grid%lo(d)), &
+          grid%hi(d))
+      end do
+      acc(1, c(1), c(2), c(3)) = acc(1, c(1), c(2), c(3)) + p%volume(ip)
+      acc(2, c(1), c(2), c(3)) = acc(2, c(1), c(2), c(3)) + p%mass(ip)
+      acc(3:5, c(1), c(2), c(3)) = acc(3:5, c(1), c(2), c(3)) + p%mass(ip) * p%v(:, ip)
+      acc(6, c(1), c(2), c(3)) = acc(6, c(1), c(2), c(3)) + p%mass(ip) * p%temperature(ip)
+    end do
+    paths = cell_dump_paths(name)
+    field(:, :, :) = acc(1, :, :, :) / grid%cell_volume
+    call h5_write_cell_field(file, trim(paths(1)), grid, field)
+    do d = 1, 4
+      field(:, :, :) = merge(acc(2 + d, :, :, :) / max(acc(2, :, :, :), tiny(1.0_wp)), 0.0_wp, &
+        acc(2, :, :, :) > 0.0_wp)
+      call h5_write_cell_field(file, trim(paths(1 + d)), grid, field)
+    end do
+  end subroutine write_cell_dump
 end module mpm_output

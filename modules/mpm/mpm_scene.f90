@@ -34,7 +34,7 @@ module mpm_scene
   use mpm_rigid, only: rigid_motion_t, rigid_velocity, rigid_displacement
   use mpm_migration, only: migration_t, migration_init, migrate_particles
   use mpm_output, only: write_particle_dump, write_particle_checkpoint, &
-    read_particle_checkpoint, particle_xdmf_set
+    read_particle_checkpoint, particle_xdmf_set, write_cell_dump, cell_dump_paths
   implicit none
   private
 
@@ -290,6 +290,7 @@ contains
         call write_particle_checkpoint(file, self%names(s), self%parts(s))
       else
         call write_particle_dump(file, self%names(s), self%parts(s))
+        call write_cell_dump(file, self%names(s), self%parts(s), grid)
       end if
     end do
     if (checkpoint) call h5_write_attribute(file, 'mpm_removed_particles', self%removed)
@@ -314,15 +315,16 @@ contains
     self%restored = .true.
   end subroutine mpm_restore
 
-  !> No cell datasets; one particle set per solid.
+  !> Cell averages and one particle set per solid.
   subroutine mpm_output_layout(self, cell_paths, particle_sets)
     class(mpm_scene_t), intent(in) :: self                               !< scene
     character(len=name_len), allocatable, intent(out) :: cell_paths(:)   !< cell dataset paths
     type(xdmf_particles_t), allocatable, intent(out) :: particle_sets(:) !< particle sets
     integer :: s
-    allocate(cell_paths(0))
+    allocate(cell_paths(5 * self%nsolids))
     allocate(particle_sets(self%nsolids))
     do s = 1, self%nsolids
+      cell_paths(5 * s - 4:5 * s) = cell_dump_paths(self%names(s))
       particle_sets(s) = particle_xdmf_set(self%names(s), self%global_np(s))
     end do
   end subroutine mpm_output_layout

@@ -42,6 +42,10 @@ def test_rank_invariance_with_crossing_particles(tmp_path, flip):
     for nranks in (2, 4):
         _, other = particles(dump_paths(str(_run(tmp_path, nranks, flip)), "slide2d")[-1], "block")
         assert np.array_equal(ref["id"], other["id"])
+        # cell averages: the particle volume per cell sums to the total particle volume
+        with h5py.File(dump_paths(str(tmp_path / f"r{nranks}_f{flip}"), "slide2d")[-1]) as f:
+            fraction = f["cell/block/volume_fraction"][...]
+            assert abs(fraction.sum() * 0.05 ** 2 - np.sum(other["volume"])) < 1e-12
         for c in ("x", "y"):
             assert np.max(np.abs(other[c] - ref[c])) < 1e-12, (nranks, c)
             assert np.max(np.abs(other[f"velocity_{c}"] - ref[f"velocity_{c}"])) < 1e-12
@@ -72,6 +76,8 @@ def test_restart_is_bitwise_identical(tmp_path, nranks):
             assert set(group_a) == set(group_b)
             for name in group_a:
                 assert np.array_equal(group_a[name][...], group_b[name][...]), (path, name)
+            for name in ("volume_fraction", "velocity_x", "velocity_y", "temperature"):
+                assert np.array_equal(a[f"cell/block/{name}"][...], b[f"cell/block/{name}"][...])
 
 
 def test_rank_without_particles(tmp_path):
