@@ -4,7 +4,10 @@
 !! Fluid conditions implemented: 'wall' (no slip: every velocity component odd across the face,
 !! so the wall velocity is zero) and 'free_slip' (normal component odd, tangential even). Both
 !! have zero normal face velocity (`ice_face_velocity`) and a homogeneous Neumann condition on the
-!! pressure correction. 'pressure', 'inflow' and 'outflow' are not implemented yet (stopped at
+!! pressure correction. 'pressure' (open face): the pressure is odd about the prescribed face
+!! pressure (ghost 2 p_b - p), the pressure correction odd about 0 (Dirichlet in eq. 35: the face
+!! counts twice in the diagonal), velocities and scalars even (zero gradient: what flows in
+!! carries the inner state). 'inflow' and 'outflow' are not implemented yet (stopped at
 !! initialisation). Thermal: 'adiabatic' (temperature even: zero flux) or 'fixed' (ghost
 !! 2 T_wall - T, so the face temperature is T_wall). Other scalars are mirrored. Called after the
 !! halo exchange; dimensions are filled in order x, y, z over the full extent of the others so
@@ -17,14 +20,18 @@ module ice_bc
   implicit none
   private
 
-  public :: ice_bc_t, ice_bc_init, ice_bc_fill, bc_scalar, bc_temperature
+  public :: ice_bc_t, ice_bc_init, ice_bc_fill, bc_scalar, bc_temperature, bc_pressure, bc_dp
 
   integer, parameter :: bc_scalar = 0       !< kind: even scalar (density, pressure, ...)
   integer, parameter :: bc_temperature = -1 !< kind: temperature-like (fixed walls: odd about T_w)
+  integer, parameter :: bc_pressure = -2    !< kind: pressure (open faces: odd about p_b)
+  integer, parameter :: bc_dp = -3          !< kind: pressure correction (open faces: odd about 0)
 
   !> Conditions of the six faces (x-, x+, y-, y+, z-, z+).
   type :: ice_bc_t
-    logical :: no_slip(6) = .true.          !< 'wall' (else 'free_slip')
+    logical :: no_slip(6) = .true.          !< 'wall' (else 'free_slip' or open)
+    logical :: open(6) = .false.            !< 'pressure': fluid may cross, p prescribed
+    real(wp) :: p_face(6) = 101325.0_wp     !< pressure of an open face [Pa]
     logical :: fixed_t(6) = .false.         !< thermal 'fixed' (else 'adiabatic')
     real(wp) :: t_wall(6) = 300.0_wp        !< wall temperature [K]
   end type ice_bc_t
@@ -44,9 +51,13 @@ contains
         bc%no_slip(f) = .true.
       case ('free_slip')
         bc%no_slip(f) = .false.
+      case ('pressure')
+        bc%no_slip(f) = .false.
+        bc%open(f) = .true.
+        bc%p_face(f) = b%pressure
       case default
         call fatal('ice scene: &boundary face = ''' // trim(b%face) // ''' fluid = ''' // &
-          trim(b%fluid) // ''' is not implemented yet (wall, free_slip)')
+          trim(b%fluid) // ''' is not implemented yet (wall, free_slip, pressure)')
       end select
       bc%fixed_t(f) = trim(b%thermal) == 'fixed'
       bc%t_wall(f) = b%temperature
@@ -74,6 +85,11 @@ contains
         s(side) = 1.0_wp
         w(side) = 0.0_wp
         if (kind == d) then
+          if (.not. bc%open(f)) s(side) = -1.0_wp
+        else if (kind == bc_pressure .and. bc%open(f)) then
+          s(side) = -1.0_wp
+          w(side) = 2.0_wp * bc%p_face(f)
+        else if (kind == bc_dp .and. bc%open(f)) then
           s(side) = -1.0_wp
         else if (kind > 0) then
           if (bc%no_slip(f)) s(side) = -1.0_wp

@@ -15,7 +15,7 @@ module ice_exchange
   use mpmice_errors, only: fatal
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
-  use ice_face_velocity, only: boundary_face, face_range
+  use ice_face_velocity, only: closed_face, face_range
   implicit none
   private
 
@@ -54,7 +54,7 @@ contains
       do k = r(1, 3), r(2, 3)
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
-            if (boundary_face(grid, d, [i, j, k])) cycle
+            if (closed_face(state, grid, d, [i, j, k])) cycle
             do m = 1, nf
               phi(m) = 0.5_wp * (state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)) + &
                 state%fluid(m)%vfrac(i, j, k))

@@ -15,7 +15,7 @@ module ice_face_velocity
   implicit none
   private
 
-  public :: ice_face_velocities, boundary_face, face_range, upwind
+  public :: ice_face_velocities, boundary_face, closed_face, face_index, face_range, upwind
 
 contains
 
@@ -53,7 +53,7 @@ contains
                   vhat = 2.0_wp * vl * vr / (vl + vr)
                 end if
                 f%vface(i, j, k, d) = vhat
-                if (boundary_face(grid, d, [i, j, k])) then
+                if (closed_face(state, grid, d, [i, j, k])) then
                   f%uface(i, j, k, d) = 0.0_wp
                   cycle
                 end if
@@ -91,6 +91,25 @@ contains
     integer, intent(in) :: idx(3)     !< face index (low face of cell idx)
     boundary_face = .not. grid%periodic(d) .and. (idx(d) == 1 .or. idx(d) == grid%ncells(d) + 1)
   end function boundary_face
+
+  !> Domain face 1..6 (x-, x+, y-, y+, z-, z+) of a boundary face in direction `d` at `idx`.
+  pure integer function face_index(d, idx)
+    integer, intent(in) :: d          !< face direction
+    integer, intent(in) :: idx(3)     !< face index
+    face_index = 2 * d - 1
+    if (idx(d) /= 1) face_index = 2 * d
+  end function face_index
+
+  !> True for a boundary face that no fluid crosses (a wall); false inside the domain and on an
+  !! open ('pressure') face.
+  pure logical function closed_face(state, grid, d, idx)
+    type(ice_state_t), intent(in) :: state  !< fluids (closed faces)
+    type(grid_t), intent(in) :: grid        !< block geometry
+    integer, intent(in) :: d                !< face direction
+    integer, intent(in) :: idx(3)           !< face index
+    closed_face = .false.
+    if (boundary_face(grid, d, idx)) closed_face = state%closed(face_index(d, idx))
+  end function closed_face
 
   !> Upwind value of a face quantity: `left` for u >= 0, `right` otherwise.
   pure real(wp) function upwind(u, left, right)

@@ -12,7 +12,7 @@ module ice_pressure
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
-  use ice_face_velocity, only: boundary_face, face_range, upwind
+  use ice_face_velocity, only: boundary_face, closed_face, face_index, face_range, upwind
   implicit none
   private
 
@@ -41,7 +41,7 @@ contains
       do k = r(1, 3), r(2, 3)
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
-            if (boundary_face(grid, d, [i, j, k])) cycle
+            if (closed_face(state, grid, d, [i, j, k])) cycle
             s = 0.0_wp
             do m = 1, state%nfluids
               associate (f => state%fluid(m))
@@ -63,7 +63,10 @@ contains
             if (.not. grid%active(d)) cycle
             o = 0
             o(d) = 1
-            s = s + state%coef(i, j, k, d) + state%coef(i + o(1), j + o(2), k + o(3), d)
+            ! an open face (dp = 0 there, ghost dp = -dp) counts twice
+            s = s + state%coef(i, j, k, d) * merge(2.0_wp, 1.0_wp, &
+              boundary_face(grid, d, [i, j, k])) + state%coef(i + o(1), j + o(2), k + o(3), d) * &
+              merge(2.0_wp, 1.0_wp, boundary_face(grid, d, [i + o(1), j + o(2), k + o(3)]))
           end do
           state%diag(i, j, k) = s
         end do
@@ -134,7 +137,7 @@ contains
       do k = r(1, 3), r(2, 3)
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
-            if (boundary_face(grid, d, [i, j, k])) cycle
+            if (closed_face(state, grid, d, [i, j, k])) cycle
             g = theta * (state%dp(i, j, k) - state%dp(i - o(1), j - o(2), k - o(3))) / grid%dx(d)
             do m = 1, state%nfluids
               state%fluid(m)%uface(i, j, k, d) = state%fluid(m)%uface(i, j, k, d) - &
@@ -172,6 +175,11 @@ contains
               rl = rl + state%fluid(m)%rho(i - o(1), j - o(2), k - o(3))
               rr = rr + state%fluid(m)%rho(i, j, k)
             end do
+            if (boundary_face(grid, d, [i, j, k]) .and. .not. &
+              closed_face(state, grid, d, [i, j, k])) then
+              state%pface(i, j, k, d) = state%p_boundary(face_index(d, [i, j, k]))
+              cycle
+            end if
             if (boundary_face(grid, d, [i, j, k])) then
               if (i * o(1) + j * o(2) + k * o(3) == 1) then
                 state%pface(i, j, k, d) = pr - 0.5_wp * rr * gravity(d) * grid%dx(d)

@@ -31,7 +31,8 @@ module ice_scene
     ice_face_pressure
   use ice_lagrangian, only: ice_lagrangian_values
   use ice_advection, only: ice_advect
-  use ice_bc, only: ice_bc_t, ice_bc_init, ice_bc_fill, bc_scalar, bc_temperature
+  use ice_bc, only: ice_bc_t, ice_bc_init, ice_bc_fill, bc_scalar, bc_temperature, bc_pressure, &
+    bc_dp
   use ice_exchange, only: ice_exchange_faces, ice_exchange_cells
   use ice_initial, only: ice_initial_state
   use ice_viscous, only: ice_viscous_sources, ice_viscous_dt
@@ -135,6 +136,8 @@ contains
 
     call ice_bc_init(self%bc, cfg)
     call ice_initial_state(self%state, cfg, grid)
+    self%state%closed = .not. self%bc%open
+    self%state%p_boundary = self%bc%p_face
     allocate(self%sources(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3), 4, cfg%nfluids), source=0.0_wp)
 
@@ -206,6 +209,7 @@ contains
     accepted = .false.
     call timer_start(timers, self%t_equil)
     call ice_equilibrate(self%state, grid, self%eq_tolerance, self%eq_max, its, failed)
+    call ice_bc_fill(grid, self%bc, self%state%pressure, bc_pressure)
     call timer_stop(timers, self%t_equil)
     if (global_sum(dom, failed) > 0) then
       call log_warning('ICE equilibration failed at t = ' // real_short_text(time) // ' s')
@@ -239,7 +243,7 @@ contains
       self%total_pcg = self%total_pcg + pcg
       self%max_pcg_seen = max(self%max_pcg_seen, pcg)
       call halo_exchange_cell(self%halo, dom, grid, self%state%dp, 1)
-      call ice_bc_fill(grid, self%bc, self%state%dp, bc_scalar)
+      call ice_bc_fill(grid, self%bc, self%state%dp, bc_dp)
       call ice_pressure_correct(self%state, grid, dt, self%theta)
       residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt))
     end do
@@ -258,7 +262,7 @@ contains
       self%theta * self%state%dp_total
     call timer_start(timers, self%t_halo)
     call halo_exchange_cell(self%halo, dom, grid, self%state%pressure, 1)
-    call ice_bc_fill(grid, self%bc, self%state%pressure, bc_scalar)
+    call ice_bc_fill(grid, self%bc, self%state%pressure, bc_pressure)
     call timer_stop(timers, self%t_halo)
 
     call timer_start(timers, self%t_lagrange)
@@ -312,7 +316,7 @@ contains
       end associate
     end do
     call halo_exchange_cell(self%halo, dom, grid, self%state%pressure)
-    call ice_bc_fill(grid, self%bc, self%state%pressure, bc_scalar)
+    call ice_bc_fill(grid, self%bc, self%state%pressure, bc_pressure)
   end subroutine exchange_primitives
 
   !> Halo exchange and wall ghosts of the Lagrangian mass-specific quantities.

@@ -45,6 +45,8 @@ module ice_state
     real(wp), allocatable :: coef(:, :, :, :)       !< low-face coefficients of eq. 35 [m^3/Pa]
     real(wp), allocatable :: pface(:, :, :, :)      !< face pressure, eq. 37 (i,j,k,direction) [Pa]
     real(wp), allocatable :: cons(:, :, :, :)       !< advection work: m, m u, m v, m w, m cv T, m v
+    logical :: closed(6) = .true.                   !< domain face closed (wall) or open (pressure)
+    real(wp) :: p_boundary(6) = 0.0_wp              !< pressure of an open face [Pa]
   end type ice_state_t
 
 contains
