@@ -7,7 +7,7 @@ Lajeunesse et al. 2005, Phys. Fluids 17, 103302), as quoted in docs/validation/m
 L_inf is the largest particle x and H_inf the largest particle y of the deposit at t = 1 s
 (kinetic energy checked to have decayed below 1e-3 of the initial potential energy scale).
 
-Usage:  python -m postproc.mpm_collapse [--out docs/validation] [--nranks 1]
+Usage:  python -m postproc.mpm_collapse [--out docs/validation] [--nranks 1] [--cell 0.01]
 Writes mpm_collapse.png and mpm_collapse.csv.
 """
 from __future__ import annotations
@@ -32,11 +32,13 @@ def scaling(a: float) -> tuple[float, float]:
     return runout, height
 
 
-def run_collapse(workdir: str, a: float, nranks: int = 1) -> dict:
-    """Run the collapse of aspect ratio a; return the deposit measures."""
-    out = os.path.join(workdir, f"collapse_a{a}")
+def run_collapse(workdir: str, a: float, nranks: int = 1, cell: float = 0.01) -> dict:
+    """Run the collapse of aspect ratio a with cells of `cell` m; return the deposit measures."""
+    out = os.path.join(workdir, f"collapse_a{a}_c{cell}")
+    grid = f"&grid ncells = {int(round(1.2 / cell))}, {int(round(0.5 / cell))}, 1 /"
     run_mpmice([NAMELIST, "--set", f"&solid name = 'sand', upper = {L0}, {a * L0!r}, 1.0 /",
-                "--set", f"&run output_dir = '{out}' /"], nranks=nranks, cwd=workdir)
+                "--set", grid, "--set", f"&run output_dir = '{out}' /"], nranks=nranks,
+               cwd=workdir)
     paths = dump_paths(out, "collapse2d")
     _, p0 = particles(paths[0], "sand")
     time, p1 = particles(paths[-1], "sand")
@@ -55,6 +57,7 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
     parser.add_argument("--nranks", type=int, default=1)
+    parser.add_argument("--cell", type=float, default=0.01, help="cell size [m] (0.01)")
     args = parser.parse_args(argv)
     import matplotlib
     matplotlib.use("Agg")
@@ -64,7 +67,7 @@ def main(argv=None) -> int:
     rows = []
     with tempfile.TemporaryDirectory() as work:
         for a in (0.5, 2.0):
-            r = run_collapse(work, a, args.nranks)
+            r = run_collapse(work, a, args.nranks, args.cell)
             rows.append(r)
             print(f"a = {a}: run-out (L-L0)/L0 = {r['runout']:.3f} (scaling {r['runout_expected']:.3f},"
                   f" {100 * (r['runout'] / r['runout_expected'] - 1):+.1f} %), H/L0 = "
