@@ -88,6 +88,10 @@ contains
     call add('flip_fraction', real_repr(cfg%mpm%flip_fraction))
     call add('gravity_ramp_time', real_repr(cfg%mpm%gravity_ramp_time))
     call add('local_damping', real_repr(cfg%mpm%local_damping))
+    text = text // '/' // nl // '&coupling' // nl
+    call add('drag_scheme', quoted(cfg%coupling%drag_scheme))
+    call add('heat_exchange_coefficient', real_repr(cfg%coupling%heat_exchange_coefficient))
+    call add('max_solid_fraction', real_repr(cfg%coupling%max_solid_fraction))
     text = text // '/' // nl
     do k = 1, cfg%nfluids
       call add_fluid(cfg%fluids(k))
@@ -167,6 +171,13 @@ contains
       call add('acceleration_amplitude', reals_repr(p%acceleration_amplitude))
       call add('acceleration_frequency', real_repr(p%acceleration_frequency))
       call add('velocity_wavenumber', reals_repr(p%velocity_wavenumber))
+      call add('drag_law', quoted(p%drag_law))
+      call add('drag_coefficient', real_repr(p%drag_coefficient))
+      call add('grain_bulk_modulus', real_repr(p%grain_bulk_modulus))
+      call add('traction', reals_repr(p%traction))
+      call add('traction_lower', reals_repr(p%traction_lower))
+      call add('traction_upper', reals_repr(p%traction_upper))
+      call add('traction_ramp_time', real_repr(p%traction_ramp_time))
       text = text // '/' // nl
     end subroutine add_solid
 

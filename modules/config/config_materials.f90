@@ -1,5 +1,6 @@
-!> Parameter types of the multiphase scenes (`ice`, `mpm`): the singleton groups `&physics`,
-!! `&ice`, `&mpm` and the repeated groups `&fluid`, `&solid`, `&region`, `&boundary`.
+!> Parameter types of the multiphase scenes (`ice`, `mpm`, `mpmice`): the singleton groups
+!! `&physics`, `&ice`, `&mpm`, `&coupling` and the repeated groups `&fluid`, `&solid`, `&region`,
+!! `&boundary`.
 !!
 !! As in `config_types`, the default initialisers are the documented defaults (docs/namelists.md).
 !! A repeated group may appear several times; each occurrence is one element of an array of
@@ -10,11 +11,12 @@ module config_materials
   implicit none
   private
 
-  public :: physics_params_t, ice_params_t, mpm_params_t
+  public :: physics_params_t, ice_params_t, mpm_params_t, coupling_params_t
   public :: fluid_params_t, solid_params_t, region_params_t, boundary_params_t
   public :: max_fluids, max_solids, max_regions, max_boundaries, max_polygon_points
   public :: eos_names, solid_model_names, solid_shape_names, face_names
   public :: boundary_fluid_names, boundary_thermal_names, boundary_solid_names
+  public :: drag_law_names, drag_scheme_names
   public :: particles_per_cell_used
 
   integer, parameter :: max_fluids = 8        !< most `&fluid` groups in one input
@@ -32,6 +34,12 @@ module config_materials
   !> Allowed values of `&solid shape`.
   character(len=*), parameter :: solid_shape_names(3) = [character(len=name_len) :: &
     'box', 'polygon', 'half_space']
+  !> Allowed values of `&solid drag_law` (fluid-solid drag of scene 'mpmice').
+  character(len=*), parameter :: drag_law_names(4) = [character(len=name_len) :: &
+    'kozeny_carman', 'beetstra', 'constant', 'impermeable']
+  !> Allowed values of `&coupling drag_scheme`.
+  character(len=*), parameter :: drag_scheme_names(2) = [character(len=name_len) :: &
+    'implicit', 'explicit']
   !> Faces of the domain, in `face_index` order 1..6.
   character(len=*), parameter :: face_names(6) = [character(len=2) :: &
     'x-', 'x+', 'y-', 'y+', 'z-', 'z+']
@@ -71,6 +79,13 @@ module config_materials
     real(wp) :: gravity_ramp_time = 0.0_wp           !< gravity grows linearly over this time [s]
     real(wp) :: local_damping = 0.0_wp               !< local (Cundall) damping factor 0..1
   end type mpm_params_t
+
+  !> `&coupling`: fluid-solid coupling of scene 'mpmice'.
+  type :: coupling_params_t
+    character(len=name_len) :: drag_scheme = 'implicit'  !< one of drag_scheme_names
+    real(wp) :: heat_exchange_coefficient = 0.0_wp       !< fluid-solid heat exchange [W/m^3/K]
+    real(wp) :: max_solid_fraction = 0.999_wp            !< cap of the cell solid volume fraction
+  end type coupling_params_t
 
   !> `&fluid` (repeated): one fluid material, its equation of state and initial state.
   type :: fluid_params_t
@@ -138,6 +153,13 @@ module config_materials
     real(wp) :: prescribed_velocity(3) = [0.0_wp, 0.0_wp, 0.0_wp]    !< rigid velocity [m/s]
     real(wp) :: acceleration_amplitude(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< rigid A [m/s^2]
     real(wp) :: acceleration_frequency = 0.0_wp          !< rigid f [Hz]
+    character(len=name_len) :: drag_law = 'kozeny_carman' !< one of drag_law_names (mpmice)
+    real(wp) :: drag_coefficient = 0.0_wp                !< K of drag_law 'constant' [kg/m^3/s]
+    real(wp) :: grain_bulk_modulus = 0.0_wp              !< K_s [Pa] (0: incompressible grains)
+    real(wp) :: traction(3) = [0.0_wp, 0.0_wp, 0.0_wp]   !< surface load on the skeleton [Pa]
+    real(wp) :: traction_lower(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< loaded box low corner [m]
+    real(wp) :: traction_upper(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< loaded box high corner [m]
+    real(wp) :: traction_ramp_time = 0.0_wp              !< traction grows linearly over it [s]
   end type solid_params_t
 
   !> `&boundary` (repeated, at most one per face): conditions on one face of the domain.

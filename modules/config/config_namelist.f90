@@ -13,8 +13,8 @@ module config_namelist
   use config_types, only: config_t, run_params_t, grid_params_t, time_params_t, &
     numerics_params_t, solver_params_t, output_params_t, heat_params_t, max_polygon_points
   use config_occurrences, only: is_repeated_group, occurrence_count
-  use config_read_phases, only: read_physics, read_ice, read_mpm, read_fluid, read_solid, &
-    read_region, read_boundary
+  use config_read_phases, only: read_physics, read_ice, read_mpm, read_coupling, read_fluid, &
+    read_solid, read_region, read_boundary
   implicit none
   private
 
@@ -22,8 +22,9 @@ module config_namelist
   public :: describe_value, namelist_assign
 
   !> Known singleton groups, in echo order.
-  character(len=*), parameter :: group_names(10) = [character(len=8) :: &
-    'run', 'grid', 'time', 'numerics', 'solver', 'output', 'heat', 'physics', 'ice', 'mpm']
+  character(len=*), parameter :: group_names(11) = [character(len=8) :: &
+    'run', 'grid', 'time', 'numerics', 'solver', 'output', 'heat', 'physics', 'ice', 'mpm', &
+    'coupling']
 
   !> One namelist variable.
   type :: variable_info_t
@@ -86,6 +87,9 @@ module config_namelist
     variable_info_t('mpm', 'flip_fraction', 'r', 1, 0), &
     variable_info_t('mpm', 'gravity_ramp_time', 'r', 1, 0), &
     variable_info_t('mpm', 'local_damping', 'r', 1, 0), &
+    variable_info_t('coupling', 'drag_scheme', 'c', 1, name_len), &
+    variable_info_t('coupling', 'heat_exchange_coefficient', 'r', 1, 0), &
+    variable_info_t('coupling', 'max_solid_fraction', 'r', 1, 0), &
     variable_info_t('fluid', 'name', 'c', 1, name_len), &
     variable_info_t('fluid', 'eos', 'c', 1, name_len), &
     variable_info_t('fluid', 'gamma', 'r', 1, 0), &
@@ -134,6 +138,13 @@ module config_namelist
     variable_info_t('solid', 'acceleration_amplitude', 'r', 3, 0), &
     variable_info_t('solid', 'acceleration_frequency', 'r', 1, 0), &
     variable_info_t('solid', 'velocity_wavenumber', 'r', 3, 0), &
+    variable_info_t('solid', 'drag_law', 'c', 1, name_len), &
+    variable_info_t('solid', 'drag_coefficient', 'r', 1, 0), &
+    variable_info_t('solid', 'grain_bulk_modulus', 'r', 1, 0), &
+    variable_info_t('solid', 'traction', 'r', 3, 0), &
+    variable_info_t('solid', 'traction_lower', 'r', 3, 0), &
+    variable_info_t('solid', 'traction_upper', 'r', 3, 0), &
+    variable_info_t('solid', 'traction_ramp_time', 'r', 1, 0), &
     variable_info_t('region', 'material', 'c', 1, name_len), &
     variable_info_t('region', 'lower', 'r', 3, 0), &
     variable_info_t('region', 'upper', 'r', 3, 0), &
@@ -264,6 +275,8 @@ contains
       call read_ice(cfg%ice, text, ios, iomsg)
     case ('mpm')
       call read_mpm(cfg%mpm, text, ios, iomsg)
+    case ('coupling')
+      call read_coupling(cfg%coupling, text, ios, iomsg)
     case ('fluid')
       call read_fluid(cfg%fluids(k), text, ios, iomsg)
     case ('solid')

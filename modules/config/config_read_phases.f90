@@ -1,16 +1,17 @@
-!> Namelist reads of the multiphase groups (`&physics`, `&ice`, `&mpm`, `&fluid`, `&solid`,
-!! `&region`, `&boundary`), used by `config_namelist`.
+!> Namelist reads of the multiphase groups (`&physics`, `&ice`, `&mpm`, `&coupling`, `&fluid`,
+!! `&solid`, `&region`, `&boundary`), used by `config_namelist`.
 !!
 !! As for the other groups, each routine presets the namelist variables from the parameters (so
 !! absent variables keep their value), reads `text` and copies back on success only.
 module config_read_phases
   use mpmice_kinds, only: wp, name_len
-  use config_materials, only: physics_params_t, ice_params_t, mpm_params_t, fluid_params_t, &
-    solid_params_t, region_params_t, boundary_params_t, max_polygon_points
+  use config_materials, only: physics_params_t, ice_params_t, mpm_params_t, coupling_params_t, &
+    fluid_params_t, solid_params_t, region_params_t, boundary_params_t, max_polygon_points
   implicit none
   private
 
-  public :: read_physics, read_ice, read_mpm, read_fluid, read_solid, read_region, read_boundary
+  public :: read_physics, read_ice, read_mpm, read_coupling, read_fluid, read_solid, read_region
+  public :: read_boundary
 
 contains
 
@@ -85,6 +86,25 @@ contains
     p%gravity_ramp_time = gravity_ramp_time
     p%local_damping = local_damping
   end subroutine read_mpm
+
+  !> `&coupling`.
+  subroutine read_coupling(p, text, ios, iomsg)
+    type(coupling_params_t), intent(inout) :: p !< parameters to update
+    character(len=*), intent(in) :: text        !< namelist text
+    integer, intent(out) :: ios                 !< iostat
+    character(len=*), intent(inout) :: iomsg    !< iomsg
+    character(len=name_len) :: drag_scheme
+    real(wp) :: heat_exchange_coefficient, max_solid_fraction
+    namelist /coupling/ drag_scheme, heat_exchange_coefficient, max_solid_fraction
+    drag_scheme = p%drag_scheme
+    heat_exchange_coefficient = p%heat_exchange_coefficient
+    max_solid_fraction = p%max_solid_fraction
+    read(text, nml=coupling, iostat=ios, iomsg=iomsg)
+    if (ios /= 0) return
+    p%drag_scheme = drag_scheme
+    p%heat_exchange_coefficient = heat_exchange_coefficient
+    p%max_solid_fraction = max_solid_fraction
+  end subroutine read_coupling
 
   !> `&fluid` (one occurrence).
   subroutine read_fluid(p, text, ios, iomsg)
@@ -168,7 +188,9 @@ contains
     character(len=*), intent(in) :: text     !< namelist text
     integer, intent(out) :: ios              !< iostat
     character(len=*), intent(inout) :: iomsg !< iomsg
-    character(len=name_len) :: name, model, shape
+    character(len=name_len) :: name, model, shape, drag_law
+    real(wp) :: drag_coefficient, grain_bulk_modulus, traction(3), traction_lower(3)
+    real(wp) :: traction_upper(3), traction_ramp_time
     real(wp) :: density, youngs_modulus, poisson_ratio, cohesion, friction_angle
     real(wp) :: dilation_angle, tensile_strength, k0, lower(3), upper(3)
     real(wp) :: polygon_x(max_polygon_points), polygon_y(max_polygon_points)
@@ -182,7 +204,8 @@ contains
       lower, upper, npoints, polygon_x, polygon_y, plane_point, plane_normal, rotation_deg, &
       particles_per_cell, velocity, temperature, heat_capacity, conductivity, porosity, &
       grain_size, prescribed_velocity, acceleration_amplitude, acceleration_frequency, &
-      velocity_wavenumber
+      velocity_wavenumber, drag_law, drag_coefficient, grain_bulk_modulus, traction, &
+      traction_lower, traction_upper, traction_ramp_time
     name = p%name
     model = p%model
     density = p%density
@@ -215,6 +238,13 @@ contains
     acceleration_amplitude = p%acceleration_amplitude
     acceleration_frequency = p%acceleration_frequency
     velocity_wavenumber = p%velocity_wavenumber
+    drag_law = p%drag_law
+    drag_coefficient = p%drag_coefficient
+    grain_bulk_modulus = p%grain_bulk_modulus
+    traction = p%traction
+    traction_lower = p%traction_lower
+    traction_upper = p%traction_upper
+    traction_ramp_time = p%traction_ramp_time
     read(text, nml=solid, iostat=ios, iomsg=iomsg)
     if (ios /= 0) return
     p%name = name
@@ -249,6 +279,13 @@ contains
     p%acceleration_amplitude = acceleration_amplitude
     p%acceleration_frequency = acceleration_frequency
     p%velocity_wavenumber = velocity_wavenumber
+    p%drag_law = drag_law
+    p%drag_coefficient = drag_coefficient
+    p%grain_bulk_modulus = grain_bulk_modulus
+    p%traction = traction
+    p%traction_lower = traction_lower
+    p%traction_upper = traction_upper
+    p%traction_ramp_time = traction_ramp_time
   end subroutine read_solid
 
   !> `&boundary` (one occurrence).

@@ -3,34 +3,37 @@
 !! The defaults written here are the documented defaults (docs/namelists.md): the loader presets
 !! the namelist variables from a default-initialised `config_t`, so changing a default here changes
 !! it everywhere. Validation lives in `config_validate`, reading in `config_load`, the echo in
-!! `config_echo`. The multiphase groups (`&physics`, `&ice`, `&mpm`, and the repeated `&fluid`,
-!! `&solid`, `&region`, `&boundary`) are defined in `config_materials` and re-exported here.
+!! `config_echo`. The multiphase groups (`&physics`, `&ice`, `&mpm`, `&coupling`, and the repeated
+!! `&fluid`, `&solid`, `&region`, `&boundary`) are defined in `config_materials` and re-exported
+!! here.
 module config_types
   use mpmice_kinds, only: wp, name_len, path_len
-  use config_materials, only: physics_params_t, ice_params_t, mpm_params_t, fluid_params_t, &
-    solid_params_t, region_params_t, boundary_params_t, max_fluids, max_solids, max_regions, &
-    max_boundaries, max_polygon_points, eos_names, solid_model_names, solid_shape_names, &
-    face_names, boundary_fluid_names, boundary_thermal_names, boundary_solid_names, &
-    particles_per_cell_used
+  use config_materials, only: physics_params_t, ice_params_t, mpm_params_t, coupling_params_t, &
+    fluid_params_t, solid_params_t, region_params_t, boundary_params_t, max_fluids, max_solids, &
+    max_regions, max_boundaries, max_polygon_points, eos_names, solid_model_names, &
+    solid_shape_names, face_names, boundary_fluid_names, boundary_thermal_names, &
+    boundary_solid_names, drag_law_names, drag_scheme_names, particles_per_cell_used
   implicit none
   private
 
   public :: config_t, run_params_t, grid_params_t, time_params_t, numerics_params_t
   public :: solver_params_t, output_params_t, heat_params_t
   public :: scene_names, shape_function_names
-  public :: physics_params_t, ice_params_t, mpm_params_t
+  public :: physics_params_t, ice_params_t, mpm_params_t, coupling_params_t
   public :: fluid_params_t, solid_params_t, region_params_t, boundary_params_t
   public :: max_fluids, max_solids, max_regions, max_boundaries, max_polygon_points
   public :: eos_names, solid_model_names, solid_shape_names, face_names
   public :: boundary_fluid_names, boundary_thermal_names, boundary_solid_names
+  public :: drag_law_names, drag_scheme_names
   public :: particles_per_cell_used, boundary_for_face
 
   !> Scenes the driver knows (the allowed values of `&run scene`). Later issues append to it.
   !! 'ice': fluids only (>= 1 `&fluid`, no `&solid`); 'mpm': solids only (>= 1 `&solid`, no
-  !! `&fluid`). A scene may be listed before its solver exists: the driver then stops with
-  !! "scene not available in this build".
-  character(len=*), parameter :: scene_names(3) = [character(len=name_len) :: &
-    'heat_conduction', 'ice', 'mpm']
+  !! `&fluid`); 'mpmice': fluids and solids coupled (>= 1 `&fluid` and >= 1 `&solid`). A scene
+  !! may be listed before its solver exists: the driver then stops with "scene not available in
+  !! this build".
+  character(len=*), parameter :: scene_names(4) = [character(len=name_len) :: &
+    'heat_conduction', 'ice', 'mpm', 'mpmice']
   !> Allowed values of `&numerics shape_function`.
   character(len=*), parameter :: shape_function_names(2) = [character(len=name_len) :: &
     'linear', 'gimp']
@@ -110,6 +113,7 @@ module config_types
     type(physics_params_t) :: physics    !< `&physics`
     type(ice_params_t) :: ice            !< `&ice`
     type(mpm_params_t) :: mpm            !< `&mpm`
+    type(coupling_params_t) :: coupling  !< `&coupling`
     integer :: nfluids = 0               !< number of `&fluid` groups
     integer :: nsolids = 0               !< number of `&solid` groups
     integer :: nregions = 0              !< number of `&region` groups

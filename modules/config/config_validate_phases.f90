@@ -1,5 +1,5 @@
-!> Validation of the multiphase groups (`&physics`, `&ice`, `&mpm`, `&fluid`, `&solid`,
-!! `&region`, `&boundary`) and of the scene-dependent group counts.
+!> Validation of the multiphase groups (`&physics`, `&ice`, `&mpm`, `&coupling`, `&fluid`,
+!! `&solid`, `&region`, `&boundary`) and of the scene-dependent group counts.
 !!
 !! Called by `config_check` after the other groups. Problems in occurrence k of a repeated group
 !! are reported against the group `fluid(k)` (and so on). Whether the initial volume fractions
@@ -7,9 +7,10 @@
 module config_validate_phases
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use mpmice_kinds, only: wp
-  use config_types, only: config_t, eos_names, &
+  use config_types, only: config_t, solid_params_t, eos_names, &
     solid_model_names, solid_shape_names, face_names, boundary_fluid_names, &
-    boundary_thermal_names, boundary_solid_names, max_polygon_points
+    boundary_thermal_names, boundary_solid_names, max_polygon_points, drag_law_names, &
+    drag_scheme_names
   use config_text, only: real_repr, reals_repr, ints_repr, quoted, join_names
   use config_check_tools, only: config_error_t, set_error, check_real, check_int, check_choice, &
     occurrence_label
@@ -56,7 +57,7 @@ contains
     end if
   end subroutine check_finite
 
-  !> `&physics`, `&ice`, `&mpm`.
+  !> `&physics`, `&ice`, `&mpm`, `&coupling`.
   subroutine check_singletons(cfg, err)
     type(config_t), intent(in) :: cfg           !< configuration
     type(config_error_t), intent(inout) :: err  !< problem record
@@ -88,6 +89,13 @@ contains
         min_value=0.0_wp)
       call check_real(err, 'mpm', 'local_damping', p%local_damping, '0..1', min_value=0.0_wp, &
         max_value=1.0_wp)
+    end associate
+    associate (p => cfg%coupling)
+      call check_choice(err, 'coupling', 'drag_scheme', p%drag_scheme, drag_scheme_names)
+      call check_real(err, 'coupling', 'heat_exchange_coefficient', &
+        p%heat_exchange_coefficient, '>= 0 [W/m^3/K]', min_value=0.0_wp)
+      call check_real(err, 'coupling', 'max_solid_fraction', p%max_solid_fraction, &
+        '0 < max_solid_fraction <= 1', min_value=0.0_wp, max_value=1.0_wp, min_open=.true.)
     end associate
   end subroutine check_singletons
 
@@ -236,8 +244,33 @@ contains
       call check_finite(err, g, 'prescribed_velocity', p%prescribed_velocity, ' [m/s]')
       call check_finite(err, g, 'acceleration_amplitude', p%acceleration_amplitude, ' [m/s^2]')
       call non_negative(err, g, 'acceleration_frequency', p%acceleration_frequency, ' [Hz]')
+      call check_choice(err, g, 'drag_law', p%drag_law, drag_law_names)
+      call non_negative(err, g, 'drag_coefficient', p%drag_coefficient, ' [kg/m^3/s]')
+      call check_real(err, g, 'grain_bulk_modulus', p%grain_bulk_modulus, &
+        '>= 0 [Pa] (0: incompressible grains)', min_value=0.0_wp)
+      call check_traction(p, g, err)
     end associate
   end subroutine check_solid
+
+  !> The surface load of a solid: finite values, a box with upper > lower along every axis
+  !! where the traction is non-zero, a ramp time >= 0.
+  subroutine check_traction(p, g, err)
+    type(solid_params_t), intent(in) :: p       !< solid
+    character(len=*), intent(in) :: g           !< group label
+    type(config_error_t), intent(inout) :: err  !< problem record
+    call check_finite(err, g, 'traction', p%traction, ' [Pa]')
+    call check_finite(err, g, 'traction_lower', p%traction_lower, ' [m]')
+    call check_finite(err, g, 'traction_upper', p%traction_upper, ' [m]')
+    if (err%found) return
+    if (any(p%traction /= 0.0_wp .and. p%traction_upper <= p%traction_lower)) then
+      call set_error(err, g, 'traction_upper', reals_repr(p%traction_upper), &
+        'each entry > traction_lower (' // reals_repr(p%traction_lower) // &
+        ') along the axes where traction (' // reals_repr(p%traction) // ') is non-zero [m]')
+      return
+    end if
+    call non_negative(err, g, 'traction_ramp_time', p%traction_ramp_time, &
+      ' [s] (0: applied at t = 0)')
+  end subroutine check_traction
 
   !> Shape, geometry and particles of `&solid(k)`.
   subroutine check_geometry(cfg, k, g, err)
@@ -402,7 +435,10 @@ contains
   end function periodic_text
 
   !> The groups a scene needs: 'ice' at least one `&fluid` and no `&solid`, 'mpm' at least one
-  !! `&solid` and no `&fluid`.
+  !! `&solid` and no `&fluid`, 'mpmice' at least one of each. The range checks of `&solid` and
+  !! `&fluid` apply in every scene (so 'mpmice' gets those of 'ice' and 'mpm'); in particular
+  !! `grain_size` > 0, which the drag laws 'kozeny_carman' and 'beetstra' need, and
+  !! 0 <= `porosity` < 1 are checked for every solid, rigid ones included.
   subroutine check_scene(cfg, err)
     type(config_t), intent(in) :: cfg           !< configuration
     type(config_error_t), intent(inout) :: err  !< problem record
@@ -420,6 +456,11 @@ contains
       if (cfg%nsolids < 1 .or. cfg%nfluids > 0) then
         call set_error(err, 'run', 'scene', quoted(cfg%run%scene), 'scene ''mpm'' needs ' // &
           'at least one &solid group and no &fluid group' // counts)
+      end if
+    case ('mpmice')
+      if (cfg%nfluids < 1 .or. cfg%nsolids < 1) then
+        call set_error(err, 'run', 'scene', quoted(cfg%run%scene), 'scene ''mpmice'' needs ' &
+          // 'at least one &fluid group and at least one &solid group' // counts)
       end if
     case default
       ! other scenes take no &fluid or &solid groups into account

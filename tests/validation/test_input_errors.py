@@ -17,7 +17,8 @@ REPO = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO))
 from postproc.namelist import parse_namelist_groups, parse_namelist_text  # noqa: E402
 
-GROUPS = ("run", "grid", "time", "numerics", "solver", "output", "heat", "physics", "ice", "mpm")
+GROUPS = ("run", "grid", "time", "numerics", "solver", "output", "heat", "physics", "ice", "mpm",
+          "coupling")
 
 #: A valid case that runs on 1 and 2 ranks; its output would go to ``out/``.
 GOOD = """! a small heat-conduction case
@@ -82,6 +83,14 @@ BAD_INPUTS = [
     ("set_malformed", "", ["&time cfl = 0.3 /", "&time cfl = abc /"],
      ["--set", "&time", "cfl", "abc"]),
     ("set_unknown_variable", "", ["&run bogus = 1 /"], ["--set", "&run", "bogus", "1"]),
+    ("coupling_unknown_variable", "&coupling drag_shceme = 'explicit' /", [],
+     ["case.nml", "&coupling", "drag_shceme", "'explicit'", "unknown", "drag_scheme"]),
+    ("coupling_bad_drag_scheme", "&coupling drag_scheme = 'semi' /", [],
+     ["case.nml", "&coupling", "drag_scheme", "'semi'", "implicit, explicit"]),
+    ("coupling_max_solid_fraction", "&coupling max_solid_fraction = 0.0 /", [],
+     ["case.nml", "&coupling", "max_solid_fraction", "0.0", "0 < max_solid_fraction <= 1"]),
+    ("coupling_heat_exchange_negative", "", ["&coupling heat_exchange_coefficient = -1 /"],
+     ["--set", "&coupling", "heat_exchange_coefficient", "-1.0", ">= 0 [W/m^3/K]"]),
 ]
 
 
@@ -109,6 +118,37 @@ BAD_PHASE_INPUTS = [
      ["case.nml", "&boundary(2) face = 'x+'", "at most one", "&boundary(1)"]),
     ("set_selector_not_present", "", ["&fluid name = 'oil', viscosity = 2e-3 /"],
      ["--set", "&fluid name = 'oil'", "present: 'air', 'water'"]),
+]
+
+
+#: A valid MPMICE case: one fluid, one porous solid with a traction on its top layer.
+MPMICE_CASE = """&run name = 'mpmice', scene = 'mpmice', output_dir = 'out' /
+&grid ncells = 1, 10, 1 /
+&fluid name = 'water', eos = 'linear_water', volume_fraction = 1.0 /
+&solid name = 'soil', upper = 1.0, 1.0, 1.0, porosity = 0.3, traction = 0, -1.0e4, 0,
+  traction_lower = 0.0, 0.9, 0.0, traction_upper = 1.0, 1.0, 1.0 /
+"""
+
+#: Input errors of scene 'mpmice' and the new &solid variables, on one rank:
+#: (id, text appended to MPMICE_CASE, --set texts, pieces the error line must contain)
+BAD_MPMICE_INPUTS = [
+    ("mpmice_without_solid", "", ["&run scene = 'ice' /"],
+     ["--set", "&run scene = 'ice'", "no &solid group", "1 &fluid, 1 &solid"]),
+    ("drag_law_unknown", "", ["&solid name = 'soil', drag_law = 'ergun' /"],
+     ["--set", "&solid(1) drag_law = 'ergun'", "kozeny_carman, beetstra, constant, impermeable"]),
+    ("drag_coefficient_negative", "&solid name = 's2', upper = 1, 1, 1, drag_coefficient = -1 /",
+     [], ["case.nml", "&solid(2) drag_coefficient = -1.0", ">= 0 [kg/m^3/s]"]),
+    ("grain_bulk_modulus_negative",
+     "&solid name = 's2', upper = 1, 1, 1, grain_bulk_modulus = -1 /", [],
+     ["case.nml", "&solid(2) grain_bulk_modulus = -1.0", ">= 0 [Pa]"]),
+    ("traction_box_empty", "&solid name = 's2', upper = 1, 1, 1, traction = 5, 0, 0 /", [],
+     ["case.nml", "&solid(2) traction_upper = 0.0, 0.0, 0.0", "traction_lower",
+      "(5.0, 0.0, 0.0)"]),
+    ("traction_ramp_time_negative", "", ["&solid name = 'soil', traction_ramp_time = -1 /"],
+     ["--set", "&solid(1) traction_ramp_time = -1.0", ">= 0 [s]"]),
+    ("grain_size_zero_rigid",
+     "&solid name = 's2', model = 'rigid', upper = 1, 1, 1, grain_size = 0 /", [],
+     ["case.nml", "&solid(2) grain_size = 0.0", "> 0 [m]"]),
 ]
 
 
@@ -322,6 +362,56 @@ def test_repeated_groups_echo_and_set_selector(run_mpmice, tmp_case_dir):
     assert fluids[1]["eos"] == "linear_water" and fluids[0]["eos"] == "ideal_gas"
     assert [v["material"] for name, v in groups if name == "region"] == ["water"]
     assert [v["face"] for name, v in groups if name == "boundary"] == ["x+"]
+    (tmp_case_dir / "resolved.nml").write_text(first)
+    second = run_mpmice(["--check", "resolved.nml"], cwd=tmp_case_dir)
+    assert second.returncode == 0, text_of(second.stderr)
+    assert text_of(second.stdout) == first
+
+
+def test_mpmice_scene_needs_fluid_and_solid(run_mpmice, tmp_case_dir):
+    """Scene 'mpmice' needs at least one &fluid and at least one &solid group."""
+    (tmp_case_dir / "case.nml").write_text(
+        "&run scene = 'mpmice', output_dir = 'out' /\n&grid ncells = 1, 10, 1 /\n"
+        "&fluid name = 'water' /\n")
+    result = run_mpmice(["case.nml"], nranks=1, cwd=tmp_case_dir)
+    assert_input_error(result, ["case.nml", "&run scene = 'mpmice'", "at least one &solid",
+                                "(the input has 1 &fluid, 0 &solid)"], tmp_case_dir)
+
+
+@pytest.mark.parametrize("case_id, extra, sets, pieces", BAD_MPMICE_INPUTS,
+                         ids=[b[0] for b in BAD_MPMICE_INPUTS])
+def test_bad_mpmice_input_stops_with_one_line(run_mpmice, tmp_case_dir, case_id, extra, sets,
+                                              pieces):
+    (tmp_case_dir / "case.nml").write_text(MPMICE_CASE + extra + "\n")
+    args = ["case.nml"]
+    for text in sets:
+        args += ["--set", text]
+    result = run_mpmice(args, nranks=1, cwd=tmp_case_dir)
+    assert_input_error(result, pieces, tmp_case_dir)
+
+
+def test_mpmice_check_echo_and_coupling_set(run_mpmice, tmp_case_dir):
+    """--check of an 'mpmice' case prints &coupling and the new &solid variables (defaults
+    included); --set on &coupling works; the printed text is a fixed point."""
+    (tmp_case_dir / "case.nml").write_text(MPMICE_CASE)
+    result = run_mpmice(["--check", "case.nml", "--set", '&coupling drag_scheme = "explicit" /'],
+                        cwd=tmp_case_dir)
+    assert result.returncode == 0, text_of(result.stderr)
+    first = text_of(result.stdout)
+    single = parse_namelist_text(first)
+    assert single["run"]["scene"] == "mpmice"
+    assert single["coupling"] == {"drag_scheme": "explicit", "heat_exchange_coefficient": 0.0,
+                                  "max_solid_fraction": 0.999}
+    solids = [values for name, values in parse_namelist_groups(first) if name == "solid"]
+    assert len(solids) == 1
+    soil = solids[0]
+    assert soil["drag_law"] == "kozeny_carman"
+    assert soil["drag_coefficient"] == 0.0 and soil["grain_bulk_modulus"] == 0.0
+    assert soil["traction"] == [0.0, -1.0e4, 0.0]
+    assert soil["traction_lower"] == [0.0, 0.9, 0.0]
+    assert soil["traction_upper"] == [1.0, 1.0, 1.0]
+    assert soil["traction_ramp_time"] == 0.0
+    assert sorted(p.name for p in tmp_case_dir.iterdir()) == ["case.nml"]
     (tmp_case_dir / "resolved.nml").write_text(first)
     second = run_mpmice(["--check", "resolved.nml"], cwd=tmp_case_dir)
     assert second.returncode == 0, text_of(second.stderr)
