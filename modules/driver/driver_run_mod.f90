@@ -14,6 +14,7 @@ module driver_run_mod
   use heat_scene, only: heat_scene_t
   use mpm_scene, only: mpm_scene_t
   use ice_scene, only: ice_scene_t
+  use mpmice_scene, only: mpmice_scene_t
   implicit none
   private
 
@@ -87,6 +88,8 @@ contains
       allocate(mpm_scene_t :: scene)
     case ('ice')
       allocate(ice_scene_t :: scene)
+    case ('mpmice')
+      allocate(mpmice_scene_t :: scene)
     case default
       ! the configuration accepts only scenes listed in config_types%scene_names
       call fatal('scene ''' // trim(cfg%run%scene) // ''' is not available in this build')

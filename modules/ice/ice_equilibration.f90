@@ -27,7 +27,7 @@ contains
     integer, intent(out) :: max_iterations_used    !< largest iteration count
     integer, intent(out) :: failed                 !< cells that did not converge
     integer :: i, j, k, m, it, n
-    real(wp) :: p, pn, f, deriv, rho_m, phi
+    real(wp) :: p, pn, f, deriv, rho_m, phi, porosity
 
     n = state%nfluids
     max_iterations_used = 0
@@ -35,14 +35,17 @@ contains
     do k = grid%lbc(3), grid%ubc(3)
       do j = grid%lbc(2), grid%ubc(2)
         do i = grid%lbc(1), grid%ubc(1)
+          ! the fluids fill the pore space n = 1 - phi_s of a coupled scene (eq. 1)
+          porosity = 1.0_wp
+          if (state%solid%present) porosity = 1.0_wp - state%solid%vfrac(i, j, k)
           if (n == 1) then
             associate (fl => state%fluid(1))
-              p = eos_pressure(fl%eos, fl%rho(i, j, k), fl%temp(i, j, k))
+              p = eos_pressure(fl%eos, fl%rho(i, j, k) / porosity, fl%temp(i, j, k))
             end associate
           else
             p = state%pressure(i, j, k)
             do it = 1, max_iterations
-              f = -1.0_wp
+              f = -porosity
               deriv = 0.0_wp
               do m = 1, n
                 associate (fl => state%fluid(m))
@@ -69,7 +72,7 @@ contains
           do m = 1, n
             associate (fl => state%fluid(m))
               if (n == 1) then
-                rho_m = fl%rho(i, j, k)
+                rho_m = fl%rho(i, j, k) / porosity
               else
                 rho_m = eos_density(fl%eos, p, fl%temp(i, j, k))
               end if
@@ -81,6 +84,8 @@ contains
                 fl%vfrac(i, j, k) * fl%kappa(i, j, k)
             end associate
           end do
+          if (state%solid%present) state%sum_kappa(i, j, k) = state%sum_kappa(i, j, k) + &
+            state%solid%vfrac(i, j, k) * state%solid%kappa(i, j, k)
         end do
       end do
     end do

@@ -19,9 +19,9 @@ module ice_exchange
   implicit none
   private
 
-  public :: ice_exchange_faces, ice_exchange_cells, exchange_solve
+  public :: ice_exchange_faces, ice_exchange_cells, exchange_solve, max_n
 
-  integer, parameter :: max_n = 8  !< most fluids handled (config_materials%max_fluids)
+  integer, parameter :: max_n = 9  !< most materials: config_materials%max_fluids + the solid
 
   interface
     subroutine dgesv(n, nrhs, a, lda, ipiv, b, ldb, info)
@@ -41,11 +41,12 @@ contains
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: k_exchange         !< K [kg/m^3/s]
-    integer :: d, m, n, i, j, k, o(3), r(2, 3), nf
-    real(wp) :: beta(max_n, max_n), rhs(max_n, 2), phi(max_n), v(max_n), w(max_n)
+    integer :: d, m, i, j, k, o(3), r(2, 3), nf, nm
+    real(wp) :: beta(max_n, max_n), rhs(max_n, 2), phi(max_n), v(max_n), w(max_n), c(max_n)
+    logical :: with_solid, rigid
 
     nf = state%nfluids
-    if (nf < 2 .or. k_exchange <= 0.0_wp) return
+    if ((nf < 2 .or. k_exchange <= 0.0_wp) .and. .not. state%solid%present) return
     do d = 1, 3
       if (.not. grid%active(d)) cycle
       o = 0
@@ -61,25 +62,108 @@ contains
               v(m) = state%fluid(m)%vface(i, j, k, d)
               rhs(m, 1) = state%fluid(m)%uface(i, j, k, d)
             end do
-            do m = 1, nf
-              do n = 1, nf
-                beta(m, n) = dt * v(m) * phi(n) * k_exchange
-              end do
-              beta(m, m) = 0.0_wp
-            end do
-            rhs(1:nf, 2) = v(1:nf)
-            w(1:nf) = phi(1:nf) / v(1:nf)
-            call exchange_solve(nf, beta, rhs(:, 1:1), 1, w)
-            call exchange_solve(nf, beta, rhs(:, 2:2), 1)
+            nm = nf
+            with_solid = .false.
+            rigid = .false.
+            if (state%solid%present) then
+              call solid_face_partner(state, d, o, i, j, k, phi(nf + 1), v(nf + 1), c, rigid)
+              with_solid = phi(nf + 1) > 0.0_wp
+            end if
+            if (with_solid) then
+              nm = nf + 1
+              rhs(nm, 1) = state%solid%uface(i, j, k, d)
+              if (rigid) v(nm) = 0.0_wp
+            else if (nf < 2 .or. k_exchange <= 0.0_wp) then
+              cycle
+            end if
+            call fill_beta(nf, nm, dt, v, phi, k_exchange, c, rigid, beta)
+            rhs(1:nm, 2) = v(1:nm)
+            if (state%solid%present .and. state%solid%explicit_drag) then
+              ! explicit drag (comparison option): forward Euler on the velocities, no
+              ! exchange-modified face specific volume
+              call exchange_explicit(nm, beta, rhs(:, 1:1), 1)
+            else
+              if (rigid) then
+                call exchange_solve(nm, beta, rhs(:, 1:1), 1)
+              else
+                w(1:nm) = phi(1:nm) / v(1:nm)
+                call exchange_solve(nm, beta, rhs(:, 1:1), 1, w)
+              end if
+              call exchange_solve(nm, beta, rhs(:, 2:2), 1)
+            end if
             do m = 1, nf
               state%fluid(m)%uface(i, j, k, d) = rhs(m, 1)
               state%fluid(m)%vface(i, j, k, d) = rhs(m, 2)
             end do
+            if (with_solid) then
+              state%solid%uface(i, j, k, d) = rhs(nm, 1)
+              state%solid%vface(i, j, k, d) = rhs(nm, 2)
+            else if (state%solid%present) then
+              state%solid%vface(i, j, k, d) = 0.0_wp
+            end if
           end do
         end do
       end do
     end do
   end subroutine ice_exchange_faces
+
+  !> The solid phase at the low face of cell (i,j,k) in direction d: mean volume fraction,
+  !! grain specific volume and drag coefficients of the cells that hold solid, and whether its
+  !! velocity is prescribed there.
+  pure subroutine solid_face_partner(state, d, o, i, j, k, phi, v, c, rigid)
+    type(ice_state_t), intent(in) :: state  !< fluids and solid phase
+    integer, intent(in) :: d                !< face direction
+    integer, intent(in) :: o(3)             !< unit offset along d
+    integer, intent(in) :: i, j, k          !< face index
+    real(wp), intent(out) :: phi            !< solid volume fraction at the face
+    real(wp), intent(out) :: v              !< grain specific volume [m^3/kg]
+    real(wp), intent(out) :: c(max_n)       !< reduced drag coefficient per fluid [kg/m^3/s]
+    logical, intent(out) :: rigid           !< solid velocity prescribed at the face
+    real(wp) :: pl, pr, wl, wr
+    associate (sp => state%solid)
+      pl = sp%vfrac(i - o(1), j - o(2), k - o(3))
+      pr = sp%vfrac(i, j, k)
+      phi = 0.5_wp * (pl + pr)
+      rigid = sp%rigid_face(i, j, k, d) > 0.5_wp
+      wl = merge(1.0_wp, 0.0_wp, pl > 0.0_wp)
+      wr = merge(1.0_wp, 0.0_wp, pr > 0.0_wp)
+      c = 0.0_wp
+      v = 0.0_wp
+      if (wl + wr <= 0.0_wp) return
+      v = (wl * sp%spvol(i - o(1), j - o(2), k - o(3)) + wr * sp%spvol(i, j, k)) / (wl + wr)
+      c(1:state%nfluids) = (wl * sp%drag(i - o(1), j - o(2), k - o(3), 1:state%nfluids) + &
+        wr * sp%drag(i, j, k, 1:state%nfluids)) / (wl + wr)
+    end associate
+  end subroutine solid_face_partner
+
+  !> beta_mn = dt v_m phi_n K_mn with K_mn = `k_fluid` between fluids and c_m (the reduced drag
+  !! coefficient) between fluid m and the solid (material nf + 1 when nm > nf); the solid's row is
+  !! zero where its velocity is prescribed (infinite mass).
+  pure subroutine fill_beta(nf, nm, dt, v, phi, k_fluid, c, rigid, beta)
+    integer, intent(in) :: nf                   !< fluids
+    integer, intent(in) :: nm                   !< materials (nf or nf + 1)
+    real(wp), intent(in) :: dt                  !< time step [s]
+    real(wp), intent(in) :: v(max_n)            !< specific volumes [m^3/kg]
+    real(wp), intent(in) :: phi(max_n)          !< volume fractions [-]
+    real(wp), intent(in) :: k_fluid             !< fluid-fluid K [kg/m^3/s]
+    real(wp), intent(in) :: c(max_n)            !< fluid-solid coefficients [kg/m^3/s]
+    logical, intent(in) :: rigid                !< solid velocity prescribed
+    real(wp), intent(out) :: beta(max_n, max_n) !< exchange coefficients, zero diagonal
+    integer :: m, n
+    do m = 1, nf
+      do n = 1, nf
+        beta(m, n) = dt * v(m) * phi(n) * k_fluid
+      end do
+      beta(m, m) = 0.0_wp
+    end do
+    if (nm == nf) return
+    do m = 1, nf
+      beta(m, nm) = dt * v(m) * phi(nm) * c(m)
+      beta(nm, m) = dt * v(nm) * phi(m) * c(m)
+      if (rigid) beta(nm, m) = 0.0_wp
+    end do
+    beta(nm, nm) = 0.0_wp
+  end subroutine fill_beta
 
   !> Exchange of the Lagrangian velocities (and temperatures when h_exchange > 0) in the owned
   !! cells, `lag(:,:,:,1:4)` updated. No-op for one fluid.
@@ -89,12 +173,13 @@ contains
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: k_exchange         !< K [kg/m^3/s]
     real(wp), intent(in) :: h_exchange         !< H [W/m^3/K]
-    integer :: m, n, i, j, k, nf
-    real(wp) :: beta(max_n, max_n), rhs(max_n, 3), phi(max_n), v(max_n), mass(max_n)
+    integer :: m, n, i, j, k, nf, nm
+    real(wp) :: beta(max_n, max_n), rhs(max_n, 3), phi(max_n), v(max_n), mass(max_n), c(max_n)
     real(wp) :: ke_old, ke_new, total_mass
+    logical :: rigid
 
     nf = state%nfluids
-    if (nf < 2) return
+    if (nf < 2 .and. .not. state%solid%present) return
     do k = grid%lo(3), grid%hi(3)
       do j = grid%lo(2), grid%hi(2)
         do i = grid%lo(1), grid%hi(1)
@@ -104,23 +189,48 @@ contains
             mass(m) = state%fluid(m)%rho(i, j, k)
           end do
           total_mass = sum(mass(1:nf))
-          if (k_exchange > 0.0_wp) then
+          nm = nf
+          rigid = .false.
+          if (state%solid%present) then
+            if (state%solid%vfrac(i, j, k) > 0.0_wp) then
+              nm = nf + 1
+              phi(nm) = state%solid%vfrac(i, j, k)
+              v(nm) = state%solid%spvol(i, j, k)
+              mass(nm) = state%solid%rho(i, j, k)
+              c(1:nf) = state%solid%drag(i, j, k, 1:nf)
+              rigid = state%solid%rigid(i, j, k) > 0.5_wp
+            end if
+          end if
+          if (k_exchange > 0.0_wp .or. nm > nf) then
             ke_old = 0.0_wp
             do m = 1, nf
               rhs(m, 1:3) = state%fluid(m)%lag(i, j, k, 1:3)
               ke_old = ke_old + 0.5_wp * mass(m) * sum(rhs(m, 1:3)**2)
-              do n = 1, nf
-                beta(m, n) = dt * v(m) * phi(n) * k_exchange
-              end do
-              beta(m, m) = 0.0_wp
             end do
-            call exchange_solve(nf, beta, rhs, 3, mass)
+            call fill_beta(nf, nm, dt, v, phi, k_exchange, c, rigid, beta)
+            if (nm > nf) then
+              ! the solid's cell velocity; its own increment is taken from the faces
+              ! (mpmice_solid_cells), the result here only enters the dissipated energy
+              rhs(nm, 1:3) = state%solid%vel(i, j, k, 1:3)
+              if (.not. rigid) ke_old = ke_old + 0.5_wp * mass(nm) * sum(rhs(nm, 1:3)**2)
+              if (state%solid%explicit_drag) then
+                call exchange_explicit(nm, beta, rhs, 3)
+              else if (rigid) then
+                call exchange_solve(nm, beta, rhs, 3)
+              else
+                call exchange_solve(nm, beta, rhs, 3, mass)
+              end if
+            else
+              call exchange_solve(nf, beta, rhs, 3, mass)
+            end if
             ke_new = 0.0_wp
             do m = 1, nf
               ke_new = ke_new + 0.5_wp * mass(m) * sum(rhs(m, 1:3)**2)
               state%fluid(m)%lag(i, j, k, 1:3) = rhs(m, 1:3)
             end do
-            ! dissipated kinetic energy becomes heat, shared by mass
+            if (nm > nf .and. .not. rigid) ke_new = ke_new + 0.5_wp * mass(nm) * &
+              sum(rhs(nm, 1:3)**2)
+            ! the kinetic energy the exchange dissipates becomes heat of the fluids, by mass
             if (total_mass > 0.0_wp) then
               do m = 1, nf
                 state%fluid(m)%lag(i, j, k, 4) = state%fluid(m)%lag(i, j, k, 4) + &
@@ -128,7 +238,7 @@ contains
               end do
             end if
           end if
-          if (h_exchange > 0.0_wp) then
+          if (h_exchange > 0.0_wp .and. nf > 1) then
             do m = 1, nf
               rhs(m, 1) = state%fluid(m)%lag(i, j, k, 4) / state%fluid(m)%eos%cv
               do n = 1, nf
@@ -145,6 +255,23 @@ contains
       end do
     end do
   end subroutine ice_exchange_cells
+
+  !> Explicit (forward Euler) exchange: x_m += sum_n beta_mn (x_n - x_m), for the comparison
+  !! option `&coupling drag_scheme = 'explicit'` (unstable once beta > 1).
+  pure subroutine exchange_explicit(n, beta, x, nrhs)
+    integer, intent(in) :: n                      !< materials
+    real(wp), intent(in) :: beta(max_n, max_n)    !< beta_mn, zero diagonal
+    real(wp), intent(inout) :: x(max_n, *)        !< values in, exchanged values out
+    integer, intent(in) :: nrhs                   !< columns
+    real(wp) :: x_old(max_n)
+    integer :: m, c
+    do c = 1, nrhs
+      x_old(1:n) = x(1:n, c)
+      do m = 1, n
+        x(m, c) = x_old(m) + sum(beta(m, 1:n) * (x_old(1:n) - x_old(m)))
+      end do
+    end do
+  end subroutine exchange_explicit
 
   !> Apply the exchange to `nrhs` columns of values x(1:n, :): x := x + dx with
   !! (I + diag(sum_n beta_mn) - beta) dx = sum_n beta_mn (x_n - x_m) for column 1 of a velocity-

@@ -17,6 +17,7 @@ module ice_pressure
   private
 
   public :: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, ice_face_pressure
+  public :: solid_face_fraction
 
 contains
 
@@ -50,6 +51,8 @@ contains
                 s = s + phi * f%vface(i, j, k, d)
               end associate
             end do
+            if (state%solid%present) s = s + solid_face_fraction(state, d, o, i, j, k) * &
+              state%solid%vface(i, j, k, d)
             state%coef(i, j, k, d) = theta * dt**2 * area / grid%dx(d) * s
           end do
         end do
@@ -103,7 +106,13 @@ contains
                 s = s - dt * area * flux
               end associate
             end do
+            if (state%solid%present) s = s - dt * area * ( &
+              solid_face_fraction(state, d, o, i + o(1), j + o(2), k + o(3)) * &
+              state%solid%uface(i + o(1), j + o(2), k + o(3), d) - &
+              solid_face_fraction(state, d, o, i, j, k) * state%solid%uface(i, j, k, d))
           end do
+          ! a coupled scene: solid volume the particles hold beyond the tracked fraction
+          if (state%solid%present) s = s + grid%cell_volume * state%solid%source(i, j, k)
           state%rhs(i, j, k) = s
           residual = max(residual, abs(s) / grid%cell_volume)
         end do
@@ -143,6 +152,8 @@ contains
               state%fluid(m)%uface(i, j, k, d) = state%fluid(m)%uface(i, j, k, d) - &
                 dt * state%fluid(m)%vface(i, j, k, d) * g
             end do
+            if (state%solid%present) state%solid%uface(i, j, k, d) = &
+              state%solid%uface(i, j, k, d) - dt * state%solid%vface(i, j, k, d) * g
           end do
         end do
       end do
@@ -194,4 +205,15 @@ contains
       end do
     end do
   end subroutine ice_face_pressure
+
+  !> Upwind solid volume fraction of the low face of cell (i,j,k) in direction d (`o` its unit
+  !! offset) for the solid's volume flux of eq. 35.
+  pure real(wp) function solid_face_fraction(state, d, o, i, j, k) result(phi)
+    type(ice_state_t), intent(in) :: state  !< solid phase
+    integer, intent(in) :: d                !< face direction
+    integer, intent(in) :: o(3)             !< unit offset along d
+    integer, intent(in) :: i, j, k          !< face index (low face of cell i,j,k)
+    phi = upwind(state%solid%uface(i, j, k, d), state%solid%vfrac(i - o(1), j - o(2), k - o(3)), &
+      state%solid%vfrac(i, j, k))
+  end function solid_face_fraction
 end module ice_pressure

@@ -39,7 +39,7 @@ module ice_scene
   implicit none
   private
 
-  public :: ice_scene_t
+  public :: ice_scene_t, exchange_primitives, exchange_lagrangian
 
   !> Multi-fluid ICE with implicit pressure.
   type, extends(scene_t) :: ice_scene_t

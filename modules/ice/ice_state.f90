@@ -11,7 +11,8 @@ module ice_state
   implicit none
   private
 
-  public :: ice_fluid_t, ice_state_t, ice_state_alloc, ice_state_free
+  public :: ice_fluid_t, ice_solid_phase_t, ice_state_t, ice_state_alloc, ice_state_free
+  public :: ice_solid_alloc
 
   !> One fluid material: parameters and cell/face fields.
   type :: ice_fluid_t
@@ -31,6 +32,28 @@ module ice_state
     real(wp), allocatable :: lag(:, :, :, :)    !< Lagrangian mass-specific u,v,w, cv T, v (i,j,k,5)
   end type ice_fluid_t
 
+  !> The solid phase of a coupled (MPMICE) scene as the pressure equation and the exchange see it:
+  !! all solid materials of a cell together (they share one MPM velocity field). Filled by the
+  !! coupling (`mpmice_solid_cells`) each step; absent (`present = .false.`) in ICE-only runs.
+  !! Face fields use the layout of `ice_fluid_t%uface`.
+  type :: ice_solid_phase_t
+    logical :: present = .false.                !< a solid phase takes part
+    real(wp), allocatable :: vfrac(:, :, :)     !< solid volume fraction phi_s the fluids see [-]
+    real(wp), allocatable :: source(:, :, :)    !< phi_s(particles) - phi_s this step [-]
+    real(wp), allocatable :: rho(:, :, :)       !< solid bulk density m_s / V [kg/m^3]
+    real(wp), allocatable :: spvol(:, :, :)     !< grain specific volume phi_s / rho_bar_s [m^3/kg]
+    real(wp), allocatable :: kappa(:, :, :)     !< grain compressibility 1/K_s [1/Pa] (0: rigid grains)
+    real(wp), allocatable :: vel(:, :, :, :)    !< cell velocity of the solid (i,j,k,component) [m/s]
+    real(wp), allocatable :: drag(:, :, :, :)   !< reduced drag coefficient c per fluid (i,j,k,m):
+                                                !! drag per volume phi_m phi_s c du [kg/m^3/s]
+    real(wp), allocatable :: rigid(:, :, :)     !< 1 where the solid velocity is prescribed, else 0
+    real(wp), allocatable :: uface(:, :, :, :)  !< face-normal solid velocity [m/s]
+    real(wp), allocatable :: uface0(:, :, :, :) !< the same from the MPM nodal velocities alone
+    real(wp), allocatable :: vface(:, :, :, :)  !< exchange-modified face specific volume [m^3/kg]
+    real(wp), allocatable :: rigid_face(:, :, :, :) !< 1 where the face velocity is prescribed
+    logical :: explicit_drag = .false.          !< explicit (forward Euler) drag, for comparison
+  end type ice_solid_phase_t
+
   !> All fluids of a block and their shared fields.
   type :: ice_state_t
     integer :: nfluids = 0                          !< number of fluids
@@ -47,6 +70,7 @@ module ice_state
     real(wp), allocatable :: cons(:, :, :, :)       !< advection work: m, m u, m v, m w, m cv T, m v
     logical :: closed(6) = .true.                   !< domain face closed (wall) or open (pressure)
     real(wp) :: p_boundary(6) = 0.0_wp              !< pressure of an open face [Pa]
+    type(ice_solid_phase_t) :: solid                !< solid phase of a coupled scene
   end type ice_state_t
 
 contains
@@ -89,6 +113,33 @@ contains
     allocate(state%cons(l(1):u(1), l(2):u(2), l(3):u(3), 6), source=0.0_wp)
   end subroutine ice_state_alloc
 
+  !> Allocate the solid-phase fields on `grid` (values zero) and mark the phase present.
+  subroutine ice_solid_alloc(state, grid)
+    type(ice_state_t), intent(inout) :: state  !< state (fluids allocated first)
+    type(grid_t), intent(in) :: grid           !< block geometry
+    integer :: l(3), u(3), uf(3)
+    l = grid%lbc
+    u = grid%ubc
+    uf = grid%ubc + 1
+    associate (s => state%solid)
+      s%present = .true.
+      allocate(s%vfrac(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+      allocate(s%source, s%rho, s%spvol, s%kappa, s%rigid, mold=s%vfrac)
+      s%source = 0.0_wp
+      s%rho = 0.0_wp
+      s%spvol = 0.0_wp
+      s%kappa = 0.0_wp
+      s%rigid = 0.0_wp
+      allocate(s%vel(l(1):u(1), l(2):u(2), l(3):u(3), 3), source=0.0_wp)
+      allocate(s%drag(l(1):u(1), l(2):u(2), l(3):u(3), max(state%nfluids, 1)), source=0.0_wp)
+      allocate(s%uface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
+      allocate(s%uface0, s%vface, s%rigid_face, mold=s%uface)
+      s%uface0 = 0.0_wp
+      s%vface = 0.0_wp
+      s%rigid_face = 0.0_wp
+    end associate
+  end subroutine ice_solid_alloc
+
   !> Release every field.
   subroutine ice_state_free(state)
     type(ice_state_t), intent(inout) :: state  !< state
@@ -103,6 +154,11 @@ contains
     if (allocated(state%coef)) deallocate(state%coef)
     if (allocated(state%pface)) deallocate(state%pface)
     if (allocated(state%cons)) deallocate(state%cons)
+    if (allocated(state%solid%vfrac)) deallocate(state%solid%vfrac, state%solid%source, &
+      state%solid%rho, state%solid%spvol, state%solid%kappa, state%solid%vel, state%solid%drag, &
+      state%solid%rigid, state%solid%uface, state%solid%uface0, state%solid%vface, &
+      state%solid%rigid_face)
+    state%solid%present = .false.
     state%nfluids = 0
   end subroutine ice_state_free
 end module ice_state

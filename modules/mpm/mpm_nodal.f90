@@ -15,7 +15,7 @@ module mpm_nodal
   implicit none
   private
 
-  public :: nodal_bc_t, nodal_solve, bc_fixed, bc_roller, bc_free, bc_velocity, bc_kind_from_name
+  public :: nodal_bc_t, nodal_solve, nodal_finish, bc_fixed, bc_roller, bc_free, bc_velocity, bc_kind_from_name
 
   integer, parameter :: bc_fixed = 1     !< no motion
   integer, parameter :: bc_roller = 2    !< no normal motion
@@ -54,7 +54,7 @@ contains
     real(wp), intent(in) :: dt                 !< step [s]
     type(nodal_bc_t), intent(in) :: bc         !< boundary conditions
     real(wp), intent(in) :: min_mass           !< nodes lighter than this are empty [kg]
-    integer :: i, j, k, d, face, idx(3)
+    integer :: i, j, k
     real(wp) :: m, v(3), f(3), vl(3), on(3)
     on = merge(1.0_wp, 0.0_wp, grid%active)
     do k = grid%lbn(3), grid%ubn(3)
@@ -79,26 +79,7 @@ contains
           end if
           ! a node touched by a rigid body moves with it (no-slip contact)
           if (nodes%q(8, i, j, k) > min_mass) vl = nodes%q(9:11, i, j, k) / nodes%q(8, i, j, k) * on
-          idx = [i, j, k]
-          do face = 1, 6
-            d = (face + 1) / 2
-            if (.not. grid%active(d) .or. grid%periodic(d)) cycle
-            ! the face node and the ghost nodes beyond it (GIMP reaches them)
-            if (mod(face, 2) == 1) then
-              if (idx(d) > 1) cycle
-            else
-              if (idx(d) < grid%ncells(d) + 1) cycle
-            end if
-            select case (bc%kind(face))
-            case (bc_fixed)
-              vl = 0.0_wp
-            case (bc_roller)
-              vl(d) = 0.0_wp
-            case (bc_velocity)
-              vl = bc%velocity(:, face) * on
-            case default
-            end select
-          end do
+          call apply_face_bc(grid, bc, [i, j, k], on, vl)
           nodes%vel(:, i, j, k) = v
           nodes%vel_l(:, i, j, k) = vl
           nodes%acc(:, i, j, k) = (vl - v) / dt                    ! eq. 69
@@ -106,4 +87,57 @@ contains
       end do
     end do
   end subroutine nodal_solve
+
+  !> After velocity increments were added to v^L (the coupled scene's pressure and drag,
+  !! eqs. 66-67 with E5): the face conditions again and eq. 69 a = (v^L - v^n)/dt, on every
+  !! node that holds deformable mass and no rigid mass.
+  pure subroutine nodal_finish(nodes, grid, dt, bc, min_mass)
+    type(mpm_nodes_t), intent(inout) :: nodes  !< node fields
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: dt                 !< step [s]
+    type(nodal_bc_t), intent(in) :: bc         !< boundary conditions
+    real(wp), intent(in) :: min_mass           !< nodes lighter than this are empty [kg]
+    integer :: i, j, k
+    real(wp) :: on(3), vl(3)
+    on = merge(1.0_wp, 0.0_wp, grid%active)
+    do k = grid%lbn(3), grid%ubn(3)
+      do j = grid%lbn(2), grid%ubn(2)
+        do i = grid%lbn(1), grid%ubn(1)
+          if (nodes%q(1, i, j, k) <= min_mass .or. nodes%q(8, i, j, k) > min_mass) cycle
+          vl = nodes%vel_l(:, i, j, k) * on
+          call apply_face_bc(grid, bc, [i, j, k], on, vl)
+          nodes%vel_l(:, i, j, k) = vl
+          nodes%acc(:, i, j, k) = (vl - nodes%vel(:, i, j, k)) / dt
+        end do
+      end do
+    end do
+  end subroutine nodal_finish
+
+  !> The `&boundary solid` conditions of the domain faces node `idx` lies on, applied to `vl`.
+  pure subroutine apply_face_bc(grid, bc, idx, on, vl)
+    type(grid_t), intent(in) :: grid           !< block geometry
+    type(nodal_bc_t), intent(in) :: bc         !< boundary conditions
+    integer, intent(in) :: idx(3)              !< node index
+    real(wp), intent(in) :: on(3)              !< 1 in active dimensions, else 0
+    real(wp), intent(inout) :: vl(3)           !< nodal velocity [m/s]
+    integer :: face, d
+    do face = 1, 6
+      d = (face + 1) / 2
+      if (.not. grid%active(d) .or. grid%periodic(d)) cycle
+      if (mod(face, 2) == 1) then
+        if (idx(d) > 1) cycle
+      else
+        if (idx(d) < grid%ncells(d) + 1) cycle
+      end if
+      select case (bc%kind(face))
+      case (bc_fixed)
+        vl = 0.0_wp
+      case (bc_roller)
+        vl(d) = 0.0_wp
+      case (bc_velocity)
+        vl = bc%velocity(:, face) * on
+      case default
+      end select
+    end do
+  end subroutine apply_face_bc
 end module mpm_nodal

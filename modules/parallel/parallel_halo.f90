@@ -25,7 +25,7 @@ module parallel_halo
   public :: halo_t, halo_init, halo_free
   public :: halo_exchange_cell, halo_exchange_cell_vec
   public :: halo_exchange_node, halo_exchange_node_vec
-  public :: halo_reverse_node, halo_reverse_node_vec
+  public :: halo_reverse_node, halo_reverse_node_vec, halo_reverse_cell_vec
 
   !> Message buffers of the halo exchange of one block (allocated once, reused by every call).
   type :: halo_t
@@ -54,6 +54,7 @@ module parallel_halo
   integer, parameter :: stage_cell = 1      !< plan of a cell exchange
   integer, parameter :: stage_node = 2      !< plan of a node exchange
   integer, parameter :: stage_reverse = 3   !< plan of a reverse node halo
+  integer, parameter :: stage_reverse_cell = 4  !< plan of a reverse cell halo
   integer, parameter :: tag_base = 7100     !< first message tag used here
 
 contains
@@ -214,6 +215,29 @@ contains
     if (want_refresh(refresh)) call halo_exchange_node_vec(halo, dom, grid, field)
   end subroutine halo_reverse_node_vec
 
+  !> Reverse halo of a cell field `(component, i, j, k)` over `width` ghost layers (default 1):
+!! every value scattered into an in-domain ghost cell is added into the owner's cell and the
+!! ghost is zeroed; then the ghost copies are refreshed from the owners. Used for particle
+!! deposits that reach into the neighbouring block (particle-domain overlaps). Collective.
+  subroutine halo_reverse_cell_vec(halo, dom, grid, field, width)
+    type(halo_t), intent(inout) :: halo         !< message buffers
+    type(domain_t), intent(in) :: dom           !< decomposition
+    type(grid_t), intent(in) :: grid            !< this block's index ranges
+    real(wp), intent(inout) :: field(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell field
+    integer, intent(in), optional :: width      !< ghost layers to sum (<= ng, default 1)
+    integer :: d, w(3), sbox(2, 3, 2), rbox(2, 3, 2), ext(3)
+    ext = [size(field, 2), size(field, 3), size(field, 4)]
+    call check_bounds(halo, ext, grid%ubc - grid%lbc + 1, size(field, 1), 'halo_reverse_cell')
+    w = cell_width(grid, 1)
+    if (present(width)) w = cell_width(grid, width)
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      call plan_sweep(grid, d, stage_reverse_cell, w, sbox, rbox)
+      call sweep_4(halo, dom, d, grid%lbc, field, sbox, rbox, .true.)
+    end do
+    call halo_exchange_cell_vec(halo, dom, grid, field, maxval(w))
+  end subroutine halo_reverse_cell_vec
+
   ! ------------------------------------------------------------------ planning
 
   !> Ghost layers per dimension of a cell exchange: `width` clipped to the ghost width.
@@ -259,9 +283,15 @@ contains
 
     do e = 1, 3
       top = grid%ncells(e)
-      if (stage /= stage_cell) top = top + 1
+      if (stage /= stage_cell .and. stage /= stage_reverse_cell) top = top + 1
       if (e == d .or. .not. grid%active(e)) then
         span(:, e) = [grid%lo(e), grid%hi(e)]
+      else if (stage == stage_reverse_cell) then
+        if (e > d) then
+          span(:, e) = [grid%lbc(e), grid%ubc(e)]
+        else
+          span(:, e) = [grid%lo(e), grid%hi(e)]
+        end if
       else if (stage == stage_cell) then
         if (e < d) then
           span(:, e) = [grid%lo(e) - w(e), grid%hi(e) + w(e)]
@@ -296,6 +326,11 @@ contains
       sbox(:, d, 2) = [hi - w(d) + 1, hi]
       rbox(:, d, 1) = [lo - w(d), lo - 1]
       rbox(:, d, 2) = [hi + 1, hi + 1 + w(d)]
+    case (stage_reverse_cell)
+      sbox(:, d, 1) = [lo - w(d), lo - 1]
+      sbox(:, d, 2) = [hi + 1, hi + w(d)]
+      rbox(:, d, 1) = [lo, lo + w(d) - 1]
+      rbox(:, d, 2) = [hi - w(d) + 1, hi]
     case default
       sbox(:, d, 1) = [lo - w(d), lo - 1]
       sbox(:, d, 2) = [hi + 1, hi + 1 + w(d)]

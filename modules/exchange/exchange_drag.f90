@@ -1,0 +1,95 @@
+!> Drag laws between a fluid and the porous solid skeleton (paper eqs. 18-21, errata E7, E8).
+!!
+!! The exchange works with a *reduced* coefficient c [kg/m^3/s]: the drag force per unit volume on
+!! fluid m is f_d = phi_m phi_s c (u_s - u_m), so that beta_mn = dt v_m phi_n c in Uintah's
+!! convention (`ice_exchange`). For one fluid filling the pores (phi_m = n = 1 - phi_s), eq. 18
+!! f_d = 18 phi_s (1 - phi_s) mu F / d^2 (u_s - u_f) gives c = 18 mu F / d^2; with several fluids
+!! each gets the share of eq. 18 of its volume fraction, with its own viscosity.
+!!
+!! Laws (`&solid drag_law`):
+!! * 'kozeny_carman': F = 10 phi_s / (1 - phi_s)^2, the low-Reynolds limit that makes eq. 77
+!!   exact (errata E7: drag per volume 180 phi_s^2 mu / (d^2 (1 - phi_s)));
+!! * 'beetstra': F(phi_s, Re) of eqs. 20-21 as printed, Re = n rho_f d |u_s - u_f| / mu (eq. 19);
+!! * 'constant': f_d = K (u_s - u_f) with K = `&solid drag_coefficient` for the whole pore fluid,
+!!   shared among the fluids by volume fraction: c = K / (n phi_s);
+!! * 'impermeable': c = 1e15 kg/m^3/s (the fluid moves with a structure: Uintah's value).
+module exchange_drag
+  use mpmice_kinds, only: wp
+  implicit none
+  private
+
+  public :: drag_law_from_name, drag_reduced_coefficient, beetstra_factor, kozeny_carman_factor
+  public :: drag_kozeny_carman, drag_beetstra, drag_constant, drag_impermeable
+
+  integer, parameter :: drag_kozeny_carman = 1  !< F = 10 phi / (1 - phi)^2
+  integer, parameter :: drag_beetstra = 2       !< F(phi, Re) of eqs. 20-21
+  integer, parameter :: drag_constant = 3       !< constant K per volume
+  integer, parameter :: drag_impermeable = 4    !< structure: very stiff coupling
+
+  real(wp), parameter :: impermeable_coefficient = 1.0e15_wp  !< c of an impermeable solid
+
+contains
+
+  !> Law id of a `&solid drag_law` value (validated by the configuration).
+  pure integer function drag_law_from_name(name) result(law)
+    character(len=*), intent(in) :: name  !< namelist value
+    select case (trim(name))
+    case ('beetstra')
+      law = drag_beetstra
+    case ('constant')
+      law = drag_constant
+    case ('impermeable')
+      law = drag_impermeable
+    case default
+      law = drag_kozeny_carman
+    end select
+  end function drag_law_from_name
+
+  !> Kozeny-Carman factor F = 10 phi_s / (1 - phi_s)^2 (paper below eq. 21, eq. 77).
+  elemental real(wp) function kozeny_carman_factor(phi_s) result(f)
+    real(wp), intent(in) :: phi_s  !< solid volume fraction [-], < 1
+    f = 10.0_wp * phi_s / (1.0_wp - phi_s)**2
+  end function kozeny_carman_factor
+
+  !> F(phi_s, Re) of eqs. 20-21 as printed (Beetstra et al. fit, valid 0.1 < phi_s < 0.6,
+  !! Re < 1000; errata E7). Re = 0 gives the low-Reynolds value of eq. 21.
+  elemental real(wp) function beetstra_factor(phi_s, re) result(f)
+    real(wp), intent(in) :: phi_s  !< solid volume fraction [-], < 1
+    real(wp), intent(in) :: re     !< particle Reynolds number of eq. 19 [-], >= 0
+    real(wp) :: n
+    n = 1.0_wp - phi_s
+    f = 10.0_wp * phi_s / n**2 + n**2 * (1.0_wp + 1.5_wp * sqrt(phi_s))            ! eq. 21
+    if (re > 0.0_wp) f = f + 0.413_wp * re / (24.0_wp * n**2) * &                 ! eq. 20
+      (1.0_wp / n + 3.0_wp * phi_s * n + 8.4_wp * re**(-0.343_wp)) / &
+      (1.0_wp + 10.0_wp**(3.0_wp * phi_s) * re**(-(1.0_wp + 4.0_wp * phi_s) / 2.0_wp))
+  end function beetstra_factor
+
+  !> Reduced drag coefficient c [kg/m^3/s] between a fluid (viscosity mu, intrinsic density
+  !! rho_f) and the solid (fraction phi_s, grain size d) at slip speed |u_s - u_f|.
+  pure real(wp) function drag_reduced_coefficient(law, phi_s, grain_size, viscosity, &
+      rho_fluid, slip, coefficient) result(c)
+    integer, intent(in) :: law             !< drag_kozeny_carman, ...
+    real(wp), intent(in) :: phi_s          !< solid volume fraction [-], 0 < phi_s < 1
+    real(wp), intent(in) :: grain_size     !< grain diameter d [m]
+    real(wp), intent(in) :: viscosity      !< fluid dynamic viscosity mu [Pa s]
+    real(wp), intent(in) :: rho_fluid      !< intrinsic fluid density [kg/m^3]
+    real(wp), intent(in) :: slip           !< |u_s - u_f| [m/s]
+    real(wp), intent(in) :: coefficient    !< K of the constant law [kg/m^3/s]
+    real(wp) :: re, n
+    c = 0.0_wp
+    if (phi_s <= 0.0_wp) return
+    n = 1.0_wp - phi_s
+    select case (law)
+    case (drag_kozeny_carman)
+      c = 18.0_wp * viscosity * kozeny_carman_factor(phi_s) / grain_size**2
+    case (drag_beetstra)
+      re = 0.0_wp
+      if (viscosity > 0.0_wp) re = n * rho_fluid * grain_size * slip / viscosity    ! eq. 19
+      c = 18.0_wp * viscosity * beetstra_factor(phi_s, re) / grain_size**2
+    case (drag_constant)
+      c = coefficient / (n * phi_s)
+    case (drag_impermeable)
+      c = impermeable_coefficient
+    end select
+  end function drag_reduced_coefficient
+end module exchange_drag

@@ -1,0 +1,491 @@
+!> The coupled scene `mpmice`: porous or impermeable MPM solids in ICE fluids (paper eqs. 1-75,
+!! design §5). The fluids are an `ice_scene_t`, the solids an `mpm_scene_t`; this scene owns the
+!! solid phase on the grid (`mpmice_solid_cells`) and runs the step pipeline:
+!!
+!!  P2G (26-27, effective stress, surface loads) -> nodal v^{L-} (40-41) -> solid cell variables
+!!  (28) -> equilibration with the pores (10-11, sum phi_f = n) -> face velocities of fluids (31)
+!!  and solid (33) -> face exchange with drag (34, E8) -> implicit pressure with the solid's volume
+!!  flux (35-36) -> face pressure (37) -> fluid Lagrangian values (42-46) -> solid cell velocity
+!!  with -(1-n) grad p (48) -> cell exchange of the fluids with the solid (50-51) -> solid face
+!!  increments to the nodes (52, 66-69, E5) -> fluid advection (58-65) -> tracked solid fraction
+!!  -> G2P + constitutive update (70-75) -> pore pressure on the particles -> migration.
+!!
+!! The skeleton's constitutive models see the effective stress only (eq. 3); the fluid pressure
+!! acts on it through the face pressure gradient. A fluid's `&fluid volume_fraction` is its share
+!! of the pore space. See docs/mpmice.md.
+module mpmice_scene
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use mpmice_kinds, only: wp, name_len
+  use mpmice_errors, only: fatal, int_text, real_short_text
+  use mpmice_log, only: log_info, log_warning
+  use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
+  use config_types, only: config_t
+  use parallel_domain, only: domain_t
+  use parallel_halo, only: halo_t, halo_init, halo_free, halo_reverse_cell_vec, &
+    halo_exchange_cell
+  use parallel_reduce, only: global_max, global_sum
+  use grid_layout, only: grid_t
+  use solver_pressure, only: struct_solver_set_operator, struct_solver_solve
+  use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field
+  use io_xdmf, only: xdmf_particles_t
+  use driver_scene, only: scene_t
+  use ice_state, only: ice_solid_alloc
+  use ice_scene, only: ice_scene_t, exchange_primitives, exchange_lagrangian
+  use ice_equilibration, only: ice_equilibrate
+  use ice_face_velocity, only: ice_face_velocities
+  use ice_pressure, only: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, &
+    ice_face_pressure
+  use ice_lagrangian, only: ice_lagrangian_values
+  use ice_advection, only: ice_advect
+  use ice_bc, only: ice_bc_fill, bc_pressure, bc_dp
+  use ice_exchange, only: ice_exchange_faces, ice_exchange_cells
+  use ice_viscous, only: ice_viscous_sources
+  use mpm_scene, only: mpm_scene_t
+  use mpm_constitutive, only: model_rigid
+  use mpm_p2g, only: p2g_accumulate, p2g_accumulate_rigid, p2g_complete
+  use mpm_nodal, only: nodal_solve, nodal_finish
+  use mpm_g2p, only: g2p_update
+  use mpm_rigid, only: rigid_velocity, rigid_displacement
+  use mpm_migration, only: migrate_particles
+  use mpm_loads, only: surface_load_t, surface_load_init, surface_load_scatter
+  use exchange_drag, only: drag_law_from_name
+  use mpmice_solid_cells, only: solid_coupling_t, solid_deposit, solid_cell_fields, &
+    solid_face_predictor, solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, &
+    solid_pore_pressure
+  implicit none
+  private
+
+  public :: mpmice_scene_t
+
+  !> Fluids and porous solids with implicit pressure and exchange.
+  type, extends(scene_t) :: mpmice_scene_t
+    type(ice_scene_t) :: fl                               !< the fluids (ICE)
+    type(mpm_scene_t) :: so                               !< the solids (MPM)
+    type(solid_coupling_t), allocatable :: coupling(:)    !< coupling parameters per solid
+    type(surface_load_t), allocatable :: loads(:)         !< surface load per solid
+    type(halo_t) :: halo                                  !< buffers for the cell deposits
+    real(wp), allocatable :: dep(:, :, :, :)              !< particle deposits (comp, cells)
+    real(wp), allocatable :: phi_p(:, :, :)               !< particles' solid fraction
+    real(wp), allocatable :: du(:, :, :, :)               !< face increments (3, cells)
+    real(wp) :: max_fraction = 0.999_wp                   !< cap of the solid fraction
+    integer :: t_cells = 0, t_nodes = 0                   !< timer ids
+  contains
+    procedure :: init => mpmice_init
+    procedure :: stable_dt => mpmice_stable_dt
+    procedure :: step => mpmice_step
+    procedure :: write_state => mpmice_write_state
+    procedure :: restore => mpmice_restore
+    procedure :: output_layout => mpmice_output_layout
+    procedure :: all_finite => mpmice_all_finite
+    procedure :: summary => mpmice_summary
+    procedure :: free => mpmice_free
+  end type mpmice_scene_t
+
+contains
+
+  !> Fluids, solids, the solid phase on the grid; the fluids are scaled into the pore space and
+  !! equilibrated with it.
+  subroutine mpmice_init(self, cfg, dom, grid, timers)
+    class(mpmice_scene_t), intent(inout) :: self  !< scene
+    type(config_t), intent(in) :: cfg             !< validated configuration
+    type(domain_t), intent(in) :: dom             !< decomposition
+    type(grid_t), intent(in) :: grid              !< block geometry
+    type(timer_set_t), intent(inout) :: timers    !< stage timers
+    integer :: s, m, ns, its, failed
+    if (cfg%nfluids < 1 .or. cfg%nsolids < 1) call fatal('mpmice scene: needs at least one ' // &
+      '&fluid and one &solid group')
+    if (any(grid%active .and. grid%ng < 2)) call fatal('mpmice scene: &grid ghost_width must ' // &
+      'be >= 2')
+    call self%fl%init(cfg, dom, grid, timers)
+    call self%so%init(cfg, dom, grid, timers)
+    self%t_cells = timer_register(timers, 'MPMICE solid cells')
+    self%t_nodes = timer_register(timers, 'MPMICE faces to nodes')
+    ns = cfg%nsolids
+    self%max_fraction = cfg%coupling%max_solid_fraction
+    allocate(self%coupling(ns), self%loads(ns))
+    do s = 1, ns
+      associate (c => cfg%solids(s))
+        self%coupling(s)%drag_law = drag_law_from_name(c%drag_law)
+        self%coupling(s)%grain_size = c%grain_size
+        self%coupling(s)%drag_coefficient = c%drag_coefficient
+        if (c%grain_bulk_modulus > 0.0_wp) self%coupling(s)%grain_kappa = 1.0_wp / &
+          c%grain_bulk_modulus
+        self%coupling(s)%rigid = self%so%mats(s)%model == model_rigid
+        self%coupling(s)%grain_density = c%density
+        self%loads(s) = surface_load_init(c%traction, c%traction_lower, c%traction_upper, &
+          c%traction_ramp_time, grid)
+      end associate
+    end do
+    call ice_solid_alloc(self%fl%state, grid)
+    self%fl%state%solid%explicit_drag = trim(cfg%coupling%drag_scheme) == 'explicit'
+    allocate(self%dep(3 + ns, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+      grid%lbc(3):grid%ubc(3)), source=0.0_wp)
+    allocate(self%du(3, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+      grid%lbc(3):grid%ubc(3)), source=0.0_wp)
+    allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+      grid%lbc(3):grid%ubc(3)), source=0.0_wp)
+    call halo_init(self%halo, dom, grid, 3 + ns)
+
+    ! the initial solid fraction; the fluids fill the pores (their fractions scaled by n)
+    call deposit_solids(self, dom, grid)
+    self%fl%state%solid%vfrac = self%phi_p
+    self%fl%state%solid%source = 0.0_wp
+    do m = 1, self%fl%state%nfluids
+      associate (f => self%fl%state%fluid(m))
+        f%rho = f%rho * (1.0_wp - self%phi_p)
+      end associate
+    end do
+    call exchange_primitives(self%fl, dom, grid)
+    call ice_equilibrate(self%fl%state, grid, self%fl%eq_tolerance, self%fl%eq_max, its, failed)
+    if (global_sum(dom, failed) > 0) call fatal('mpmice scene: initial pressure equilibration ' &
+      // 'with the solid failed')
+    call log_info('mpmice: ' // int_text(ns) // ' solids, ' // int_text(cfg%nfluids) // &
+      ' fluids, drag ' // trim(cfg%coupling%drag_scheme))
+  end subroutine mpmice_init
+
+  !> Deposit every solid's particles into the cells, sum the halo, and set the cell fields of the
+  !! solid phase; `phi_p` gets the particles' solid fraction.
+  subroutine deposit_solids(self, dom, grid)
+    class(mpmice_scene_t), intent(inout) :: self  !< scene
+    type(domain_t), intent(in) :: dom             !< decomposition
+    type(grid_t), intent(in) :: grid              !< block geometry
+    integer :: s, ns
+    ns = size(self%coupling)
+    self%dep = 0.0_wp
+    do s = 1, ns
+      call solid_deposit(self%so%parts(s), s, ns, self%coupling(s)%rigid, &
+        self%coupling(s)%grain_density, grid, self%dep)
+    end do
+    call halo_reverse_cell_vec(self%halo, dom, grid, self%dep)
+    call solid_cell_fields(self%fl%state, grid, self%dep, self%coupling, self%max_fraction, &
+      self%so%nodes, self%so%min_mass, self%phi_p)
+  end subroutine deposit_solids
+
+  !> The smaller of the fluid (advective CFL, viscosity) and solid (wave speed) limits.
+  function mpmice_stable_dt(self, dom, grid) result(dt)
+    class(mpmice_scene_t), intent(inout) :: self  !< scene
+    type(domain_t), intent(in) :: dom             !< decomposition
+    type(grid_t), intent(in) :: grid              !< block geometry
+    real(wp) :: dt
+    dt = min(self%fl%stable_dt(dom, grid), self%so%stable_dt(dom, grid))
+  end function mpmice_stable_dt
+
+  !> One coupled step (module header); rejected with the state unchanged when the pressure
+  !! iteration or the equilibration fails.
+  subroutine mpmice_step(self, dom, grid, time, dt, timers, accepted)
+    class(mpmice_scene_t), intent(inout) :: self  !< scene
+    type(domain_t), intent(in) :: dom             !< decomposition
+    type(grid_t), intent(in) :: grid              !< block geometry
+    real(wp), intent(in) :: time                  !< time at the start of the step [s]
+    real(wp), intent(in) :: dt                    !< step [s]
+    type(timer_set_t), intent(inout) :: timers    !< stage timers
+    logical, intent(out) :: accepted              !< the step was taken
+    integer :: s, its, failed, negative, m
+    real(wp) :: ramp
+
+    accepted = .false.
+    associate (fl => self%fl, so => self%so, st => self%fl%state)
+      ! MPM: P2G with the effective stress and the loads, nodal v^{L-}
+      call timer_start(timers, so%t_p2g)
+      so%nodes%q = 0.0_wp
+      do s = 1, so%nsolids
+        if (so%mats(s)%model == model_rigid) then
+          call p2g_accumulate_rigid(so%parts(s), so%nodes%q, so%shape_kind, grid)
+        else
+          call p2g_accumulate(so%parts(s), so%nodes%q, so%shape_kind, grid)
+          call surface_load_scatter(self%loads(s), so%parts(s), so%nodes%q, so%shape_kind, &
+            grid, time + dt)
+        end if
+      end do
+      call p2g_complete(so%nodes, dom, grid, so%halo)
+      call timer_stop(timers, so%t_p2g)
+      call timer_start(timers, so%t_nodal)
+      ramp = 1.0_wp
+      if (so%ramp_time > 0.0_wp) ramp = min(1.0_wp, (time + dt) / so%ramp_time)
+      call nodal_solve(so%nodes, grid, ramp * so%gravity, so%damping, dt, so%bc, so%min_mass)
+      call timer_stop(timers, so%t_nodal)
+
+      ! solid phase on the grid; the particles' fraction beyond the tracked one is a source
+      call timer_start(timers, self%t_cells)
+      call deposit_solids(self, dom, grid)
+      st%solid%source = self%phi_p - st%solid%vfrac
+      call timer_stop(timers, self%t_cells)
+
+      call timer_start(timers, fl%t_equil)
+      call ice_equilibrate(st, grid, fl%eq_tolerance, fl%eq_max, its, failed)
+      call ice_bc_fill(grid, fl%bc, st%pressure, bc_pressure)
+      call timer_stop(timers, fl%t_equil)
+      if (global_sum(dom, failed) > 0) then
+        call log_warning('MPMICE equilibration failed at t = ' // real_short_text(time) // ' s')
+        return
+      end if
+
+      call timer_start(timers, fl%t_face)
+      call ice_face_velocities(st, grid, dt, fl%gravity)
+      call solid_face_predictor(st, grid, so%nodes, dt, so%min_mass)
+      call ice_exchange_faces(st, grid, dt, fl%k_exchange)
+      call timer_stop(timers, fl%t_face)
+
+      if (.not. pressure_solve(self, dom, grid, time, dt, timers)) return
+
+      if (fl%theta /= 1.0_wp) st%pressure = st%p_eq + fl%theta * st%dp_total
+      call timer_start(timers, fl%t_halo)
+      call halo_exchange_cell(fl%halo, dom, grid, st%pressure, 1)
+      call ice_bc_fill(grid, fl%bc, st%pressure, bc_pressure)
+      call timer_stop(timers, fl%t_halo)
+
+      call timer_start(timers, fl%t_lagrange)
+      call ice_face_pressure(st, grid, fl%gravity)
+      do m = 1, st%nfluids
+        fl%sources(:, :, :, :, m) = 0.0_wp
+        call ice_viscous_sources(st, grid, m, dt, fl%sources(:, :, :, 1:3, m), &
+          fl%sources(:, :, :, 4, m))
+      end do
+      call ice_lagrangian_values(st, grid, dt, fl%gravity, fl%sources)
+      call solid_cell_velocity(st, grid, so%nodes, dt, so%min_mass)
+      call ice_exchange_cells(st, grid, dt, fl%k_exchange, fl%h_exchange)
+      if (fl%theta /= 1.0_wp) st%pressure = st%p_eq + st%dp_total
+      call timer_stop(timers, fl%t_lagrange)
+
+      ! the solid's pressure force and drag, from the faces back to the nodes
+      call timer_start(timers, self%t_nodes)
+      call solid_face_to_nodes(st, grid, dom, self%halo, so%nodes, self%du, so%min_mass)
+      call nodal_finish(so%nodes, grid, dt, so%bc, so%min_mass)
+      call timer_stop(timers, self%t_nodes)
+
+      call timer_start(timers, fl%t_halo)
+      call exchange_lagrangian(fl, dom, grid)
+      call timer_stop(timers, fl%t_halo)
+      call timer_start(timers, fl%t_advect)
+      call ice_advect(st, grid, dt, fl%order, negative)
+      call timer_stop(timers, fl%t_advect)
+      negative = global_sum(dom, negative)
+      if (negative > 0) call log_warning('MPMICE advection: negative fluid mass in ' // &
+        int_text(negative) // ' cells at t = ' // real_short_text(time) // ' s')
+      call timer_start(timers, fl%t_halo)
+      call exchange_primitives(fl, dom, grid)
+      call timer_stop(timers, fl%t_halo)
+
+      call timer_start(timers, self%t_cells)
+      call solid_track_fraction(st, grid, dt, self%max_fraction)
+      call halo_exchange_cell(fl%halo, dom, grid, st%solid%vfrac)
+      call zero_wall_ghosts(grid, st%solid%vfrac)
+      call timer_stop(timers, self%t_cells)
+
+      call timer_start(timers, so%t_g2p)
+      do s = 1, so%nsolids
+        if (so%mats(s)%model == model_rigid) then
+          call move_rigid(so, s, grid, time, dt)
+        else
+          call g2p_update(so%parts(s), so%nodes, so%mats(s), so%shape_kind, grid, dt, so%flip)
+        end if
+        call solid_pore_pressure(so%parts(s), grid, st%pressure)
+      end do
+      call timer_stop(timers, so%t_g2p)
+      call timer_start(timers, so%t_migrate)
+      call migrate_all(so, dom, grid, time + dt)
+      call timer_stop(timers, so%t_migrate)
+      fl%steps = fl%steps + 1
+    end associate
+    accepted = .true.
+  end subroutine mpmice_step
+
+  !> Outer iteration of eq. 35 with the solid's volume flux (as `ice_scene_step`); false when it
+  !! does not converge (the step is then rejected).
+  logical function pressure_solve(self, dom, grid, time, dt, timers) result(ok)
+    class(mpmice_scene_t), intent(inout) :: self  !< scene
+    type(domain_t), intent(in) :: dom             !< decomposition
+    type(grid_t), intent(in) :: grid              !< block geometry
+    real(wp), intent(in) :: time                  !< time at the start of the step [s]
+    real(wp), intent(in) :: dt                    !< step [s]
+    type(timer_set_t), intent(inout) :: timers    !< stage timers
+    integer :: outer, pcg
+    real(wp) :: residual, relres
+    logical :: converged
+    associate (fl => self%fl, st => self%fl%state)
+      call timer_start(timers, fl%t_pressure)
+      st%dp_total = 0.0_wp
+      residual = global_max(dom, ice_pressure_rhs(st, grid, dt))
+      outer = 0
+      do while ((residual > fl%outer_tolerance .or. outer == 0) .and. outer < fl%max_outer)
+        outer = outer + 1
+        call timer_start(timers, fl%t_operator)
+        call ice_pressure_assemble(st, grid, dt, fl%theta)
+        call struct_solver_set_operator(fl%solver, grid, st%diag, st%coef(:, :, :, 1), &
+          st%coef(:, :, :, 2), st%coef(:, :, :, 3))
+        call timer_stop(timers, fl%t_operator)
+        st%dp = 0.0_wp
+        call timer_start(timers, fl%t_pcg)
+        call struct_solver_solve(fl%solver, grid, st%rhs, st%dp, pcg, relres, converged)
+        call timer_stop(timers, fl%t_pcg)
+        fl%solves = fl%solves + 1
+        fl%total_pcg = fl%total_pcg + pcg
+        fl%max_pcg_seen = max(fl%max_pcg_seen, pcg)
+        call halo_exchange_cell(fl%halo, dom, grid, st%dp, 1)
+        call ice_bc_fill(grid, fl%bc, st%dp, bc_dp)
+        call ice_pressure_correct(st, grid, dt, fl%theta)
+        residual = global_max(dom, ice_pressure_rhs(st, grid, dt))
+      end do
+      call timer_stop(timers, fl%t_pressure)
+      ok = residual <= fl%outer_tolerance
+      if (.not. ok) then
+        call log_warning('MPMICE pressure outer iteration: max |rhs|/V = ' // &
+          real_short_text(residual) // ' after ' // int_text(outer) // ' iterations at t = ' &
+          // real_short_text(time) // ' s')
+        return
+      end if
+      fl%total_outer = fl%total_outer + outer
+      fl%max_outer_seen = max(fl%max_outer_seen, outer)
+    end associate
+  end function pressure_solve
+
+  !> No solid beyond a non-periodic domain face: the ghost cells there hold phi_s = 0, so the
+  !! upwind solid flux of a boundary face is phi_s u_s for outflow and 0 for inflow.
+  pure subroutine zero_wall_ghosts(grid, field)
+    type(grid_t), intent(in) :: grid   !< block geometry
+    real(wp), intent(inout) :: field(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell field
+    integer :: i, j, k, c(3), d
+    do k = grid%lbc(3), grid%ubc(3)
+      do j = grid%lbc(2), grid%ubc(2)
+        do i = grid%lbc(1), grid%ubc(1)
+          c = [i, j, k]
+          do d = 1, 3
+            if (.not. grid%active(d) .or. grid%periodic(d)) cycle
+            if (c(d) < 1 .or. c(d) > grid%ncells(d)) field(i, j, k) = 0.0_wp
+          end do
+        end do
+      end do
+    end do
+  end subroutine zero_wall_ghosts
+
+  !> Rigid solid `s` from `time` to `time + dt` along its prescribed motion.
+  subroutine move_rigid(so, s, grid, time, dt)
+    type(mpm_scene_t), intent(inout) :: so  !< solids
+    integer, intent(in) :: s                !< rigid solid
+    type(grid_t), intent(in) :: grid        !< block geometry
+    real(wp), intent(in) :: time            !< start of the step [s]
+    real(wp), intent(in) :: dt              !< step [s]
+    real(wp) :: dx(3), v(3)
+    integer :: ip
+    dx = merge(rigid_displacement(so%motions(s), time, dt), 0.0_wp, grid%active)
+    v = merge(rigid_velocity(so%motions(s), time + dt), 0.0_wp, grid%active)
+    do ip = 1, so%parts(s)%np
+      so%parts(s)%x(:, ip) = so%parts(s)%x(:, ip) + dx
+      so%parts(s)%v(:, ip) = v
+    end do
+  end subroutine move_rigid
+
+  !> Migrate every solid's particles; removals are logged and counted.
+  subroutine migrate_all(so, dom, grid, time)
+    type(mpm_scene_t), intent(inout) :: so  !< solids
+    type(domain_t), intent(in) :: dom       !< decomposition
+    type(grid_t), intent(in) :: grid        !< block geometry
+    real(wp), intent(in) :: time            !< time after the step [s]
+    integer :: s, removed
+    do s = 1, so%nsolids
+      call migrate_particles(so%mig, so%parts(s), dom, grid, removed)
+      removed = global_sum(dom, removed)
+      if (removed > 0) then
+        so%removed = so%removed + removed
+        call log_warning('mpmice: ' // int_text(removed) // ' particles of ' // &
+          trim(so%names(s)) // ' left the domain at t = ' // real_short_text(time) // ' s')
+        so%global_np(s) = global_sum(dom, int(so%parts(s)%np, kind(so%global_np)))
+      end if
+    end do
+  end subroutine migrate_all
+
+  !> Fluid and solid datasets, plus `cell/solid_volume_fraction` (the tracked phi_s) and
+  !! `cell/porosity`; a checkpoint adds the tracked fraction and the solid cell velocity.
+  subroutine mpmice_write_state(self, file, dom, grid, checkpoint)
+    class(mpmice_scene_t), intent(inout) :: self  !< scene
+    type(h5_file_t), intent(in) :: file           !< open file
+    type(domain_t), intent(in) :: dom             !< decomposition
+    type(grid_t), intent(in) :: grid              !< block geometry
+    logical, intent(in) :: checkpoint             !< full restart state
+    character(len=*), parameter :: comp(3) = ['x', 'y', 'z']
+    integer :: d
+    call self%fl%write_state(file, dom, grid, checkpoint)
+    call self%so%write_state(file, dom, grid, checkpoint)
+    associate (sp => self%fl%state%solid)
+      if (checkpoint) then
+        call h5_write_cell_field(file, 'checkpoint/cell/solid_volume_fraction', grid, sp%vfrac)
+        do d = 1, 3
+          call h5_write_cell_field(file, 'checkpoint/cell/solid_velocity_' // comp(d), grid, &
+            sp%vel(:, :, :, d))
+        end do
+      else
+        call h5_write_cell_field(file, 'cell/solid_volume_fraction', grid, sp%vfrac)
+        self%phi_p = 1.0_wp - sp%vfrac
+        call h5_write_cell_field(file, 'cell/porosity', grid, self%phi_p)
+      end if
+    end associate
+  end subroutine mpmice_write_state
+
+  !> Fluids, particles and the tracked solid fraction of a checkpoint.
+  subroutine mpmice_restore(self, file, dom, grid)
+    class(mpmice_scene_t), intent(inout) :: self  !< scene
+    type(h5_file_t), intent(in) :: file           !< open checkpoint
+    type(domain_t), intent(in) :: dom             !< decomposition
+    type(grid_t), intent(in) :: grid              !< block geometry
+    character(len=*), parameter :: comp(3) = ['x', 'y', 'z']
+    integer :: d
+    call self%fl%restore(file, dom, grid)
+    call self%so%restore(file, dom, grid)
+    associate (sp => self%fl%state%solid)
+      call h5_read_cell_field(file, 'checkpoint/cell/solid_volume_fraction', grid, sp%vfrac)
+      call halo_exchange_cell(self%fl%halo, dom, grid, sp%vfrac)
+      call zero_wall_ghosts(grid, sp%vfrac)
+      do d = 1, 3
+        call h5_read_cell_field(file, 'checkpoint/cell/solid_velocity_' // comp(d), grid, &
+          sp%vel(:, :, :, d))
+      end do
+    end associate
+  end subroutine mpmice_restore
+
+  !> Datasets of both parts and of the solid phase.
+  subroutine mpmice_output_layout(self, cell_paths, particle_sets)
+    class(mpmice_scene_t), intent(in) :: self                            !< scene
+    character(len=name_len), allocatable, intent(out) :: cell_paths(:)   !< cell dataset paths
+    type(xdmf_particles_t), allocatable, intent(out) :: particle_sets(:) !< particle sets
+    character(len=name_len), allocatable :: fluid_paths(:), solid_paths(:)
+    type(xdmf_particles_t), allocatable :: none(:)
+    call self%fl%output_layout(fluid_paths, none)
+    call self%so%output_layout(solid_paths, particle_sets)
+    allocate(cell_paths(size(fluid_paths) + size(solid_paths) + 2))
+    cell_paths(1:size(fluid_paths)) = fluid_paths
+    cell_paths(size(fluid_paths) + 1:size(fluid_paths) + size(solid_paths)) = solid_paths
+    cell_paths(size(cell_paths) - 1) = 'cell/solid_volume_fraction'
+    cell_paths(size(cell_paths)) = 'cell/porosity'
+  end subroutine mpmice_output_layout
+
+  !> Both parts finite.
+  function mpmice_all_finite(self, grid) result(finite)
+    class(mpmice_scene_t), intent(in) :: self  !< scene
+    type(grid_t), intent(in) :: grid           !< block geometry
+    logical :: finite
+    finite = self%fl%all_finite(grid) .and. self%so%all_finite(grid)
+    associate (lo => grid%lo, hi => grid%hi)
+      finite = finite .and. all(ieee_is_finite(self%fl%state%solid%vfrac(lo(1):hi(1), &
+        lo(2):hi(2), lo(3):hi(3))))
+    end associate
+  end function mpmice_all_finite
+
+  !> Statistics of both parts.
+  subroutine mpmice_summary(self, dom, grid)
+    class(mpmice_scene_t), intent(inout) :: self  !< scene
+    type(domain_t), intent(in) :: dom             !< decomposition
+    type(grid_t), intent(in) :: grid              !< block geometry
+    call self%fl%summary(dom, grid)
+    call self%so%summary(dom, grid)
+  end subroutine mpmice_summary
+
+  !> Release everything.
+  subroutine mpmice_free(self)
+    class(mpmice_scene_t), intent(inout) :: self  !< scene
+    call self%fl%free()
+    call self%so%free()
+    call halo_free(self%halo)
+    if (allocated(self%dep)) deallocate(self%dep, self%du, self%phi_p)
+    if (allocated(self%coupling)) deallocate(self%coupling, self%loads)
+  end subroutine mpmice_free
+end module mpmice_scene

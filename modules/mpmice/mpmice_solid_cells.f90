@@ -1,0 +1,464 @@
+!> The solid skeleton on the ICE cells and faces (paper eqs. 28, 32-33, 48, 52, 66-69 with E5):
+!! what the pressure equation and the exchange of a coupled scene see of the MPM particles, and the
+!! way their results go back to the MPM nodes.
+!!
+!! * Cell deposit (eq. 28): every particle spreads its volume and mass over the cells its domain
+!!   [x_p - l_p, x_p + l_p] overlaps (l_p the uGIMP half-width), clipped to the domain; a reverse
+!!   halo sums deposits that reach the neighbouring block. A column seeded with one particle per
+!!   cell therefore has a sharp edge, which Darcy flow needs (a node-averaged fraction smears the
+!!   edge over two cells and changes the column's resistance by ~17 % at 20 cells).
+!! * Tracked fraction: the fluids see a solid fraction phi_s that evolves with the same fluxes
+!!   as the pressure equation (-dt div(phi_s u_s) - phi_s kappa_s dp), so sum phi = 1 holds to
+!!   the outer tolerance; the difference to the particles' fraction enters the next step's
+!!   pressure equation as a volume source (`ice_solid_phase_t%source`), so fluid is pushed out
+!!   instead of compressed (no pressure noise from the particle representation).
+!! * Face velocity (eqs. 32-33): the mass-weighted mean of the MPM velocities v^{L-} (eq. 41,
+!!   effective stress, gravity and loads) of the face's nodes, minus dt v_s grad p (v_s the grain
+!!   specific volume); then the face exchange (eq. 34) and the outer pressure iteration correct
+!!   it. Departure from eq. 33: the stress term comes from the nodes (the same forces MPM uses)
+!!   instead of the cell-centred stress difference.
+!! * Back to the nodes (eqs. 52, 66-67 with errata E5): each node adds the mean increment
+!!   (final - nodal face velocity) of the faces it belongs to, then the solid boundary
+!!   conditions and eq. 69 a = (v^L - v^n)/dt. In 1D a face is a node, so the particles move
+!!   exactly with the velocities the pressure equation used.
+module mpmice_solid_cells
+  use mpmice_kinds, only: wp
+  use grid_layout, only: grid_t
+  use parallel_domain, only: domain_t
+  use parallel_halo, only: halo_t, halo_reverse_cell_vec, halo_exchange_cell_vec
+  use mpm_particles, only: particles_t
+  use mpm_nodes, only: mpm_nodes_t
+  use ice_state, only: ice_state_t
+  use ice_face_velocity, only: face_range, closed_face, boundary_face
+  use exchange_drag, only: drag_reduced_coefficient
+  implicit none
+  private
+
+  public :: solid_coupling_t, solid_deposit, solid_cell_fields, solid_face_predictor, &
+    solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, solid_pore_pressure
+
+  !> Coupling parameters of one solid material.
+  type :: solid_coupling_t
+    integer :: drag_law = 1                 !< exchange_drag law id
+    real(wp) :: grain_size = 1.0e-3_wp      !< d [m]
+    real(wp) :: drag_coefficient = 0.0_wp   !< K of the constant law [kg/m^3/s]
+    real(wp) :: grain_kappa = 0.0_wp        !< 1 / grain bulk modulus [1/Pa] (0: incompressible)
+    real(wp) :: grain_density = 2650.0_wp   !< rho_s of the grains [kg/m^3]
+    logical :: rigid = .false.              !< prescribed motion
+  end type solid_coupling_t
+
+contains
+
+  !> Deposit of the particles of solid `s` into `dep(:, i, j, k)` (local, no communication):
+  !! component 1 mass [kg], 2 grain volume m_p / rho_s [m^3] (a particle's volume V_p is that of
+  !! the mixture it stands for; its grains fill m_p / rho_s of it), 2 + s the grain volume of
+  !! solid s, and 2 + nsolids + 1 the grain volume of rigid solids.
+  subroutine solid_deposit(p, s, nsolids, rigid, grain_density, grid, dep)
+    type(particles_t), intent(in) :: p          !< particles of solid s
+    integer, intent(in) :: s                    !< solid index
+    integer, intent(in) :: nsolids              !< number of solids
+    logical, intent(in) :: rigid                !< solid s is rigid
+    real(wp), intent(in) :: grain_density       !< rho_s [kg/m^3]
+    type(grid_t), intent(in) :: grid            !< block geometry
+    real(wp), intent(inout) :: dep(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< deposits
+    integer :: ip, d, a, b, c, first(3), nc(3)
+    real(wp) :: w(2, 3), wt, vg
+    do ip = 1, p%np
+      vg = p%mass(ip) / grain_density
+      do d = 1, 3
+        call overlap_weights(grid, d, p%x(d, ip), p%half_width(d), first(d), nc(d), w(:, d))
+      end do
+      do c = 1, nc(3)
+        do b = 1, nc(2)
+          do a = 1, nc(1)
+            wt = w(a, 1) * w(b, 2) * w(c, 3)
+            associate (q => dep(:, first(1) + a - 1, first(2) + b - 1, first(3) + c - 1))
+              q(1) = q(1) + wt * p%mass(ip)
+              q(2) = q(2) + wt * vg
+              q(2 + s) = q(2 + s) + wt * vg
+              if (rigid) q(3 + nsolids) = q(3 + nsolids) + wt * vg
+            end associate
+          end do
+        end do
+      end do
+    end do
+  end subroutine solid_deposit
+
+  !> Cells (at most 2) overlapped along `d` by the particle domain [x - l, x + l] and their
+  !! fractions of it, clipped to the domain in a non-periodic dimension (fractions renormalised).
+  pure subroutine overlap_weights(grid, d, x, l, first, n, w)
+    type(grid_t), intent(in) :: grid   !< block geometry
+    integer, intent(in) :: d           !< dimension
+    real(wp), intent(in) :: x          !< particle coordinate [m]
+    real(wp), intent(in) :: l          !< half-width [m]
+    integer, intent(out) :: first      !< first cell index
+    integer, intent(out) :: n          !< cells overlapped (1 or 2)
+    real(wp), intent(out) :: w(2)      !< fractions
+    real(wp) :: a, b, xb, total
+    integer :: last
+    w = 0.0_wp
+    if (.not. grid%active(d)) then
+      first = 1
+      n = 1
+      w(1) = 1.0_wp
+      return
+    end if
+    a = (x - l - grid%lower(d)) / grid%dx(d)
+    b = (x + l - grid%lower(d)) / grid%dx(d)
+    if (.not. grid%periodic(d)) then
+      a = max(a, 0.0_wp)
+      b = min(b, real(grid%ncells(d), wp))
+    end if
+    first = floor(a) + 1
+    last = min(floor(b) + 1, first + 1)
+    if (b <= real(first, wp)) last = first
+    n = last - first + 1
+    if (n == 1) then
+      w(1) = 1.0_wp
+    else
+      xb = real(first, wp)
+      total = b - a
+      w(1) = (xb - a) / total
+      w(2) = (b - xb) / total
+    end if
+  end subroutine overlap_weights
+
+  !> From the summed deposits (valid in ghost cells too): the particles' solid fraction
+  !! (capped at `max_fraction`), bulk density, grain specific volume and compressibility, the
+  !! rigid flags, and the reduced drag coefficient per fluid (slip from the velocities of time n).
+  subroutine solid_cell_fields(state, grid, dep, solids, max_fraction, nodes, min_mass, phi_p)
+    type(ice_state_t), intent(inout) :: state   !< fluids; solid phase written
+    type(grid_t), intent(in) :: grid            !< block geometry
+    real(wp), intent(in) :: dep(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< deposits
+    type(solid_coupling_t), intent(in) :: solids(:) !< coupling parameters per solid
+    real(wp), intent(in) :: max_fraction        !< largest solid fraction [-]
+    type(mpm_nodes_t), intent(in) :: nodes      !< node fields (rigid mass in q(8))
+    real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
+    real(wp), intent(out) :: phi_p(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< particle fraction
+    integer :: i, j, k, s, m, ns
+    real(wp) :: vol, phi, cs, rho_f, slip, wsum
+    ns = size(solids)
+    associate (sp => state%solid)
+      do k = grid%lbc(3), grid%ubc(3)
+        do j = grid%lbc(2), grid%ubc(2)
+          do i = grid%lbc(1), grid%ubc(1)
+            vol = dep(2, i, j, k)
+            phi = min(vol / grid%cell_volume, max_fraction)
+            phi_p(i, j, k) = phi
+            sp%rho(i, j, k) = dep(1, i, j, k) / grid%cell_volume
+            sp%spvol(i, j, k) = 0.0_wp
+            sp%kappa(i, j, k) = 0.0_wp
+            sp%drag(i, j, k, :) = 0.0_wp
+            sp%rigid(i, j, k) = merge(1.0_wp, 0.0_wp, corner_rigid(nodes, grid, [i, j, k], &
+              min_mass))
+            if (vol <= 0.0_wp .or. dep(1, i, j, k) <= 0.0_wp) cycle
+            sp%spvol(i, j, k) = vol / dep(1, i, j, k)
+            do m = 1, state%nfluids
+              associate (f => state%fluid(m))
+                rho_f = 1.0_wp / max(f%spvol(i, j, k), tiny(1.0_wp))
+                slip = norm2(sp%vel(i, j, k, :) - f%vel(i, j, k, :))
+                cs = 0.0_wp
+                wsum = 0.0_wp
+                do s = 1, ns
+                  if (dep(2 + s, i, j, k) <= 0.0_wp) cycle
+                  cs = cs + dep(2 + s, i, j, k) * drag_reduced_coefficient(solids(s)%drag_law, &
+                    phi, solids(s)%grain_size, f%viscosity, rho_f, slip, &
+                    solids(s)%drag_coefficient)
+                  wsum = wsum + dep(2 + s, i, j, k)
+                end do
+                sp%drag(i, j, k, m) = cs / wsum
+              end associate
+            end do
+            do s = 1, ns
+              sp%kappa(i, j, k) = sp%kappa(i, j, k) + dep(2 + s, i, j, k) / vol * &
+                solids(s)%grain_kappa
+            end do
+          end do
+        end do
+      end do
+    end associate
+  end subroutine solid_cell_fields
+
+  !> True when a corner node of cell `c` carries rigid (prescribed-motion) mass.
+  pure logical function corner_rigid(nodes, grid, c, min_mass) result(rigid)
+    type(mpm_nodes_t), intent(in) :: nodes  !< node fields
+    type(grid_t), intent(in) :: grid        !< block geometry
+    integer, intent(in) :: c(3)             !< cell index
+    real(wp), intent(in) :: min_mass        !< empty-node threshold [kg]
+    integer :: a, b, e, top(3)
+    top = merge(1, 0, grid%active)
+    rigid = .false.
+    do e = 0, top(3)
+      do b = 0, top(2)
+        do a = 0, top(1)
+          if (c(1) + a > grid%ubn(1) .or. c(2) + b > grid%ubn(2) .or. c(3) + e > grid%ubn(3)) cycle
+          if (nodes%q(8, c(1) + a, c(2) + b, c(3) + e) > min_mass) rigid = .true.
+        end do
+      end do
+    end do
+  end function corner_rigid
+
+  !> Solid cell velocity for the cell exchange (eqs. 28, 48, 51): mass-weighted mean of the
+  !! corner nodes' v^{L-} plus the pressure acceleration -dt v_s grad p of the face pressures.
+  subroutine solid_cell_velocity(state, grid, nodes, dt, min_mass)
+    type(ice_state_t), intent(inout) :: state   !< solid phase vel written (owned cells)
+    type(grid_t), intent(in) :: grid            !< block geometry
+    type(mpm_nodes_t), intent(in) :: nodes      !< node fields
+    real(wp), intent(in) :: dt                  !< time step [s]
+    real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
+    integer :: i, j, k, a, b, e, d, top(3), o(3)
+    real(wp) :: m, mv(3), mi
+    top = merge(1, 0, grid%active)
+    associate (sp => state%solid)
+      do k = grid%lo(3), grid%hi(3)
+        do j = grid%lo(2), grid%hi(2)
+          do i = grid%lo(1), grid%hi(1)
+            m = 0.0_wp
+            mv = 0.0_wp
+            do e = 0, top(3)
+              do b = 0, top(2)
+                do a = 0, top(1)
+                  mi = nodes%q(1, i + a, j + b, k + e) + nodes%q(8, i + a, j + b, k + e)
+                  if (mi <= min_mass) cycle
+                  m = m + mi
+                  mv = mv + mi * nodes%vel_l(:, i + a, j + b, k + e)
+                end do
+              end do
+            end do
+            sp%vel(i, j, k, :) = 0.0_wp
+            if (m > 0.0_wp) sp%vel(i, j, k, :) = mv / m
+            if (sp%rigid(i, j, k) > 0.5_wp .or. sp%vfrac(i, j, k) <= 0.0_wp) cycle
+            do d = 1, 3
+              if (.not. grid%active(d)) cycle
+              o = 0
+              o(d) = 1
+              sp%vel(i, j, k, d) = sp%vel(i, j, k, d) - dt * sp%spvol(i, j, k) * &
+                (state%pface(i + o(1), j + o(2), k + o(3), d) - state%pface(i, j, k, d)) / &
+                grid%dx(d)
+            end do
+          end do
+        end do
+      end do
+    end associate
+  end subroutine solid_cell_velocity
+
+  !> Nodal face velocity u_s,f0 (mass-weighted mean of the face nodes' v^{L-}), the predictor
+  !! u_s,f = u_s,f0 - dt v_s (p_R - p_L)/dx (eq. 33, pressure part) on faces where the solid
+  !! moves freely, and the rigid-face flags. Faces of the owned cells.
+  subroutine solid_face_predictor(state, grid, nodes, dt, min_mass)
+    type(ice_state_t), intent(inout) :: state   !< solid phase face fields written
+    type(grid_t), intent(in) :: grid            !< block geometry
+    type(mpm_nodes_t), intent(in) :: nodes      !< node fields (vel_l = v^{L-})
+    real(wp), intent(in) :: dt                  !< time step [s]
+    real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
+    integer :: d, i, j, k, o(3), r(2, 3), span(3), a, b, e, n(3)
+    real(wp) :: m, mv, mi, vl, vr, v
+    logical :: rigid
+    associate (sp => state%solid)
+      do d = 1, 3
+        if (.not. grid%active(d)) cycle
+        o = 0
+        o(d) = 1
+        span = merge(1, 0, grid%active)
+        span(d) = 0
+        r = face_range(grid, d)
+        do k = r(1, 3), r(2, 3)
+          do j = r(1, 2), r(2, 2)
+            do i = r(1, 1), r(2, 1)
+              m = 0.0_wp
+              mv = 0.0_wp
+              rigid = .false.
+              do e = 0, span(3)
+                do b = 0, span(2)
+                  do a = 0, span(1)
+                    n = [i + a, j + b, k + e]
+                    if (nodes%q(8, n(1), n(2), n(3)) > min_mass) rigid = .true.
+                    mi = nodes%q(1, n(1), n(2), n(3)) + nodes%q(8, n(1), n(2), n(3))
+                    if (mi <= min_mass) cycle
+                    m = m + mi
+                    mv = mv + mi * nodes%vel_l(d, n(1), n(2), n(3))
+                  end do
+                end do
+              end do
+              sp%uface0(i, j, k, d) = 0.0_wp
+              if (m > 0.0_wp) sp%uface0(i, j, k, d) = mv / m
+              sp%uface(i, j, k, d) = sp%uface0(i, j, k, d)
+              sp%rigid_face(i, j, k, d) = merge(1.0_wp, 0.0_wp, rigid)
+              sp%vface(i, j, k, d) = 0.0_wp
+              if (rigid .or. closed_face(state, grid, d, [i, j, k])) cycle
+              vl = sp%spvol(i - o(1), j - o(2), k - o(3))
+              vr = sp%spvol(i, j, k)
+              if (vl > 0.0_wp .and. vr > 0.0_wp) then
+                v = 0.5_wp * (vl + vr)
+              else
+                v = max(vl, vr)
+              end if
+              sp%vface(i, j, k, d) = v
+              sp%uface(i, j, k, d) = sp%uface(i, j, k, d) - dt * v * &
+                (state%pressure(i, j, k) - state%pressure(i - o(1), j - o(2), k - o(3))) / &
+                grid%dx(d)
+            end do
+          end do
+        end do
+      end do
+    end associate
+  end subroutine solid_face_predictor
+
+  !> Eqs. 52, 66-67 (E5) through the faces: every node with solid mass adds the mean of the
+  !! increments u_s,f - u_s,f0 of the faces it belongs to; `du` is scratch (3, cells) exchanged
+  !! over the halo. The caller applies the boundary conditions and eq. 69 afterwards.
+  subroutine solid_face_to_nodes(state, grid, dom, halo, nodes, du, min_mass)
+    type(ice_state_t), intent(in) :: state      !< solid phase face velocities
+    type(grid_t), intent(in) :: grid            !< block geometry
+    type(domain_t), intent(in) :: dom           !< decomposition
+    type(halo_t), intent(inout) :: halo         !< halo buffers (>= 3 components)
+    type(mpm_nodes_t), intent(inout) :: nodes   !< vel_l updated
+    real(wp), intent(inout) :: du(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< scratch
+    real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
+    integer :: d, i, j, k, o(3), r(2, 3), span(3), a, b, e, c(3), cnt
+    real(wp) :: s
+    du = 0.0_wp
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      r = face_range(grid, d)
+      do k = r(1, 3), min(r(2, 3), grid%ubc(3))
+        do j = r(1, 2), min(r(2, 2), grid%ubc(2))
+          do i = r(1, 1), min(r(2, 1), grid%ubc(1))
+            du(d, i, j, k) = state%solid%uface(i, j, k, d) - state%solid%uface0(i, j, k, d)
+          end do
+        end do
+      end do
+    end do
+    call halo_exchange_cell_vec(halo, dom, grid, du)
+    ! the high face of the last block's last cell is no cell's low face: keep it aside
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      o = 0
+      o(d) = 1
+      span = merge(1, 0, grid%active)
+      span(d) = 0
+      do k = grid%lbn(3), grid%ubn(3)
+        do j = grid%lbn(2), grid%ubn(2)
+          do i = grid%lbn(1), grid%ubn(1)
+            if (nodes%q(1, i, j, k) <= min_mass .or. nodes%q(8, i, j, k) > min_mass) cycle
+            s = 0.0_wp
+            cnt = 0
+            do e = 0, span(3)
+              do b = 0, span(2)
+                do a = 0, span(1)
+                  c = [i - a, j - b, k - e]
+                  if (.not. face_exists(grid, d, c)) cycle
+                  s = s + face_increment(state, grid, du, d, c)
+                  cnt = cnt + 1
+                end do
+              end do
+            end do
+            if (cnt > 0) nodes%vel_l(d, i, j, k) = nodes%vel_l(d, i, j, k) + s / real(cnt, wp)
+          end do
+        end do
+      end do
+    end do
+  end subroutine solid_face_to_nodes
+
+  !> True when the low face (direction d) of cell index c lies in the domain and in the
+  !! allocation (tangential indices of a cell, normal index of a node).
+  pure logical function face_exists(grid, d, c) result(ok)
+    type(grid_t), intent(in) :: grid  !< block geometry
+    integer, intent(in) :: d          !< face direction
+    integer, intent(in) :: c(3)       !< face index
+    integer :: e
+    ok = .true.
+    do e = 1, 3
+      if (.not. grid%active(e)) cycle
+      if (e == d) then
+        if (c(e) < grid%lbc(e) .or. c(e) > grid%ubc(e) + 1) ok = .false.
+        if (.not. grid%periodic(e) .and. (c(e) < 1 .or. c(e) > grid%ncells(e) + 1)) ok = .false.
+      else
+        if (c(e) < grid%lbc(e) .or. c(e) > grid%ubc(e)) ok = .false.
+        if (.not. grid%periodic(e) .and. (c(e) < 1 .or. c(e) > grid%ncells(e))) ok = .false.
+      end if
+    end do
+  end function face_exists
+
+  !> Increment of the face (d, c): from `du` (halo-filled) where the face is the low face of an
+  !! allocated cell, else (the domain's or block's last high face) from the face arrays.
+  pure real(wp) function face_increment(state, grid, du, d, c) result(v)
+    type(ice_state_t), intent(in) :: state  !< solid phase
+    type(grid_t), intent(in) :: grid        !< block geometry
+    real(wp), intent(in) :: du(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< face increments
+    integer, intent(in) :: d                !< face direction
+    integer, intent(in) :: c(3)             !< face index
+    if (c(d) <= grid%ubc(d)) then
+      v = du(d, c(1), c(2), c(3))
+    else
+      v = state%solid%uface(c(1), c(2), c(3), d) - state%solid%uface0(c(1), c(2), c(3), d)
+    end if
+  end function face_increment
+
+  !> Tracked solid fraction at the end of the step, with exactly the volume terms of the
+  !! pressure equation: phi_s += source - dt/V sum_faces A phi_s,up u_s,f - phi_s kappa_s dp.
+  subroutine solid_track_fraction(state, grid, dt, max_fraction)
+    type(ice_state_t), intent(inout) :: state   !< solid phase (vfrac updated, owned cells)
+    type(grid_t), intent(in) :: grid            !< block geometry
+    real(wp), intent(in) :: dt                  !< time step [s]
+    real(wp), intent(in) :: max_fraction        !< largest solid fraction [-]
+    integer :: i, j, k, d, o(3)
+    real(wp) :: flux, phi_l, phi_r, area
+    associate (sp => state%solid)
+      do k = grid%lo(3), grid%hi(3)
+        do j = grid%lo(2), grid%hi(2)
+          do i = grid%lo(1), grid%hi(1)
+            flux = 0.0_wp
+            do d = 1, 3
+              if (.not. grid%active(d)) cycle
+              o = 0
+              o(d) = 1
+              area = grid%cell_volume / grid%dx(d)
+              phi_r = upwind_fraction(sp%uface(i + o(1), j + o(2), k + o(3), d), &
+                sp%vfrac(i, j, k), sp%vfrac(i + o(1), j + o(2), k + o(3)))
+              phi_l = upwind_fraction(sp%uface(i, j, k, d), sp%vfrac(i - o(1), j - o(2), &
+                k - o(3)), sp%vfrac(i, j, k))
+              flux = flux + area * (phi_r * sp%uface(i + o(1), j + o(2), k + o(3), d) - &
+                phi_l * sp%uface(i, j, k, d))
+            end do
+            sp%source(i, j, k) = sp%vfrac(i, j, k) + sp%source(i, j, k) - dt * flux / &
+              grid%cell_volume - sp%vfrac(i, j, k) * sp%kappa(i, j, k) * state%dp_total(i, j, k)
+          end do
+        end do
+      end do
+      ! (source used as scratch so that every flux above reads the old fractions)
+      do k = grid%lo(3), grid%hi(3)
+        do j = grid%lo(2), grid%hi(2)
+          do i = grid%lo(1), grid%hi(1)
+            sp%vfrac(i, j, k) = min(max(sp%source(i, j, k), 0.0_wp), max_fraction)
+            sp%source(i, j, k) = 0.0_wp
+          end do
+        end do
+      end do
+    end associate
+  end subroutine solid_track_fraction
+
+  !> Upwind value (`left` for u >= 0).
+  pure real(wp) function upwind_fraction(u, left, right) result(v)
+    real(wp), intent(in) :: u      !< face velocity [m/s]
+    real(wp), intent(in) :: left   !< low-cell value
+    real(wp), intent(in) :: right  !< high-cell value
+    v = merge(left, right, u >= 0.0_wp)
+  end function upwind_fraction
+
+  !> Pore pressure of the particles: the pressure of the cell holding each particle [Pa].
+  subroutine solid_pore_pressure(p, grid, pressure)
+    type(particles_t), intent(inout) :: p       !< particles (pore_pressure written)
+    type(grid_t), intent(in) :: grid            !< block geometry
+    real(wp), intent(in) :: pressure(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell pressure
+    integer :: ip, d, c(3)
+    do ip = 1, p%np
+      c = 1
+      do d = 1, 3
+        if (grid%active(d)) c(d) = min(max(floor((p%x(d, ip) - grid%lower(d)) / grid%dx(d)) + 1, &
+          grid%lbc(d)), grid%ubc(d))
+      end do
+      p%pore_pressure(ip) = pressure(c(1), c(2), c(3))
+    end do
+  end subroutine solid_pore_pressure
+end module mpmice_solid_cells
