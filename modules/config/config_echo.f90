@@ -205,6 +205,7 @@ contains
       call add('temperature', real_repr(p%temperature))
       call add('solid', quoted(p%solid))
       call add('solid_velocity', reals_repr(p%solid_velocity))
+      call add('solid_traction', reals_repr(p%solid_traction))
       text = text // '/' // nl
     end subroutine add_boundary
   end function config_to_text

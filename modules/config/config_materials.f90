@@ -50,8 +50,8 @@ module config_materials
   character(len=*), parameter :: boundary_thermal_names(2) = [character(len=name_len) :: &
     'adiabatic', 'fixed']
   !> Allowed values of `&boundary solid`.
-  character(len=*), parameter :: boundary_solid_names(4) = [character(len=name_len) :: &
-    'fixed', 'roller', 'free', 'velocity']
+  character(len=*), parameter :: boundary_solid_names(5) = [character(len=name_len) :: &
+    'fixed', 'roller', 'free', 'velocity', 'traction']
 
   !> `&physics`: body force and reference state shared by all materials.
   type :: physics_params_t
@@ -172,6 +172,7 @@ module config_materials
     real(wp) :: temperature = 300.0_wp                   !< for thermal = 'fixed' [K]
     character(len=name_len) :: solid = 'fixed'           !< one of boundary_solid_names
     real(wp) :: solid_velocity(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< for solid = 'velocity' [m/s]
+    real(wp) :: solid_traction(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< for solid = 'traction' [Pa]
   end type boundary_params_t
 
 contains

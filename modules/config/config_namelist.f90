@@ -159,7 +159,8 @@ module config_namelist
     variable_info_t('boundary', 'thermal', 'c', 1, name_len), &
     variable_info_t('boundary', 'temperature', 'r', 1, 0), &
     variable_info_t('boundary', 'solid', 'c', 1, name_len), &
-    variable_info_t('boundary', 'solid_velocity', 'r', 3, 0)]
+    variable_info_t('boundary', 'solid_velocity', 'r', 3, 0), &
+    variable_info_t('boundary', 'solid_traction', 'r', 3, 0)]
 
 contains
 

@@ -295,9 +295,9 @@ contains
     integer, intent(out) :: ios                 !< iostat
     character(len=*), intent(inout) :: iomsg    !< iomsg
     character(len=name_len) :: face, fluid, thermal, solid
-    real(wp) :: pressure, velocity(3), temperature, solid_velocity(3)
+    real(wp) :: pressure, velocity(3), temperature, solid_velocity(3), solid_traction(3)
     namelist /boundary/ face, fluid, pressure, velocity, thermal, temperature, solid, &
-      solid_velocity
+      solid_velocity, solid_traction
     face = p%face
     fluid = p%fluid
     pressure = p%pressure
@@ -306,6 +306,7 @@ contains
     temperature = p%temperature
     solid = p%solid
     solid_velocity = p%solid_velocity
+    solid_traction = p%solid_traction
     read(text, nml=boundary, iostat=ios, iomsg=iomsg)
     if (ios /= 0) return
     p%face = face
@@ -316,5 +317,6 @@ contains
     p%temperature = temperature
     p%solid = solid
     p%solid_velocity = solid_velocity
+    p%solid_traction = solid_traction
   end subroutine read_boundary
 end module config_read_phases

@@ -419,6 +419,7 @@ contains
       call positive_real(err, g, 'temperature', p%temperature, ' [K]')
       call check_choice(err, g, 'solid', p%solid, boundary_solid_names)
       call check_finite(err, g, 'solid_velocity', p%solid_velocity, ' [m/s]')
+      call check_finite(err, g, 'solid_traction', p%solid_traction, ' [Pa]')
     end associate
   end subroutine check_boundary
 

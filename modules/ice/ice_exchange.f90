@@ -15,7 +15,7 @@ module ice_exchange
   use mpmice_errors, only: fatal
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
-  use ice_face_velocity, only: closed_face, face_range
+  use ice_face_velocity, only: closed_face, face_range, boundary_face
   implicit none
   private
 
@@ -67,6 +67,8 @@ contains
             rigid = .false.
             if (state%solid%present) then
               call solid_face_partner(state, d, o, i, j, k, phi(nf + 1), v(nf + 1), c, rigid)
+              ! a domain face: the solid of the inner cell (no solid lies beyond)
+              if (boundary_face(grid, d, [i, j, k])) phi(nf + 1) = 2.0_wp * phi(nf + 1)
               with_solid = phi(nf + 1) > 0.0_wp
             end if
             if (with_solid) then
@@ -108,8 +110,14 @@ contains
   end subroutine ice_exchange_faces
 
   !> The solid phase at the low face of cell (i,j,k) in direction d: mean volume fraction,
-  !! grain specific volume and drag coefficients of the cells that hold solid, and whether its
-  !! velocity is prescribed there.
+  !! grain specific volume, whether its velocity is prescribed there, and per fluid m the
+  !! effective reduced drag coefficient of the face. The face's momentum control volume is half
+  !! in each cell, and the two halves resist the fluid's volume flux q_m = phi_m,up u_m (the
+  !! upwind fraction of the pressure equation) in series: dp/dx = R q_m with
+  !! R = (1/2) sum_halves phi_s c_m / phi_m (a half without solid adds nothing). The coefficient
+  !! c_eff = phi_m,up R / phi_s,face makes the exchange's steady state obey exactly that, so a
+  !! porous column ending at a face has the resistance of its length (a plain mean of phi_s and
+  !! c at the face would lose about half a cell of it at each end).
   pure subroutine solid_face_partner(state, d, o, i, j, k, phi, v, c, rigid)
     type(ice_state_t), intent(in) :: state  !< fluids and solid phase
     integer, intent(in) :: d                !< face direction
@@ -119,7 +127,8 @@ contains
     real(wp), intent(out) :: v              !< grain specific volume [m^3/kg]
     real(wp), intent(out) :: c(max_n)       !< reduced drag coefficient per fluid [kg/m^3/s]
     logical, intent(out) :: rigid           !< solid velocity prescribed at the face
-    real(wp) :: pl, pr, wl, wr
+    real(wp) :: pl, pr, wl, wr, fl, fr, resistance, up
+    integer :: m
     associate (sp => state%solid)
       pl = sp%vfrac(i - o(1), j - o(2), k - o(3))
       pr = sp%vfrac(i, j, k)
@@ -131,8 +140,22 @@ contains
       v = 0.0_wp
       if (wl + wr <= 0.0_wp) return
       v = (wl * sp%spvol(i - o(1), j - o(2), k - o(3)) + wr * sp%spvol(i, j, k)) / (wl + wr)
-      c(1:state%nfluids) = (wl * sp%drag(i - o(1), j - o(2), k - o(3), 1:state%nfluids) + &
-        wr * sp%drag(i, j, k, 1:state%nfluids)) / (wl + wr)
+      do m = 1, state%nfluids
+        associate (f => state%fluid(m))
+          fl = f%vfrac(i - o(1), j - o(2), k - o(3))
+          fr = f%vfrac(i, j, k)
+          resistance = 0.0_wp
+          if (fl > 0.0_wp) resistance = resistance + 0.5_wp * pl * &
+            sp%drag(i - o(1), j - o(2), k - o(3), m) / fl
+          if (fr > 0.0_wp) resistance = resistance + 0.5_wp * pr * sp%drag(i, j, k, m) / fr
+          if (f%uface(i, j, k, d) >= 0.0_wp) then
+            up = fl
+          else
+            up = fr
+          end if
+          c(m) = up * resistance / phi
+        end associate
+      end do
     end associate
   end subroutine solid_face_partner
 
@@ -198,7 +221,8 @@ contains
               v(nm) = state%solid%spvol(i, j, k)
               mass(nm) = state%solid%rho(i, j, k)
               c(1:nf) = state%solid%drag(i, j, k, 1:nf)
-              rigid = state%solid%rigid(i, j, k) > 0.5_wp
+              ! the solid's final velocity is known (mpmice_solid_cells): its row is fixed
+              rigid = .true.
             end if
           end if
           if (k_exchange > 0.0_wp .or. nm > nf) then

@@ -15,17 +15,20 @@ module mpm_nodal
   implicit none
   private
 
-  public :: nodal_bc_t, nodal_solve, nodal_finish, bc_fixed, bc_roller, bc_free, bc_velocity, bc_kind_from_name
+  public :: nodal_bc_t, nodal_solve, nodal_finish, bc_kind_from_name
+  public :: bc_fixed, bc_roller, bc_free, bc_velocity, bc_traction
 
   integer, parameter :: bc_fixed = 1     !< no motion
   integer, parameter :: bc_roller = 2    !< no normal motion
   integer, parameter :: bc_free = 3      !< traction free
   integer, parameter :: bc_velocity = 4  !< prescribed velocity
+  integer, parameter :: bc_traction = 5  !< prescribed surface load, otherwise free
 
   !> Solid boundary conditions on the six faces (x-, x+, y-, y+, z-, z+).
   type :: nodal_bc_t
     integer :: kind(6) = bc_fixed              !< condition per face
     real(wp) :: velocity(3, 6) = 0.0_wp        !< prescribed velocity per face [m/s]
+    real(wp) :: traction(3, 6) = 0.0_wp        !< surface load per face [Pa]
   end type nodal_bc_t
 
 contains
@@ -40,6 +43,8 @@ contains
       kind = bc_free
     case ('velocity')
       kind = bc_velocity
+    case ('traction')
+      kind = bc_traction
     case default
       kind = bc_fixed
     end select
@@ -69,7 +74,8 @@ contains
           end if
           if (m > min_mass) then
             v = nodes%q(2:4, i, j, k) / m
-            f = nodes%q(5:7, i, j, k) + m * gravity                 ! eq. 40
+            f = nodes%q(5:7, i, j, k) + m * gravity + &             ! eq. 40
+              face_load(grid, bc, [i, j, k])
             if (damping > 0.0_wp) f = f - damping * abs(f) * &
               merge(sign(1.0_wp, v), 0.0_wp, v /= 0.0_wp)
             vl = (v + f / m * dt) * on                               ! eq. 41
@@ -112,6 +118,36 @@ contains
       end do
     end do
   end subroutine nodal_finish
+
+  !> External force [N] on node `idx` from the surface loads of the domain faces it lies on:
+  !! traction times the node's share of the face area (halved at the face's edges).
+  pure function face_load(grid, bc, idx) result(f)
+    type(grid_t), intent(in) :: grid           !< block geometry
+    type(nodal_bc_t), intent(in) :: bc         !< boundary conditions
+    integer, intent(in) :: idx(3)              !< node index
+    real(wp) :: f(3)
+    integer :: face, d, e
+    real(wp) :: area
+    f = 0.0_wp
+    do face = 1, 6
+      if (bc%kind(face) /= bc_traction) cycle
+      d = (face + 1) / 2
+      if (.not. grid%active(d) .or. grid%periodic(d)) cycle
+      if (mod(face, 2) == 1) then
+        if (idx(d) /= 1) cycle
+      else
+        if (idx(d) /= grid%ncells(d) + 1) cycle
+      end if
+      area = 1.0_wp
+      do e = 1, 3
+        if (e == d) cycle
+        area = area * grid%dx(e)
+        if (grid%active(e) .and. .not. grid%periodic(e) .and. (idx(e) == 1 .or. &
+          idx(e) == grid%ncells(e) + 1)) area = 0.5_wp * area
+      end do
+      f = f + bc%traction(:, face) * area * merge(1.0_wp, 0.0_wp, grid%active)
+    end do
+  end function face_load
 
   !> The `&boundary solid` conditions of the domain faces node `idx` lies on, applied to `vl`.
   pure subroutine apply_face_bc(grid, bc, idx, on, vl)

@@ -123,6 +123,7 @@ contains
       associate (b => boundary_for_face(cfg, face))
         self%bc%kind(face) = bc_kind_from_name(b%solid)
         self%bc%velocity(:, face) = b%solid_velocity
+        self%bc%traction(:, face) = b%solid_traction
       end associate
     end do
     call nodes_init(self%nodes, grid)

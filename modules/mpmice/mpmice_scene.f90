@@ -51,7 +51,7 @@ module mpmice_scene
   use exchange_drag, only: drag_law_from_name
   use mpmice_solid_cells, only: solid_coupling_t, solid_deposit, solid_cell_fields, &
     solid_face_predictor, solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, &
-    solid_pore_pressure
+    solid_pore_pressure, fluid_face_blend, fluid_face_predictor_porous
   implicit none
   private
 
@@ -68,6 +68,9 @@ module mpmice_scene
     real(wp), allocatable :: phi_p(:, :, :)               !< particles' solid fraction
     real(wp), allocatable :: du(:, :, :, :)               !< face increments (3, cells)
     real(wp) :: max_fraction = 0.999_wp                   !< cap of the solid fraction
+    real(wp) :: face_blend = 0.0_wp                       !< fluid cell-to-face velocity blend
+    real(wp) :: relaxation = 0.1_wp                       !< solid-fraction relaxation per step
+    logical :: flux_predictor = .true.                    !< flux-consistent porous predictor
     integer :: t_cells = 0, t_nodes = 0                   !< timer ids
   contains
     procedure :: init => mpmice_init
@@ -102,6 +105,16 @@ contains
     self%t_nodes = timer_register(timers, 'MPMICE faces to nodes')
     ns = cfg%nsolids
     self%max_fraction = cfg%coupling%max_solid_fraction
+    block
+      character(len=32) :: env
+      integer :: l, stat
+      call get_environment_variable('MPMICE_BLEND', env, l, stat)
+      if (stat == 0) read(env, *) self%face_blend
+      call get_environment_variable('MPMICE_RELAX', env, l, stat)
+      if (stat == 0) read(env, *) self%relaxation
+      call get_environment_variable('MPMICE_FLUXPRED', env, l, stat)
+      if (stat == 0) read(env, *) self%flux_predictor
+    end block
     allocate(self%coupling(ns), self%loads(ns))
     do s = 1, ns
       associate (c => cfg%solids(s))
@@ -208,7 +221,7 @@ contains
       ! solid phase on the grid; the particles' fraction beyond the tracked one is a source
       call timer_start(timers, self%t_cells)
       call deposit_solids(self, dom, grid)
-      st%solid%source = self%phi_p - st%solid%vfrac
+      st%solid%source = self%relaxation * (self%phi_p - st%solid%vfrac)
       call timer_stop(timers, self%t_cells)
 
       call timer_start(timers, fl%t_equil)
@@ -222,6 +235,7 @@ contains
 
       call timer_start(timers, fl%t_face)
       call ice_face_velocities(st, grid, dt, fl%gravity)
+      if (self%flux_predictor) call fluid_face_predictor_porous(st, grid)
       call solid_face_predictor(st, grid, so%nodes, dt, so%min_mass)
       call ice_exchange_faces(st, grid, dt, fl%k_exchange)
       call timer_stop(timers, fl%t_face)
@@ -242,9 +256,6 @@ contains
           fl%sources(:, :, :, 4, m))
       end do
       call ice_lagrangian_values(st, grid, dt, fl%gravity, fl%sources)
-      call solid_cell_velocity(st, grid, so%nodes, dt, so%min_mass)
-      call ice_exchange_cells(st, grid, dt, fl%k_exchange, fl%h_exchange)
-      if (fl%theta /= 1.0_wp) st%pressure = st%p_eq + st%dp_total
       call timer_stop(timers, fl%t_lagrange)
 
       ! the solid's pressure force and drag, from the faces back to the nodes
@@ -252,6 +263,14 @@ contains
       call solid_face_to_nodes(st, grid, dom, self%halo, so%nodes, self%du, so%min_mass)
       call nodal_finish(so%nodes, grid, dt, so%bc, so%min_mass)
       call timer_stop(timers, self%t_nodes)
+
+      ! the fluids' drag toward the solid's final velocity (eqs. 50-51)
+      call timer_start(timers, fl%t_lagrange)
+      call solid_cell_velocity(st, grid, so%nodes, so%min_mass)
+      call ice_exchange_cells(st, grid, dt, fl%k_exchange, fl%h_exchange)
+      call fluid_face_blend(st, grid, self%face_blend)
+      if (fl%theta /= 1.0_wp) st%pressure = st%p_eq + st%dp_total
+      call timer_stop(timers, fl%t_lagrange)
 
       call timer_start(timers, fl%t_halo)
       call exchange_lagrangian(fl, dom, grid)

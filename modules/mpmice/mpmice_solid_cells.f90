@@ -35,7 +35,8 @@ module mpmice_solid_cells
   private
 
   public :: solid_coupling_t, solid_deposit, solid_cell_fields, solid_face_predictor, &
-    solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, solid_pore_pressure
+    solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, solid_pore_pressure, &
+    fluid_face_blend, fluid_face_predictor_porous
 
   !> Coupling parameters of one solid material.
   type :: solid_coupling_t
@@ -198,15 +199,16 @@ contains
     end do
   end function corner_rigid
 
-  !> Solid cell velocity for the cell exchange (eqs. 28, 48, 51): mass-weighted mean of the
-  !! corner nodes' v^{L-} plus the pressure acceleration -dt v_s grad p of the face pressures.
-  subroutine solid_cell_velocity(state, grid, nodes, dt, min_mass)
+  !> Solid cell velocity for the cell exchange (eqs. 28, 51): mass-weighted mean of the corner
+  !! nodes' final velocities v^L (after the pressure force and drag of the faces). The fluids are
+  !! dragged toward it with the solid's row of the exchange held fixed, so the drag the fluid
+  !! feels is consistent with the motion the solid actually makes.
+  subroutine solid_cell_velocity(state, grid, nodes, min_mass)
     type(ice_state_t), intent(inout) :: state   !< solid phase vel written (owned cells)
     type(grid_t), intent(in) :: grid            !< block geometry
     type(mpm_nodes_t), intent(in) :: nodes      !< node fields
-    real(wp), intent(in) :: dt                  !< time step [s]
     real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
-    integer :: i, j, k, a, b, e, d, top(3), o(3)
+    integer :: i, j, k, a, b, e, top(3)
     real(wp) :: m, mv(3), mi
     top = merge(1, 0, grid%active)
     associate (sp => state%solid)
@@ -227,15 +229,6 @@ contains
             end do
             sp%vel(i, j, k, :) = 0.0_wp
             if (m > 0.0_wp) sp%vel(i, j, k, :) = mv / m
-            if (sp%rigid(i, j, k) > 0.5_wp .or. sp%vfrac(i, j, k) <= 0.0_wp) cycle
-            do d = 1, 3
-              if (.not. grid%active(d)) cycle
-              o = 0
-              o(d) = 1
-              sp%vel(i, j, k, d) = sp%vel(i, j, k, d) - dt * sp%spvol(i, j, k) * &
-                (state%pface(i + o(1), j + o(2), k + o(3), d) - state%pface(i, j, k, d)) / &
-                grid%dx(d)
-            end do
           end do
         end do
       end do
@@ -445,6 +438,108 @@ contains
     real(wp), intent(in) :: right  !< high-cell value
     v = merge(left, right, u >= 0.0_wp)
   end function upwind_fraction
+
+  !> Flux-consistent advective part of the fluid face predictor (eq. 31) at the faces of porous
+  !! cells: a fluid's cell velocity is its pore velocity, and across a jump of the porosity the
+  !! pore velocity jumps while the volume flux phi u is continuous. Where solid lies on either
+  !! side, the mass-weighted mean of the two cell velocities in `uface` (from
+  !! `ice_face_velocities`) is replaced by the mean flux over the upwind fraction,
+  !! (phi_L u_L + phi_R u_R) / (2 phi_up), which the pressure equation's upwind flux
+  !! phi_up u_f turns back into the mean flux; the pressure and gravity terms stay.
+  subroutine fluid_face_predictor_porous(state, grid)
+    type(ice_state_t), intent(inout) :: state   !< fluids (uface updated)
+    type(grid_t), intent(in) :: grid            !< block geometry
+    integer :: m, i, j, k, d, o(3), r(2, 3)
+    real(wp) :: rl, rr, mean, flux, up
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      o = 0
+      o(d) = 1
+      r = face_range(grid, d)
+      do k = r(1, 3), r(2, 3)
+        do j = r(1, 2), r(2, 2)
+          do i = r(1, 1), r(2, 1)
+            if (closed_face(state, grid, d, [i, j, k])) cycle
+            if (state%solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
+              state%solid%vfrac(i, j, k) <= 0.0_wp) cycle
+            do m = 1, state%nfluids
+              associate (f => state%fluid(m))
+                rl = f%rho(i - o(1), j - o(2), k - o(3))
+                rr = f%rho(i, j, k)
+                if (rl + rr <= 0.0_wp) cycle
+                mean = (rl * f%vel(i - o(1), j - o(2), k - o(3), d) + rr * f%vel(i, j, k, d)) / &
+                  (rl + rr)
+                flux = 0.5_wp * (f%vfrac(i - o(1), j - o(2), k - o(3)) * &
+                  f%vel(i - o(1), j - o(2), k - o(3), d) + f%vfrac(i, j, k) * f%vel(i, j, k, d))
+                up = f%vfrac(i - o(1), j - o(2), k - o(3))
+                if (flux < 0.0_wp) up = f%vfrac(i, j, k)
+                if (up <= 0.0_wp) cycle
+                f%uface(i, j, k, d) = f%uface(i, j, k, d) - mean + flux / up
+              end associate
+            end do
+          end do
+        end do
+      end do
+    end do
+  end subroutine fluid_face_predictor_porous
+
+  !> Blend the Lagrangian cell velocity of every fluid toward the flux-consistent mean of its two
+  !! final face velocities, component by component: u_c += alpha (ubar - u_c) with
+  !! ubar = (phi_up,lo u_lo + phi_up,hi u_hi) / (2 phi_c) (upwind face fractions, as the pressure
+  !! equation's fluxes). The cell-centred momentum of ICE feels only the two-cell-wide difference
+  !! of the face pressures (eq. 37), so an odd-even pattern of the cell velocities is a null mode
+  !! that nothing restores (the face velocities average it away); fluid leaving a porous column
+  !! at the pore velocity into free fluid excites it. alpha = 0 leaves ICE's scheme unchanged,
+  !! alpha = 1 makes the cell velocity the face flux average.
+  subroutine fluid_face_blend(state, grid, alpha_free)
+    type(ice_state_t), intent(inout) :: state   !< fluids (lag(:,:,:,1:3) updated, owned cells)
+    type(grid_t), intent(in) :: grid            !< block geometry
+    real(wp), intent(in) :: alpha_free          !< blend factor per step away from solid, 0..1
+    integer :: m, i, j, k, d, o(3)
+    real(wp) :: ubar, flo, fhi, ulo, uhi, alpha
+    do m = 1, state%nfluids
+      associate (f => state%fluid(m))
+        do d = 1, 3
+          if (.not. grid%active(d)) cycle
+          o = 0
+          o(d) = 1
+          do k = grid%lo(3), grid%hi(3)
+            do j = grid%lo(2), grid%hi(2)
+              do i = grid%lo(1), grid%hi(1)
+                if (f%rho(i, j, k) <= 0.0_wp .or. f%vfrac(i, j, k) <= 0.0_wp) cycle
+                alpha = alpha_free
+                if (near_solid(state, grid, [i, j, k])) alpha = 1.0_wp
+                if (alpha <= 0.0_wp) cycle
+                ulo = f%uface(i, j, k, d)
+                uhi = f%uface(i + o(1), j + o(2), k + o(3), d)
+                flo = upwind_fraction(ulo, f%vfrac(i - o(1), j - o(2), k - o(3)), f%vfrac(i, j, k))
+                fhi = upwind_fraction(uhi, f%vfrac(i, j, k), f%vfrac(i + o(1), j + o(2), k + o(3)))
+                ubar = 0.5_wp * (flo * ulo + fhi * uhi) / f%vfrac(i, j, k)
+                f%lag(i, j, k, d) = f%lag(i, j, k, d) + alpha * (ubar - f%lag(i, j, k, d))
+              end do
+            end do
+          end do
+        end do
+      end associate
+    end do
+  end subroutine fluid_face_blend
+
+  !> True when cell c or one of its face neighbours holds solid.
+  pure logical function near_solid(state, grid, c) result(near)
+    type(ice_state_t), intent(in) :: state  !< solid phase
+    type(grid_t), intent(in) :: grid        !< block geometry
+    integer, intent(in) :: c(3)             !< cell
+    integer :: d, o(3)
+    near = state%solid%vfrac(c(1), c(2), c(3)) > 0.0_wp
+    do d = 1, 3
+      if (near) return
+      if (.not. grid%active(d)) cycle
+      o = 0
+      o(d) = 1
+      near = state%solid%vfrac(c(1) - o(1), c(2) - o(2), c(3) - o(3)) > 0.0_wp .or. &
+        state%solid%vfrac(c(1) + o(1), c(2) + o(2), c(3) + o(3)) > 0.0_wp
+    end do
+  end function near_solid
 
   !> Pore pressure of the particles: the pressure of the cell holding each particle [Pa].
   subroutine solid_pore_pressure(p, grid, pressure)
