@@ -5,7 +5,8 @@ Usage:  python -m postproc.mpmice_terzaghi [--out docs/validation] [--cells 25 5
                                            [--nranks 1]
 
 Scene namelists/mpmice_terzaghi_1d.nml: a saturated elastic column, H = 1 m along y, impermeable
-fixed base, drained top at 1 atm, a 10 kPa load on the top particle layer from t = 0. With a
+fixed base, drained top face at 1 atm, a 10 kPa load on the skeleton at that face from t = 0
+(`&boundary solid = 'traction'`). With a
 compressible pore fluid (K_f) and incompressible grains the excess pore pressure obeys
 (1/E_v + n/K_f) dp/dt = (k/mu) d^2p/dz^2, so
     c_v = (k/mu) / (1/E_v + n/K_f),   k/mu = d^2 n^3 / (180 mu phi_s^2)  (Carman-Kozeny, eq. 77),
@@ -14,8 +15,8 @@ compressible pore fluid (K_f) and incompressible grains the excess pore pressure
 z = H - y the depth below the drained top (K_f -> infinity gives the paper's c_v, 4.12 m^2/s).
 For every dump the excess pressure /cell/pressure - 101325 along y is compared with p at the
 dump's time attribute: relative L2 error ||p - p_exact|| / ||p_exact|| over the cells. Printed per
-resolution: the wall time of the run, the error at the dumps nearest T_v = 0.05, 0.1, 0.2, 0.5,
-the largest error over the dumps with T_v >= 0.01, and the degree of consolidation
+resolution: the wall time of the run, the error at the dumps nearest T_v = 0.05, 0.1, 0.2, 0.5, 1,
+the largest error over the dumps with T_v >= 0.1 (TV_MIN), and the degree of consolidation
 U = 1 - mean(p) / p0 against U(T_v); then the observed order between successive resolutions.
 Writes mpmice_terzaghi.png (profiles p/p0 against depth at 100 cells, U against T_v, L2 error
 against cells) and mpmice_terzaghi.csv.
@@ -43,8 +44,11 @@ PARAMS = {
     "viscosity": 1.0e-3, "bulk_modulus": 2.0e9, "load": 1.0e4, "height": 1.0,
     "reference_pressure": 101325.0,
 }
-TV_REPORT = (0.05, 0.1, 0.2, 0.5)   # time factors reported (nearest dumps)
-TV_MIN = 0.01                       # dumps below this T_v are left out of the maximum error
+TV_REPORT = (0.05, 0.1, 0.2, 0.5, 1.0)   # time factors reported (nearest dumps)
+#: Dumps below this T_v are left out of the maximum error: the step load rings the column's
+#: undrained P-wave (period 4 H / c_u = 2.3 ms, decaying by drag over ~6 ms), which the
+#: quasi-static eq. 78 does not contain (docs/validation/mpmice_terzaghi.md shows it).
+TV_MIN = 0.1
 TERMS = 400                         # series terms: exp(-M^2 T_v) < 1e-300 beyond at T_v >= 0.01
 
 
@@ -110,7 +114,7 @@ def analyse_dumps(dumps, params: dict | None = None) -> dict:
     """Errors of a sequence of dumps (dicts from :func:`read_dump`, in time order).
 
     Returns time, tv, l2_error (NaN at T_v = 0), u_numeric, u_exact (arrays per dump), y,
-    pressure (excess pressure per dump, an [ndump, ncells] array), max_error (over T_v >= 0.01),
+    pressure (excess pressure per dump, an [ndump, ncells] array), max_error (over T_v >= TV_MIN),
     at_tv ({target T_v: {index, tv, time, l2_error, u_numeric, u_exact, depth, p_over_p0,
     exact_over_p0}} at the dump nearest each target of TV_REPORT) and c_v, p0.
     """
@@ -155,11 +159,6 @@ def analyse_dumps(dumps, params: dict | None = None) -> dict:
 
 # --------------------------------------------------------------------------- runs
 
-def traction_lower_y(cells: int, height: float = PARAMS["height"]) -> float:
-    """Lower y of the load box: exactly the top cell, H (1 - 1/N)."""
-    return height * (1.0 - 1.0 / cells)
-
-
 def run_resolution(workdir: str, cells: int, nranks: int = 1, extra_set=(),
                    params: dict | None = None) -> dict:
     """Run the scene with `cells` cells along y; return :func:`analyse_dumps` of its dumps plus
@@ -167,7 +166,6 @@ def run_resolution(workdir: str, cells: int, nranks: int = 1, extra_set=(),
     out = os.path.join(workdir, f"terzaghi_n{cells}_r{nranks}")
     args = [NAMELIST,
             "--set", f"&grid ncells = 1, {cells}, 1 /",
-            "--set", f"&solid name='soil', traction_lower = 0, {traction_lower_y(cells):.12g}, 0 /",
             "--set", f"&run output_dir = '{out}' /"]
     for text in extra_set:
         args += ["--set", text]

@@ -92,6 +92,7 @@ contains
     call add('drag_scheme', quoted(cfg%coupling%drag_scheme))
     call add('heat_exchange_coefficient', real_repr(cfg%coupling%heat_exchange_coefficient))
     call add('max_solid_fraction', real_repr(cfg%coupling%max_solid_fraction))
+    call add('solid_fraction_relaxation', real_repr(cfg%coupling%solid_fraction_relaxation))
     text = text // '/' // nl
     do k = 1, cfg%nfluids
       call add_fluid(cfg%fluids(k))

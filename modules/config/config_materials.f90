@@ -85,6 +85,8 @@ module config_materials
     character(len=name_len) :: drag_scheme = 'implicit'  !< one of drag_scheme_names
     real(wp) :: heat_exchange_coefficient = 0.0_wp       !< fluid-solid heat exchange [W/m^3/K]
     real(wp) :: max_solid_fraction = 0.999_wp            !< cap of the cell solid volume fraction
+    real(wp) :: solid_fraction_relaxation = 0.1_wp       !< share of the particle/grid solid
+                                                         !! fraction difference corrected per step
   end type coupling_params_t
 
   !> `&fluid` (repeated): one fluid material, its equation of state and initial state.

@@ -90,6 +90,7 @@ module config_namelist
     variable_info_t('coupling', 'drag_scheme', 'c', 1, name_len), &
     variable_info_t('coupling', 'heat_exchange_coefficient', 'r', 1, 0), &
     variable_info_t('coupling', 'max_solid_fraction', 'r', 1, 0), &
+    variable_info_t('coupling', 'solid_fraction_relaxation', 'r', 1, 0), &
     variable_info_t('fluid', 'name', 'c', 1, name_len), &
     variable_info_t('fluid', 'eos', 'c', 1, name_len), &
     variable_info_t('fluid', 'gamma', 'r', 1, 0), &

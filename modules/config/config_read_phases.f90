@@ -94,8 +94,10 @@ contains
     integer, intent(out) :: ios                 !< iostat
     character(len=*), intent(inout) :: iomsg    !< iomsg
     character(len=name_len) :: drag_scheme
-    real(wp) :: heat_exchange_coefficient, max_solid_fraction
-    namelist /coupling/ drag_scheme, heat_exchange_coefficient, max_solid_fraction
+    real(wp) :: heat_exchange_coefficient, max_solid_fraction, solid_fraction_relaxation
+    namelist /coupling/ drag_scheme, heat_exchange_coefficient, max_solid_fraction, &
+      solid_fraction_relaxation
+    solid_fraction_relaxation = p%solid_fraction_relaxation
     drag_scheme = p%drag_scheme
     heat_exchange_coefficient = p%heat_exchange_coefficient
     max_solid_fraction = p%max_solid_fraction
@@ -104,6 +106,7 @@ contains
     p%drag_scheme = drag_scheme
     p%heat_exchange_coefficient = heat_exchange_coefficient
     p%max_solid_fraction = max_solid_fraction
+    p%solid_fraction_relaxation = solid_fraction_relaxation
   end subroutine read_coupling
 
   !> `&fluid` (one occurrence).

@@ -96,6 +96,9 @@ contains
         p%heat_exchange_coefficient, '>= 0 [W/m^3/K]', min_value=0.0_wp)
       call check_real(err, 'coupling', 'max_solid_fraction', p%max_solid_fraction, &
         '0 < max_solid_fraction <= 1', min_value=0.0_wp, max_value=1.0_wp, min_open=.true.)
+      call check_real(err, 'coupling', 'solid_fraction_relaxation', &
+        p%solid_fraction_relaxation, '0 <= solid_fraction_relaxation <= 1', min_value=0.0_wp, &
+        max_value=1.0_wp)
     end associate
   end subroutine check_singletons
 

@@ -206,14 +206,16 @@ contains
     end do
   end subroutine ice_face_pressure
 
-  !> Upwind solid volume fraction of the low face of cell (i,j,k) in direction d (`o` its unit
-  !! offset) for the solid's volume flux of eq. 35.
+  !> Solid volume fraction of the low face of cell (i,j,k) in direction d for the solid's
+  !! volume flux of eq. 35: the grain fraction the particles place on the face plane
+  !! (`mpmice_solid_cells`), so that the flux phi_s,f u_s,f is the grain volume that actually
+  !! crosses the face (a cell-averaged upwind value is wrong where a cell holds a free surface).
   pure real(wp) function solid_face_fraction(state, d, o, i, j, k) result(phi)
     type(ice_state_t), intent(in) :: state  !< solid phase
     integer, intent(in) :: d                !< face direction
-    integer, intent(in) :: o(3)             !< unit offset along d
+    integer, intent(in) :: o(3)             !< unit offset along d (unused: kept for symmetry)
     integer, intent(in) :: i, j, k          !< face index (low face of cell i,j,k)
-    phi = upwind(state%solid%uface(i, j, k, d), state%solid%vfrac(i - o(1), j - o(2), k - o(3)), &
-      state%solid%vfrac(i, j, k))
+    if (.false.) phi = real(o(1), wp)
+    phi = state%solid%face_fraction(i, j, k, d)
   end function solid_face_fraction
 end module ice_pressure

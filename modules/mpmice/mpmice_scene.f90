@@ -22,11 +22,12 @@ module mpmice_scene
   use config_types, only: config_t
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_free, halo_reverse_cell_vec, &
-    halo_exchange_cell
+    halo_exchange_cell, halo_exchange_node
   use parallel_reduce, only: global_max, global_sum
   use grid_layout, only: grid_t
   use solver_pressure, only: struct_solver_set_operator, struct_solver_solve
-  use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field
+  use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field, h5_write_node_field, &
+    h5_read_node_field
   use io_xdmf, only: xdmf_particles_t
   use driver_scene, only: scene_t
   use ice_state, only: ice_solid_alloc
@@ -68,9 +69,9 @@ module mpmice_scene
     real(wp), allocatable :: phi_p(:, :, :)               !< particles' solid fraction
     real(wp), allocatable :: du(:, :, :, :)               !< face increments (3, cells)
     real(wp) :: max_fraction = 0.999_wp                   !< cap of the solid fraction
-    real(wp) :: face_blend = 0.0_wp                       !< fluid cell-to-face velocity blend
     real(wp) :: relaxation = 0.1_wp                       !< solid-fraction relaxation per step
-    logical :: flux_predictor = .true.                    !< flux-consistent porous predictor
+    real(wp), allocatable :: uprev(:, :, :, :, :)          !< last final face velocities
+    real(wp), allocatable :: nbuf(:, :, :)                 !< node-shaped scratch (checkpoints)
     integer :: t_cells = 0, t_nodes = 0                   !< timer ids
   contains
     procedure :: init => mpmice_init
@@ -105,16 +106,7 @@ contains
     self%t_nodes = timer_register(timers, 'MPMICE faces to nodes')
     ns = cfg%nsolids
     self%max_fraction = cfg%coupling%max_solid_fraction
-    block
-      character(len=32) :: env
-      integer :: l, stat
-      call get_environment_variable('MPMICE_BLEND', env, l, stat)
-      if (stat == 0) read(env, *) self%face_blend
-      call get_environment_variable('MPMICE_RELAX', env, l, stat)
-      if (stat == 0) read(env, *) self%relaxation
-      call get_environment_variable('MPMICE_FLUXPRED', env, l, stat)
-      if (stat == 0) read(env, *) self%flux_predictor
-    end block
+    self%relaxation = cfg%coupling%solid_fraction_relaxation
     allocate(self%coupling(ns), self%loads(ns))
     do s = 1, ns
       associate (c => cfg%solids(s))
@@ -131,13 +123,17 @@ contains
     end do
     call ice_solid_alloc(self%fl%state, grid)
     self%fl%state%solid%explicit_drag = trim(cfg%coupling%drag_scheme) == 'explicit'
-    allocate(self%dep(3 + ns, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+    allocate(self%dep(6 + ns, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
     allocate(self%du(3, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
     allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
-    call halo_init(self%halo, dom, grid, 3 + ns)
+    call halo_init(self%halo, dom, grid, 6 + ns)
+    allocate(self%uprev(3, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+      grid%lbc(3):grid%ubc(3), cfg%nfluids), source=0.0_wp)
+    allocate(self%nbuf(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
+      grid%lbn(3):grid%ubn(3)), source=0.0_wp)
 
     ! the initial solid fraction; the fluids fill the pores (their fractions scaled by n)
     call deposit_solids(self, dom, grid)
@@ -234,8 +230,14 @@ contains
       end if
 
       call timer_start(timers, fl%t_face)
+      do m = 1, st%nfluids
+        do s = 1, 3
+          self%uprev(s, :, :, :, m) = st%fluid(m)%uface(grid%lbc(1):grid%ubc(1), &
+            grid%lbc(2):grid%ubc(2), grid%lbc(3):grid%ubc(3), s)
+        end do
+      end do
       call ice_face_velocities(st, grid, dt, fl%gravity)
-      if (self%flux_predictor) call fluid_face_predictor_porous(st, grid)
+      call fluid_face_predictor_porous(st, grid, self%uprev)
       call solid_face_predictor(st, grid, so%nodes, dt, so%min_mass)
       call ice_exchange_faces(st, grid, dt, fl%k_exchange)
       call timer_stop(timers, fl%t_face)
@@ -268,7 +270,7 @@ contains
       call timer_start(timers, fl%t_lagrange)
       call solid_cell_velocity(st, grid, so%nodes, so%min_mass)
       call ice_exchange_cells(st, grid, dt, fl%k_exchange, fl%h_exchange)
-      call fluid_face_blend(st, grid, self%face_blend)
+      call fluid_face_blend(st, grid)
       if (fl%theta /= 1.0_wp) st%pressure = st%p_eq + st%dp_total
       call timer_stop(timers, fl%t_lagrange)
 
@@ -422,7 +424,7 @@ contains
     type(grid_t), intent(in) :: grid              !< block geometry
     logical, intent(in) :: checkpoint             !< full restart state
     character(len=*), parameter :: comp(3) = ['x', 'y', 'z']
-    integer :: d
+    integer :: d, m
     call self%fl%write_state(file, dom, grid, checkpoint)
     call self%so%write_state(file, dom, grid, checkpoint)
     associate (sp => self%fl%state%solid)
@@ -431,6 +433,16 @@ contains
         do d = 1, 3
           call h5_write_cell_field(file, 'checkpoint/cell/solid_velocity_' // comp(d), grid, &
             sp%vel(:, :, :, d))
+        end do
+        ! the fluids' final face velocities, read by the next predictor (stored like node
+        ! fields: face i of direction d sits at node index i along d)
+        do m = 1, self%fl%state%nfluids
+          do d = 1, 3
+            self%nbuf = self%fl%state%fluid(m)%uface(grid%lbn(1):grid%ubn(1), &
+              grid%lbn(2):grid%ubn(2), grid%lbn(3):grid%ubn(3), d)
+            call h5_write_node_field(file, 'checkpoint/face/' // &
+              trim(self%fl%state%fluid(m)%name) // '/velocity_' // comp(d), grid, self%nbuf)
+          end do
         end do
       else
         call h5_write_cell_field(file, 'cell/solid_volume_fraction', grid, sp%vfrac)
@@ -447,7 +459,7 @@ contains
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
     character(len=*), parameter :: comp(3) = ['x', 'y', 'z']
-    integer :: d
+    integer :: d, m
     call self%fl%restore(file, dom, grid)
     call self%so%restore(file, dom, grid)
     associate (sp => self%fl%state%solid)
@@ -457,6 +469,15 @@ contains
       do d = 1, 3
         call h5_read_cell_field(file, 'checkpoint/cell/solid_velocity_' // comp(d), grid, &
           sp%vel(:, :, :, d))
+      end do
+      do m = 1, self%fl%state%nfluids
+        do d = 1, 3
+          call h5_read_node_field(file, 'checkpoint/face/' // &
+            trim(self%fl%state%fluid(m)%name) // '/velocity_' // comp(d), grid, self%nbuf)
+          call halo_exchange_node(self%halo, dom, grid, self%nbuf)
+          self%fl%state%fluid(m)%uface(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
+            grid%lbn(3):grid%ubn(3), d) = self%nbuf
+        end do
       end do
     end associate
   end subroutine mpmice_restore
@@ -504,7 +525,7 @@ contains
     call self%fl%free()
     call self%so%free()
     call halo_free(self%halo)
-    if (allocated(self%dep)) deallocate(self%dep, self%du, self%phi_p)
+    if (allocated(self%dep)) deallocate(self%dep, self%du, self%phi_p, self%uprev, self%nbuf)
     if (allocated(self%coupling)) deallocate(self%coupling, self%loads)
   end subroutine mpmice_free
 end module mpmice_scene

@@ -2,8 +2,9 @@
 !! what the pressure equation and the exchange of a coupled scene see of the MPM particles, and the
 !! way their results go back to the MPM nodes.
 !!
-!! * Cell deposit (eq. 28): every particle spreads its volume and mass over the cells its domain
-!!   [x_p - l_p, x_p + l_p] overlaps (l_p the uGIMP half-width), clipped to the domain; a reverse
+!! * Cell deposit (eq. 28): every particle spreads its grain volume m_p/rho_s and mass over the
+!!   cells its deformed domain overlaps (half-widths sum_k |F_dk| l_k, l the uGIMP half-width,
+!!   at most dx/2), clipped to the domain; a reverse
 !!   halo sums deposits that reach the neighbouring block. A column seeded with one particle per
 !!   cell therefore has a sharp edge, which Darcy flow needs (a node-averaged fraction smears the
 !!   edge over two cells and changes the column's resistance by ~17 % at 20 cells).
@@ -30,9 +31,11 @@ module mpmice_solid_cells
   use mpm_nodes, only: mpm_nodes_t
   use ice_state, only: ice_state_t
   use ice_face_velocity, only: face_range, closed_face, boundary_face
+  use ice_pressure, only: solid_face_fraction
   use exchange_drag, only: drag_reduced_coefficient
   implicit none
   private
+
 
   public :: solid_coupling_t, solid_deposit, solid_cell_fields, solid_face_predictor, &
     solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, solid_pore_pressure, &
@@ -53,7 +56,8 @@ contains
   !> Deposit of the particles of solid `s` into `dep(:, i, j, k)` (local, no communication):
   !! component 1 mass [kg], 2 grain volume m_p / rho_s [m^3] (a particle's volume V_p is that of
   !! the mixture it stands for; its grains fill m_p / rho_s of it), 2 + s the grain volume of
-  !! solid s, and 2 + nsolids + 1 the grain volume of rigid solids.
+  !! solid s, 3 + nsolids the grain volume of rigid solids, and 3 + nsolids + d the grain
+  !! fraction on the low face plane (direction d) of the cell.
   subroutine solid_deposit(p, s, nsolids, rigid, grain_density, grid, dep)
     type(particles_t), intent(in) :: p          !< particles of solid s
     integer, intent(in) :: s                    !< solid index
@@ -62,12 +66,49 @@ contains
     real(wp), intent(in) :: grain_density       !< rho_s [kg/m^3]
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(inout) :: dep(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< deposits
-    integer :: ip, d, a, b, c, first(3), nc(3)
-    real(wp) :: w(2, 3), wt, vg
+    integer :: ip, d, k, a, b, c, first(3), nc(3), nf(3), ff(3), e, nbase
+    real(wp) :: w(2, 3), wt, vg, l(3), lo, hi, wf
     do ip = 1, p%np
       vg = p%mass(ip) / grain_density
+      ! the deformed particle domain F [-l0, l0]: its half-width along each axis (bounding box),
+      ! so that its faces move with the material (a compressed particle does not shed solid)
       do d = 1, 3
-        call overlap_weights(grid, d, p%x(d, ip), p%half_width(d), first(d), nc(d), w(:, d))
+        l(d) = 0.0_wp
+        do k = 1, 3
+          if (grid%active(k)) l(d) = l(d) + abs(p%f(d + 3 * (k - 1), ip)) * p%half_width(k)
+        end do
+        l(d) = min(l(d), 0.5_wp * grid%dx(d))
+      end do
+      do d = 1, 3
+        call overlap_weights(grid, d, p%x(d, ip), l(d), first(d), nc(d), w(:, d))
+      end do
+      ! the face plane (at most one, l <= dx/2) strictly inside the domain along each active d:
+      ! grain fraction V_g / (2 l A_face) there, shared tangentially like the cell deposit
+      nbase = 3 + nsolids
+      do d = 1, 3
+        if (.not. grid%active(d)) cycle
+        lo = (p%x(d, ip) - l(d) - grid%lower(d)) / grid%dx(d)
+        hi = (p%x(d, ip) + l(d) - grid%lower(d)) / grid%dx(d)
+        k = floor(lo) + 1
+        if (real(k, wp) >= hi) cycle
+        wf = vg * grid%dx(d) / (2.0_wp * l(d) * grid%cell_volume)
+        ff = first
+        nf = nc
+        ff(d) = k + 1
+        nf(d) = 1
+        do c = 1, nf(3)
+          do b = 1, nf(2)
+            do a = 1, nf(1)
+              wt = wf
+              do e = 1, 3
+                if (e == d) cycle
+                wt = wt * w(merge(a, merge(b, c, e == 2), e == 1), e)
+              end do
+              dep(nbase + d, ff(1) + a - 1, ff(2) + b - 1, ff(3) + c - 1) = &
+                dep(nbase + d, ff(1) + a - 1, ff(2) + b - 1, ff(3) + c - 1) + wt
+            end do
+          end do
+        end do
       end do
       do c = 1, nc(3)
         do b = 1, nc(2)
@@ -85,7 +126,7 @@ contains
     end do
   end subroutine solid_deposit
 
-  !> Cells (at most 2) overlapped along `d` by the particle domain [x - l, x + l] and their
+  !> Cells (at most 2: l <= dx/2) overlapped along `d` by the particle domain [x - l, x + l] and their
   !! fractions of it, clipped to the domain in a non-periodic dimension (fractions renormalised).
   pure subroutine overlap_weights(grid, d, x, l, first, n, w)
     type(grid_t), intent(in) :: grid   !< block geometry
@@ -140,6 +181,14 @@ contains
     real(wp) :: vol, phi, cs, rho_f, slip, wsum
     ns = size(solids)
     associate (sp => state%solid)
+      sp%face_fraction = 0.0_wp
+      do k = grid%lbc(3), grid%ubc(3)
+        do j = grid%lbc(2), grid%ubc(2)
+          do i = grid%lbc(1), grid%ubc(1)
+            sp%face_fraction(i, j, k, :) = min(dep(4 + ns:6 + ns, i, j, k), max_fraction)
+          end do
+        end do
+      end do
       do k = grid%lbc(3), grid%ubc(3)
         do j = grid%lbc(2), grid%ubc(2)
           do i = grid%lbc(1), grid%ubc(1)
@@ -407,10 +456,8 @@ contains
               o = 0
               o(d) = 1
               area = grid%cell_volume / grid%dx(d)
-              phi_r = upwind_fraction(sp%uface(i + o(1), j + o(2), k + o(3), d), &
-                sp%vfrac(i, j, k), sp%vfrac(i + o(1), j + o(2), k + o(3)))
-              phi_l = upwind_fraction(sp%uface(i, j, k, d), sp%vfrac(i - o(1), j - o(2), &
-                k - o(3)), sp%vfrac(i, j, k))
+              phi_r = solid_face_fraction(state, d, o, i + o(1), j + o(2), k + o(3))
+              phi_l = solid_face_fraction(state, d, o, i, j, k)
               flux = flux + area * (phi_r * sp%uface(i + o(1), j + o(2), k + o(3), d) - &
                 phi_l * sp%uface(i, j, k, d))
             end do
@@ -439,18 +486,22 @@ contains
     v = merge(left, right, u >= 0.0_wp)
   end function upwind_fraction
 
-  !> Flux-consistent advective part of the fluid face predictor (eq. 31) at the faces of porous
-  !! cells: a fluid's cell velocity is its pore velocity, and across a jump of the porosity the
-  !! pore velocity jumps while the volume flux phi u is continuous. Where solid lies on either
-  !! side, the mass-weighted mean of the two cell velocities in `uface` (from
-  !! `ice_face_velocities`) is replaced by the mean flux over the upwind fraction,
-  !! (phi_L u_L + phi_R u_R) / (2 phi_up), which the pressure equation's upwind flux
-  !! phi_up u_f turns back into the mean flux; the pressure and gravity terms stay.
-  subroutine fluid_face_predictor_porous(state, grid)
+  !> Advective part of the fluid face predictor (eq. 31) at faces next to solid: the face's own
+  !! final velocity of the previous step instead of the mass-weighted mean of the two cell
+  !! velocities (a staggered momentum there; departure from eq. 31). A fluid's cell velocity in
+  !! a porous cell is its pore velocity, which jumps with the porosity while the flux is
+  !! continuous, and ICE's cell momentum sees only the two-cell-wide pressure difference of the
+  !! face pressures (eq. 37): the cell mean is wrong at the edge of a porous body (a 20-cell
+  !! Darcy column had a 7 % too fast pore velocity and an odd-even velocity pattern in the free
+  !! water) and lags in a consolidating column. The drag makes the face inertia negligible
+  !! there, so the face momentum is not advected. The pressure and gravity terms stay.
+  subroutine fluid_face_predictor_porous(state, grid, previous)
     type(ice_state_t), intent(inout) :: state   !< fluids (uface updated)
     type(grid_t), intent(in) :: grid            !< block geometry
+    real(wp), intent(in) :: previous(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :) !< last
+                                                !! step's final face velocities (3, cells, fluid)
     integer :: m, i, j, k, d, o(3), r(2, 3)
-    real(wp) :: rl, rr, mean, flux, up
+    real(wp) :: rl, rr, mean
     do d = 1, 3
       if (.not. grid%active(d)) cycle
       o = 0
@@ -469,12 +520,7 @@ contains
                 if (rl + rr <= 0.0_wp) cycle
                 mean = (rl * f%vel(i - o(1), j - o(2), k - o(3), d) + rr * f%vel(i, j, k, d)) / &
                   (rl + rr)
-                flux = 0.5_wp * (f%vfrac(i - o(1), j - o(2), k - o(3)) * &
-                  f%vel(i - o(1), j - o(2), k - o(3), d) + f%vfrac(i, j, k) * f%vel(i, j, k, d))
-                up = f%vfrac(i - o(1), j - o(2), k - o(3))
-                if (flux < 0.0_wp) up = f%vfrac(i, j, k)
-                if (up <= 0.0_wp) cycle
-                f%uface(i, j, k, d) = f%uface(i, j, k, d) - mean + flux / up
+                f%uface(i, j, k, d) = f%uface(i, j, k, d) - mean + previous(d, i, j, k, m)
               end associate
             end do
           end do
@@ -483,20 +529,18 @@ contains
     end do
   end subroutine fluid_face_predictor_porous
 
-  !> Blend the Lagrangian cell velocity of every fluid toward the flux-consistent mean of its two
-  !! final face velocities, component by component: u_c += alpha (ubar - u_c) with
-  !! ubar = (phi_up,lo u_lo + phi_up,hi u_hi) / (2 phi_c) (upwind face fractions, as the pressure
-  !! equation's fluxes). The cell-centred momentum of ICE feels only the two-cell-wide difference
-  !! of the face pressures (eq. 37), so an odd-even pattern of the cell velocities is a null mode
-  !! that nothing restores (the face velocities average it away); fluid leaving a porous column
-  !! at the pore velocity into free fluid excites it. alpha = 0 leaves ICE's scheme unchanged,
-  !! alpha = 1 makes the cell velocity the face flux average.
-  subroutine fluid_face_blend(state, grid, alpha_free)
+  !> Near solid (a cell holding solid or next to one), the Lagrangian cell velocity of every
+  !! fluid becomes the flux-consistent mean of its two final face velocities, component by
+  !! component: u_c = (phi_up,lo u_lo + phi_up,hi u_hi) / (2 phi_c) (upwind face fractions, as the
+  !! pressure equation's fluxes). Departure from eqs. 42-51 for the normal components there: the
+  !! faces carry the fluid's momentum next to solid (`fluid_face_predictor_porous`), and fluid
+  !! leaving a porous body at the pore velocity would otherwise push an odd-even velocity
+  !! pattern into the free fluid, a null mode of ICE's cell momentum that nothing restores.
+  subroutine fluid_face_blend(state, grid)
     type(ice_state_t), intent(inout) :: state   !< fluids (lag(:,:,:,1:3) updated, owned cells)
     type(grid_t), intent(in) :: grid            !< block geometry
-    real(wp), intent(in) :: alpha_free          !< blend factor per step away from solid, 0..1
     integer :: m, i, j, k, d, o(3)
-    real(wp) :: ubar, flo, fhi, ulo, uhi, alpha
+    real(wp) :: flo, fhi, ulo, uhi
     do m = 1, state%nfluids
       associate (f => state%fluid(m))
         do d = 1, 3
@@ -507,15 +551,12 @@ contains
             do j = grid%lo(2), grid%hi(2)
               do i = grid%lo(1), grid%hi(1)
                 if (f%rho(i, j, k) <= 0.0_wp .or. f%vfrac(i, j, k) <= 0.0_wp) cycle
-                alpha = alpha_free
-                if (near_solid(state, grid, [i, j, k])) alpha = 1.0_wp
-                if (alpha <= 0.0_wp) cycle
+                if (.not. near_solid(state, grid, [i, j, k])) cycle
                 ulo = f%uface(i, j, k, d)
                 uhi = f%uface(i + o(1), j + o(2), k + o(3), d)
                 flo = upwind_fraction(ulo, f%vfrac(i - o(1), j - o(2), k - o(3)), f%vfrac(i, j, k))
                 fhi = upwind_fraction(uhi, f%vfrac(i, j, k), f%vfrac(i + o(1), j + o(2), k + o(3)))
-                ubar = 0.5_wp * (flo * ulo + fhi * uhi) / f%vfrac(i, j, k)
-                f%lag(i, j, k, d) = f%lag(i, j, k, d) + alpha * (ubar - f%lag(i, j, k, d))
+                f%lag(i, j, k, d) = 0.5_wp * (flo * ulo + fhi * uhi) / f%vfrac(i, j, k)
               end do
             end do
           end do
