@@ -37,7 +37,7 @@ contains
     type(migration_t), intent(inout) :: mig  !< migration state
     type(domain_t), intent(in) :: dom        !< decomposition
     type(grid_t), intent(in) :: grid         !< block geometry
-    integer :: d, c, lo, hi, a, b, e
+    integer :: d, c, lo, hi, a, b, e, coords(3)
     allocate(mig%coord_of_cell(maxval(grid%ncells), 3), source=0)
     do d = 1, 3
       do c = 0, dom%dims(d) - 1
@@ -49,7 +49,13 @@ contains
     do e = 0, dom%dims(3) - 1
       do b = 0, dom%dims(2) - 1
         do a = 0, dom%dims(1) - 1
-          call MPI_Cart_rank(dom%comm, [a, b, e], mig%rank_of(a, b, e))
+          ! the Cartesian communicator spans the active dimensions only (parallel_domain)
+          coords = [a, b, e]
+          if (count(dom%active) == 0) then
+            call MPI_Cart_rank(dom%comm, [0], mig%rank_of(a, b, e))
+          else
+            call MPI_Cart_rank(dom%comm, pack(coords, dom%active), mig%rank_of(a, b, e))
+          end if
         end do
       end do
     end do

@@ -22,7 +22,18 @@
 !! needs, and robust to large coefficient jumps (red-black Gauss-Seidel would force hypre's
 !! non-Galerkin coarse operators; see docs/hypre.md for the measured comparison).
 !! Changing the operator values rebuilds the PFMG hierarchy at the next solve (hypre's PFMG cannot
-!! be set up twice), nothing else is reallocated.
+!! be set up twice), nothing else is reallocated. `struct_solver_set_reuse(solver, n)` keeps a
+!! hierarchy for up to n solves across operator changes (default 1: rebuild after every change);
+!! PCG stays correct with the stale SPD preconditioner and still iterates to the tolerance.
+!! `struct_solver_invalidate` forces a rebuild at the next solve (scenes call it when they write a
+!! checkpoint, so that a restarted run rebuilds at the same solve as the continuing run).
+!!
+!! Direct fast path: when the whole operator is one line on this rank (one active grid dimension
+!! and one rank), it is a symmetric tridiagonal matrix (cyclic when periodic) and is factorised
+!! (LDL^T, Sherman-Morrison for the periodic corner) in `set_operator` and solved directly: 0
+!! iterations, the true relative residual (one step of iterative refinement if it is above the
+!! tolerance). hypre is kept for everything else, and as a fallback should the factorisation
+!! meet a non-positive pivot.
 module solver_pressure
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_ptr, c_null_ptr, c_associated, &
     c_funloc
@@ -55,7 +66,7 @@ module solver_pressure
   private
 
   public :: struct_solver_t, struct_solver_init, struct_solver_set_operator, struct_solver_solve
-  public :: struct_solver_free
+  public :: struct_solver_free, struct_solver_set_reuse, struct_solver_invalidate
 
   !> PFMG relaxation: 1 = weighted Jacobi (symmetric V-cycle with Galerkin coarse operators).
   integer(c_int), parameter :: pfmg_relax_type = 1_c_int
@@ -96,7 +107,25 @@ module solver_pressure
     integer :: max_iterations = 200       !< PCG iteration limit
     integer :: print_level = 0            !< hypre PCG print level (0 silent)
     logical :: operator_set = .false.     !< struct_solver_set_operator has been called
-    logical :: setup_done = .false.       !< PCG/PFMG are set up for the current operator
+    logical :: setup_done = .false.       !< PCG/PFMG exist and are set up (maybe for an older operator)
+    logical :: operator_changed = .false. !< the operator changed since the PFMG set-up
+    integer :: reuse = 1                  !< PFMG set-up kept for up to this many solves (>= 1)
+    integer :: uses = 0                   !< hypre solves done with the current PFMG set-up
+    integer :: setups = 0                 !< PFMG set-ups done since init (diagnostics)
+    ! direct path: one tridiagonal line on this rank
+    logical :: direct = .false.           !< the operator is one line on this rank
+    logical :: direct_ready = .false.     !< the factorisation of the current operator is valid
+    integer :: nline = 0                  !< cells on the line
+    logical :: line_periodic = .false.    !< the line is periodic (corner coupling)
+    real(wp) :: corner = 0.0_wp           !< A(1,n) = A(n,1) = -(low-face coefficient of cell 1)
+    real(wp) :: sm_denominator = 1.0_wp   !< Sherman-Morrison 1 + gamma u.z (periodic)
+    real(wp), allocatable :: line_diag(:) !< (nline) diagonal of A
+    real(wp), allocatable :: line_off(:)  !< (nline) A(m,m+1), m < nline
+    real(wp), allocatable :: fac_d(:)     !< (nline) LDL^T pivots of T
+    real(wp), allocatable :: fac_l(:)     !< (nline) LDL^T multipliers of T
+    real(wp), allocatable :: sm_z(:)      !< (nline) T^{-1} (e_1 - e_n) (periodic)
+    real(wp), allocatable :: line_x(:)    !< (nline) solution work vector
+    real(wp), allocatable :: line_r(:)    !< (nline) residual / correction work vector
     logical :: initialized = .false.      !< set by struct_solver_init
   end type struct_solver_t
 
@@ -105,13 +134,15 @@ contains
   !> Build the hypre grid (this rank's owned cells), stencil, matrix, vectors and work buffers,
   !! and store the PCG controls (namelist `&solver`). Collective over `dom%comm`, which must
   !! outlive the solver.
-  subroutine struct_solver_init(solver, dom, grid, tolerance, max_iterations, print_level)
+  subroutine struct_solver_init(solver, dom, grid, tolerance, max_iterations, print_level, direct)
     type(struct_solver_t), intent(inout) :: solver  !< solver to build (freed first)
     type(domain_t), intent(in) :: dom               !< decomposition (communicator)
     type(grid_t), intent(in) :: grid                !< block geometry and index ranges
     real(wp), intent(in) :: tolerance               !< relative residual tolerance, > 0
     integer, intent(in) :: max_iterations           !< PCG iteration limit, >= 1
     integer, intent(in) :: print_level              !< hypre PCG print level (0 silent)
+    !> allow the direct tridiagonal path (default true; false forces hypre, for tests)
+    logical, intent(in), optional :: direct
     integer(c_int) :: offset(3), period(3)
     integer :: d, n
 
@@ -196,8 +227,24 @@ contains
 
     allocate(solver%matrix_values(solver%nentries * solver%nowned))
     allocate(solver%vector_values(solver%nowned))
+
+    ! one active dimension on one rank: the operator is a single tridiagonal line
+    solver%direct = dom%nranks == 1 .and. count(grid%active) == 1
+    if (present(direct)) solver%direct = solver%direct .and. direct
+    if (solver%direct) then
+      solver%nline = solver%nowned
+      solver%line_periodic = solver%periodic(solver%dims(1))
+      allocate(solver%line_diag(solver%nline), solver%line_off(solver%nline), &
+        solver%fac_d(solver%nline), solver%fac_l(solver%nline), solver%sm_z(solver%nline), &
+        solver%line_x(solver%nline), solver%line_r(solver%nline))
+    end if
+    solver%direct_ready = .false.
     solver%operator_set = .false.
     solver%setup_done = .false.
+    solver%operator_changed = .false.
+    solver%reuse = 1
+    solver%uses = 0
+    solver%setups = 0
     solver%initialized = .true.
   end subroutine struct_solver_init
 
@@ -242,12 +289,37 @@ contains
         end do
       end do
     end do
+    solver%operator_set = .true.
+    if (solver%direct) then
+      call factor_line(solver)
+      if (solver%direct_ready) return
+    end if
     call hypre_check(HYPRE_StructMatrixSetBoxValues(solver%matrix, solver%ilower, solver%iupper, &
       solver%nentries, solver%entries, solver%matrix_values), 'HYPRE_StructMatrixSetBoxValues')
     call hypre_check(HYPRE_StructMatrixAssemble(solver%matrix), 'HYPRE_StructMatrixAssemble')
-    solver%operator_set = .true.
-    solver%setup_done = .false.
+    solver%operator_changed = .true.
   end subroutine struct_solver_set_operator
+
+  !> Keep the PFMG hierarchy for up to `n` solves across operator changes (n = 1, the default set
+  !! by `struct_solver_init`: rebuild at the first solve after every `set_operator`). A solve
+  !! with an unchanged operator never rebuilds. Call after `struct_solver_init`.
+  subroutine struct_solver_set_reuse(solver, n)
+    type(struct_solver_t), intent(inout) :: solver  !< initialised solver
+    integer, intent(in) :: n                        !< solves per PFMG set-up, >= 1
+    if (.not. solver%initialized) call fatal('struct_solver_set_reuse: solver not initialised')
+    if (n < 1) call fatal('struct_solver_set_reuse: n must be >= 1')
+    solver%reuse = n
+  end subroutine struct_solver_set_reuse
+
+  !> Force a PFMG rebuild at the next solve and restart the reuse count. Scenes call it when they
+  !! write a checkpoint: a run restarted from the checkpoint starts with a fresh solver, so both
+  !! runs then rebuild at the same solve and continue bitwise identically. No effect on the
+  !! direct path, whose factorisation always belongs to the current operator.
+  subroutine struct_solver_invalidate(solver)
+    type(struct_solver_t), intent(inout) :: solver  !< solver (initialised or not)
+    solver%setup_done = .false.
+    solver%uses = 0
+  end subroutine struct_solver_invalidate
 
   !> Solve A x = rhs by PCG + PFMG with `x` as initial guess (owned cells read and written,
   !! ghosts untouched). `converged` is false when the relative residual ||r||_2/||b||_2 did not
@@ -270,6 +342,18 @@ contains
     call check_bounds(grid, ubound(rhs), 'rhs')
     call check_bounds(grid, ubound(x), 'x')
 
+    if (solver%direct_ready) then
+      call solve_line(solver, grid, rhs, x, relative_residual)
+      iterations = 0
+      converged = relative_residual <= solver%tolerance   ! false for NaN as well
+      if (.not. converged) then
+        write(text, '(a,es10.3,a,es10.3)') 'struct solver (direct tridiagonal): relative ' // &
+          'residual ', relative_residual, ' > tolerance ', solver%tolerance
+        call log_warning(trim(text))
+      end if
+      return
+    end if
+
     call pack_owned(grid, rhs, solver%vector_values)
     bb(1) = 0.0_wp
     if (solver%nowned > 0) bb(1) = real(dot_product(solver%vector_values, solver%vector_values), wp)
@@ -290,7 +374,12 @@ contains
       solver%vector_values), 'HYPRE_StructVectorSetBoxValues')
     call hypre_check(HYPRE_StructVectorAssemble(solver%x), 'HYPRE_StructVectorAssemble')
 
-    if (.not. solver%setup_done) call setup_krylov(solver)
+    if (.not. solver%setup_done) then
+      call setup_krylov(solver)
+    else if (solver%operator_changed .and. solver%uses >= solver%reuse) then
+      call setup_krylov(solver)
+    end if
+    solver%uses = solver%uses + 1
 
     ! hypre flags a PCG that stopped short of the tolerance with HYPRE_ERROR_CONV: not fatal
     ! here, it is reported below from the residual; any other bit is.
@@ -340,6 +429,15 @@ contains
     solver%comm = c_null_ptr
     if (allocated(solver%matrix_values)) deallocate(solver%matrix_values)
     if (allocated(solver%vector_values)) deallocate(solver%vector_values)
+    if (allocated(solver%line_diag)) deallocate(solver%line_diag)
+    if (allocated(solver%line_off)) deallocate(solver%line_off)
+    if (allocated(solver%fac_d)) deallocate(solver%fac_d)
+    if (allocated(solver%fac_l)) deallocate(solver%fac_l)
+    if (allocated(solver%sm_z)) deallocate(solver%sm_z)
+    if (allocated(solver%line_x)) deallocate(solver%line_x)
+    if (allocated(solver%line_r)) deallocate(solver%line_r)
+    solver%direct = .false.
+    solver%direct_ready = .false.
     solver%operator_set = .false.
     solver%initialized = .false.
   end subroutine struct_solver_free
@@ -385,7 +483,156 @@ contains
     call hypre_check(HYPRE_StructPCGSetup(solver%pcg, solver%matrix, solver%b, solver%x), &
       'HYPRE_StructPCGSetup')
     solver%setup_done = .true.
+    solver%operator_changed = .false.
+    solver%uses = 0
+    solver%setups = solver%setups + 1
   end subroutine setup_krylov
+
+  ! ------------------------------------------------------------------ direct line path
+
+  !> Factorise the line operator held in `matrix_values` (centre, then the low-neighbour entry
+  !! -coef of hypre dimension 1, per cell in line order). Non-periodic: A = T, tridiagonal.
+  !! Periodic: A = T + gamma u u^T with u = e_1 - e_n and gamma = -A(1,n) (the low-face
+  !! coefficient of cell 1), so T is A without the corner couplings and with gamma taken off
+  !! A(1,1) and A(n,n); T keeps A's row sums, so it is SPD when A is (diagonally dominant with a
+  !! wall or reaction term). T = L D L^T; `direct_ready` stays false on a non-positive or
+  !! non-finite pivot (the caller then falls back to hypre).
+  subroutine factor_line(solver)
+    type(struct_solver_t), intent(inout) :: solver  !< direct solver, operator values packed
+    integer :: m, n, ne
+    real(wp) :: gamma, dm
+
+    n = solver%nline
+    ne = solver%nentries
+    do m = 1, n
+      solver%line_diag(m) = real(solver%matrix_values((m - 1) * ne + 1), wp)
+    end do
+    do m = 1, n - 1
+      solver%line_off(m) = real(solver%matrix_values(m * ne + 2), wp)
+    end do
+    solver%line_off(n) = 0.0_wp
+    solver%corner = 0.0_wp
+    if (solver%line_periodic .and. n > 1) solver%corner = real(solver%matrix_values(2), wp)
+    gamma = -solver%corner
+
+    solver%direct_ready = .false.
+    do m = 1, n
+      dm = solver%line_diag(m)
+      if (m == 1 .or. m == n) dm = dm - gamma
+      if (m > 1) then
+        solver%fac_l(m - 1) = solver%line_off(m - 1) / solver%fac_d(m - 1)
+        dm = dm - solver%fac_l(m - 1) * solver%line_off(m - 1)
+      end if
+      if (.not. (dm > 0.0_wp .and. dm <= huge(dm))) return
+      solver%fac_d(m) = dm
+    end do
+    solver%fac_l(n) = 0.0_wp
+    solver%sm_denominator = 1.0_wp
+    if (solver%line_periodic .and. n > 1) then
+      solver%sm_z = 0.0_wp
+      solver%sm_z(1) = 1.0_wp
+      solver%sm_z(n) = -1.0_wp
+      call ldlt_solve(n, solver%fac_d, solver%fac_l, solver%sm_z)
+      solver%sm_denominator = 1.0_wp + gamma * (solver%sm_z(1) - solver%sm_z(n))
+      if (.not. (solver%sm_denominator > 0.0_wp .and. &
+        solver%sm_denominator <= huge(1.0_wp))) return
+    end if
+    solver%direct_ready = .true.
+  end subroutine factor_line
+
+  !> y = T^{-1} y with T = L D L^T (unit lower bidiagonal L, multipliers `l`, pivots `d`).
+  pure subroutine ldlt_solve(n, d, l, y)
+    integer, intent(in) :: n            !< unknowns
+    real(wp), intent(in) :: d(:), l(:)  !< pivots (n), multipliers (n - 1)
+    real(wp), intent(inout) :: y(:)     !< right-hand side in, solution out
+    integer :: m
+    do m = 2, n
+      y(m) = y(m) - l(m - 1) * y(m - 1)
+    end do
+    do m = 1, n
+      y(m) = y(m) / d(m)
+    end do
+    do m = n - 1, 1, -1
+      y(m) = y(m) - l(m) * y(m + 1)
+    end do
+  end subroutine ldlt_solve
+
+  !> y = A^{-1} y on the line (Sherman-Morrison correction for the periodic corner).
+  pure subroutine line_apply_inverse(n, periodic, corner, denominator, d, l, z, y)
+    integer, intent(in) :: n                  !< unknowns
+    logical, intent(in) :: periodic           !< corner coupling present
+    real(wp), intent(in) :: corner            !< A(1,n)
+    real(wp), intent(in) :: denominator       !< 1 + gamma u.z
+    real(wp), intent(in) :: d(:), l(:), z(:)  !< LDL^T factors of T, z = T^{-1} u
+    real(wp), intent(inout) :: y(:)           !< right-hand side in, solution out
+    real(wp) :: s
+    call ldlt_solve(n, d, l, y)
+    if (periodic .and. n > 1) then
+      s = -corner * (y(1) - y(n)) / denominator
+      y(1:n) = y(1:n) - s * z(1:n)
+    end if
+  end subroutine line_apply_inverse
+
+  !> r = b - A x on the line.
+  pure subroutine line_residual(n, periodic, corner, diag, off, b, x, r)
+    integer, intent(in) :: n                    !< unknowns
+    logical, intent(in) :: periodic             !< corner coupling present
+    real(wp), intent(in) :: corner              !< A(1,n)
+    real(wp), intent(in) :: diag(:), off(:)     !< A(m,m), A(m,m+1)
+    real(wp), intent(in) :: b(:), x(:)          !< right-hand side, solution
+    real(wp), intent(out) :: r(:)               !< residual
+    integer :: m
+    do m = 1, n
+      r(m) = b(m) - diag(m) * x(m)
+    end do
+    do m = 1, n - 1
+      r(m) = r(m) - off(m) * x(m + 1)
+      r(m + 1) = r(m + 1) - off(m) * x(m)
+    end do
+    if (periodic .and. n > 1) then
+      r(1) = r(1) - corner * x(n)
+      r(n) = r(n) - corner * x(1)
+    end if
+  end subroutine line_residual
+
+  !> Direct solve on the line: x = A^{-1} rhs in the owned cells and the true relative
+  !! residual, with one step of iterative refinement when that is above the tolerance.
+  !! A zero right-hand side gives x = 0.
+  subroutine solve_line(solver, grid, rhs, x, relative_residual)
+    type(struct_solver_t), intent(inout) :: solver  !< factorised direct solver
+    type(grid_t), intent(in) :: grid                !< block geometry
+    real(wp), intent(in) :: rhs(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)  !< right-hand side
+    real(wp), intent(inout) :: x(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< solution out
+    real(wp), intent(out) :: relative_residual     !< ||b - A x||_2 / ||b||_2
+    real(wp) :: bnorm
+    integer :: n
+
+    n = solver%nline
+    call pack_owned(grid, rhs, solver%vector_values)
+    bnorm = sqrt(dot_product(solver%vector_values, solver%vector_values))
+    if (bnorm == 0.0_wp) then
+      solver%line_x = 0.0_wp
+      call unpack_owned(grid, solver%line_x, x)
+      relative_residual = 0.0_wp
+      return
+    end if
+    solver%line_x = solver%vector_values
+    call line_apply_inverse(n, solver%line_periodic, solver%corner, solver%sm_denominator, &
+      solver%fac_d, solver%fac_l, solver%sm_z, solver%line_x)
+    call line_residual(n, solver%line_periodic, solver%corner, solver%line_diag, &
+      solver%line_off, solver%vector_values, solver%line_x, solver%line_r)
+    relative_residual = sqrt(dot_product(solver%line_r, solver%line_r)) / bnorm
+    if (relative_residual > solver%tolerance) then
+      ! one step of iterative refinement: x <- x + A^{-1} (b - A x)
+      call line_apply_inverse(n, solver%line_periodic, solver%corner, solver%sm_denominator, &
+        solver%fac_d, solver%fac_l, solver%sm_z, solver%line_r)
+      solver%line_x = solver%line_x + solver%line_r
+      call line_residual(n, solver%line_periodic, solver%corner, solver%line_diag, &
+        solver%line_off, solver%vector_values, solver%line_x, solver%line_r)
+      relative_residual = sqrt(dot_product(solver%line_r, solver%line_r)) / bnorm
+    end if
+    call unpack_owned(grid, solver%line_x, x)
+  end subroutine solve_line
 
   !> Destroy PCG and PFMG if they exist.
   subroutine destroy_krylov(solver)
