@@ -42,7 +42,7 @@ contains
 
     vol = grid%cell_volume
     negative = 0
-    total = state%nfluids == 1
+    total = state%nfluids == 1 .and. .not. state%solid%present
     do m = 1, state%nfluids
       associate (f => state%fluid(m), c => state%cons)
         do k = grid%lo(3), grid%hi(3)

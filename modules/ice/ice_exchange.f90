@@ -198,7 +198,7 @@ contains
     real(wp), intent(in) :: h_exchange         !< H [W/m^3/K]
     integer :: m, n, i, j, k, nf, nm
     real(wp) :: beta(max_n, max_n), rhs(max_n, 3), phi(max_n), v(max_n), mass(max_n), c(max_n)
-    real(wp) :: ke_old, ke_new, total_mass
+    real(wp) :: ke_old, ke_new, total_mass, heat
     logical :: rigid
 
     nf = state%nfluids
@@ -233,10 +233,8 @@ contains
             end do
             call fill_beta(nf, nm, dt, v, phi, k_exchange, c, rigid, beta)
             if (nm > nf) then
-              ! the solid's cell velocity; its own increment is taken from the faces
-              ! (mpmice_solid_cells), the result here only enters the dissipated energy
+              ! the solid's final cell velocity (its row is fixed: rigid)
               rhs(nm, 1:3) = state%solid%vel(i, j, k, 1:3)
-              if (.not. rigid) ke_old = ke_old + 0.5_wp * mass(nm) * sum(rhs(nm, 1:3)**2)
               if (state%solid%explicit_drag) then
                 call exchange_explicit(nm, beta, rhs, 3)
               else if (rigid) then
@@ -252,10 +250,23 @@ contains
               ke_new = ke_new + 0.5_wp * mass(m) * sum(rhs(m, 1:3)**2)
               state%fluid(m)%lag(i, j, k, 1:3) = rhs(m, 1:3)
             end do
-            if (nm > nf .and. .not. rigid) ke_new = ke_new + 0.5_wp * mass(nm) * &
-              sum(rhs(nm, 1:3)**2)
-            ! the kinetic energy the exchange dissipates becomes heat of the fluids, by mass
-            if (total_mass > 0.0_wp) then
+            if (nm > nf) then
+              ! with the solid: the drag's dissipation D |du|^2 dt of every pair at the new
+              ! velocities (D = rho_bar_m beta_mn / dt), fluid pairs shared by mass, the
+              ! fluid-solid part to the fluid (the solid's velocity comes from the faces, so a
+              ! kinetic-energy difference here would not be a dissipation)
+              do m = 1, nf
+                if (mass(m) <= 0.0_wp) cycle
+                heat = beta(m, nm) * sum((rhs(nm, 1:3) - rhs(m, 1:3))**2)
+                do n = 1, nf
+                  if (n == m .or. mass(n) <= 0.0_wp) cycle
+                  heat = heat + beta(m, n) * sum((rhs(n, 1:3) - rhs(m, 1:3))**2) * mass(m) / &
+                    (mass(m) + mass(n))
+                end do
+                state%fluid(m)%lag(i, j, k, 4) = state%fluid(m)%lag(i, j, k, 4) + heat
+              end do
+            else if (total_mass > 0.0_wp) then
+              ! the kinetic energy the exchange dissipates becomes heat of the fluids, by mass
               do m = 1, nf
                 state%fluid(m)%lag(i, j, k, 4) = state%fluid(m)%lag(i, j, k, 4) + &
                   (ke_old - ke_new) / total_mass

@@ -65,7 +65,7 @@ contains
                   o(d) = 1
                   mom = mom - dt * vol * phi * (state%pface(i + o(1), j + o(2), k + o(3), d) - &
                     state%pface(i, j, k, d)) / grid%dx(d)
-                  if (state%nfluids == 1) then
+                  if (state%nfluids == 1 .and. .not. state%solid%present) then
                     uh = f%uface(i + o(1), j + o(2), k + o(3), d)
                     ul = f%uface(i, j, k, d)
                     work = work - dt * vol / grid%dx(d) * &
@@ -76,7 +76,7 @@ contains
                 end if
                 f%lag(i, j, k, d) = mom / mass
               end do
-              if (state%nfluids == 1) then
+              if (state%nfluids == 1 .and. .not. state%solid%present) then
                 ! gravity work stays kinetic: remove it from the kinetic-energy change
                 work = work - 0.5_wp * mass * (sum(f%lag(i, j, k, 1:3)**2) - &
                   sum(f%vel(i, j, k, 1:3)**2)) + dt * mass * &
