@@ -125,8 +125,8 @@ contains
     self%fl%state%solid%explicit_drag = trim(cfg%coupling%drag_scheme) == 'explicit'
     allocate(self%dep(6 + ns, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
-    allocate(self%du(3, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
-      grid%lbc(3):grid%ubc(3)), source=0.0_wp)
+    allocate(self%du(3, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
+      grid%lbn(3):grid%ubn(3)), source=0.0_wp)
     allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
     call halo_init(self%halo, dom, grid, 6 + ns)

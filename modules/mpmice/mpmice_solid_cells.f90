@@ -26,7 +26,7 @@ module mpmice_solid_cells
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use parallel_domain, only: domain_t
-  use parallel_halo, only: halo_t, halo_reverse_cell_vec, halo_exchange_cell_vec
+  use parallel_halo, only: halo_t, halo_reverse_cell_vec, halo_exchange_node_vec
   use mpm_particles, only: particles_t
   use mpm_nodes, only: mpm_nodes_t
   use ice_state, only: ice_state_t
@@ -347,36 +347,35 @@ contains
   end subroutine solid_face_predictor
 
   !> Eqs. 52, 66-67 (E5) through the faces: every node with solid mass adds the mean of the
-  !! increments u_s,f - u_s,f0 of the faces it belongs to; `du` is scratch (3, cells) exchanged
-  !! over the halo. The caller applies the boundary conditions and eq. 69 afterwards.
+  !! increments u_s,f - u_s,f0 of the faces it belongs to. `du` is node-shaped scratch
+  !! (3, lbn..ubn): the face of direction d with index i along d and cell indices across sits at
+  !! node index (i, j, k), so the node halo exchange fills it everywhere in the domain, domain
+  !! faces included. The caller applies the boundary conditions and eq. 69 afterwards.
   subroutine solid_face_to_nodes(state, grid, dom, halo, nodes, du, min_mass)
     type(ice_state_t), intent(in) :: state      !< solid phase face velocities
     type(grid_t), intent(in) :: grid            !< block geometry
     type(domain_t), intent(in) :: dom           !< decomposition
     type(halo_t), intent(inout) :: halo         !< halo buffers (>= 3 components)
     type(mpm_nodes_t), intent(inout) :: nodes   !< vel_l updated
-    real(wp), intent(inout) :: du(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< scratch
+    real(wp), intent(inout) :: du(:, grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< scratch
     real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
-    integer :: d, i, j, k, o(3), r(2, 3), span(3), a, b, e, c(3), cnt
+    integer :: d, i, j, k, r(2, 3), span(3), a, b, e, c(3), cnt
     real(wp) :: s
     du = 0.0_wp
     do d = 1, 3
       if (.not. grid%active(d)) cycle
       r = face_range(grid, d)
-      do k = r(1, 3), min(r(2, 3), grid%ubc(3))
-        do j = r(1, 2), min(r(2, 2), grid%ubc(2))
-          do i = r(1, 1), min(r(2, 1), grid%ubc(1))
+      do k = r(1, 3), r(2, 3)
+        do j = r(1, 2), r(2, 2)
+          do i = r(1, 1), r(2, 1)
             du(d, i, j, k) = state%solid%uface(i, j, k, d) - state%solid%uface0(i, j, k, d)
           end do
         end do
       end do
     end do
-    call halo_exchange_cell_vec(halo, dom, grid, du)
-    ! the high face of the last block's last cell is no cell's low face: keep it aside
+    call halo_exchange_node_vec(halo, dom, grid, du)
     do d = 1, 3
       if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
       span = merge(1, 0, grid%active)
       span(d) = 0
       do k = grid%lbn(3), grid%ubn(3)
@@ -390,7 +389,7 @@ contains
                 do a = 0, span(1)
                   c = [i - a, j - b, k - e]
                   if (.not. face_exists(grid, d, c)) cycle
-                  s = s + face_increment(state, grid, du, d, c)
+                  s = s + du(d, c(1), c(2), c(3))
                   cnt = cnt + 1
                 end do
               end do
@@ -402,8 +401,8 @@ contains
     end do
   end subroutine solid_face_to_nodes
 
-  !> True when the low face (direction d) of cell index c lies in the domain and in the
-  !! allocation (tangential indices of a cell, normal index of a node).
+  !> True when the face (direction d, index c: node index along d, cell indices across) lies in
+  !! the domain and in the node allocation.
   pure logical function face_exists(grid, d, c) result(ok)
     type(grid_t), intent(in) :: grid  !< block geometry
     integer, intent(in) :: d          !< face direction
@@ -412,30 +411,15 @@ contains
     ok = .true.
     do e = 1, 3
       if (.not. grid%active(e)) cycle
+      if (c(e) < grid%lbn(e) .or. c(e) > grid%ubn(e)) ok = .false.
+      if (grid%periodic(e)) cycle
       if (e == d) then
-        if (c(e) < grid%lbc(e) .or. c(e) > grid%ubc(e) + 1) ok = .false.
-        if (.not. grid%periodic(e) .and. (c(e) < 1 .or. c(e) > grid%ncells(e) + 1)) ok = .false.
+        if (c(e) < 1 .or. c(e) > grid%ncells(e) + 1) ok = .false.
       else
-        if (c(e) < grid%lbc(e) .or. c(e) > grid%ubc(e)) ok = .false.
-        if (.not. grid%periodic(e) .and. (c(e) < 1 .or. c(e) > grid%ncells(e))) ok = .false.
+        if (c(e) < 1 .or. c(e) > grid%ncells(e)) ok = .false.
       end if
     end do
   end function face_exists
-
-  !> Increment of the face (d, c): from `du` (halo-filled) where the face is the low face of an
-  !! allocated cell, else (the domain's or block's last high face) from the face arrays.
-  pure real(wp) function face_increment(state, grid, du, d, c) result(v)
-    type(ice_state_t), intent(in) :: state  !< solid phase
-    type(grid_t), intent(in) :: grid        !< block geometry
-    real(wp), intent(in) :: du(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< face increments
-    integer, intent(in) :: d                !< face direction
-    integer, intent(in) :: c(3)             !< face index
-    if (c(d) <= grid%ubc(d)) then
-      v = du(d, c(1), c(2), c(3))
-    else
-      v = state%solid%uface(c(1), c(2), c(3), d) - state%solid%uface0(c(1), c(2), c(3), d)
-    end if
-  end function face_increment
 
   !> Tracked solid fraction at the end of the step, with exactly the volume terms of the
   !! pressure equation: phi_s += source - dt/V sum_faces A phi_s,up u_s,f - phi_s kappa_s dp.

@@ -23,8 +23,10 @@
 !! non-Galerkin coarse operators; see docs/hypre.md for the measured comparison).
 !! Changing the operator values rebuilds the PFMG hierarchy at the next solve (hypre's PFMG cannot
 !! be set up twice), nothing else is reallocated. `struct_solver_set_reuse(solver, n)` keeps a
-!! hierarchy for up to n solves across operator changes (default 1: rebuild after every change);
-!! PCG stays correct with the stale SPD preconditioner and still iterates to the tolerance.
+!! hierarchy for up to n solves across operator changes (default 1: rebuild after every change),
+!! and rebuilds earlier when a solve needed more than 1.5 times the PCG iterations of the first
+!! solve after the set-up. PCG stays correct with the stale SPD preconditioner and still iterates
+!! to the tolerance.
 !! `struct_solver_invalidate` forces a rebuild at the next solve (scenes call it when they write a
 !! checkpoint, so that a restarted run rebuilds at the same solve as the continuing run).
 !!
@@ -112,6 +114,8 @@ module solver_pressure
     integer :: reuse = 1                  !< PFMG set-up kept for up to this many solves (>= 1)
     integer :: uses = 0                   !< hypre solves done with the current PFMG set-up
     integer :: setups = 0                 !< PFMG set-ups done since init (diagnostics)
+    integer :: setup_iterations = 0       !< PCG iterations of the first solve after the set-up
+    integer :: last_iterations = 0        !< PCG iterations of the last hypre solve
     ! direct path: one tridiagonal line on this rank
     logical :: direct = .false.           !< the operator is one line on this rank
     logical :: direct_ready = .false.     !< the factorisation of the current operator is valid
@@ -245,6 +249,8 @@ contains
     solver%reuse = 1
     solver%uses = 0
     solver%setups = 0
+    solver%setup_iterations = 0
+    solver%last_iterations = 0
     solver%initialized = .true.
   end subroutine struct_solver_init
 
@@ -301,7 +307,9 @@ contains
   end subroutine struct_solver_set_operator
 
   !> Keep the PFMG hierarchy for up to `n` solves across operator changes (n = 1, the default set
-  !! by `struct_solver_init`: rebuild at the first solve after every `set_operator`). A solve
+  !! by `struct_solver_init`: rebuild at the first solve after every `set_operator`). The
+  !! hierarchy is rebuilt earlier, at the next solve after an operator change, once a solve
+  !! took more than 1.5 times the PCG iterations of the first solve after the set-up. A solve
   !! with an unchanged operator never rebuilds. Call after `struct_solver_init`.
   subroutine struct_solver_set_reuse(solver, n)
     type(struct_solver_t), intent(inout) :: solver  !< initialised solver
@@ -319,6 +327,8 @@ contains
     type(struct_solver_t), intent(inout) :: solver  !< solver (initialised or not)
     solver%setup_done = .false.
     solver%uses = 0
+    solver%setup_iterations = 0
+    solver%last_iterations = 0
   end subroutine struct_solver_invalidate
 
   !> Solve A x = rhs by PCG + PFMG with `x` as initial guess (owned cells read and written,
@@ -376,7 +386,10 @@ contains
 
     if (.not. solver%setup_done) then
       call setup_krylov(solver)
-    else if (solver%operator_changed .and. solver%uses >= solver%reuse) then
+    else if (solver%operator_changed .and. (solver%uses >= solver%reuse .or. &
+      2 * solver%last_iterations > 3 * solver%setup_iterations)) then
+      ! reuse spent, or the stale hierarchy already cost 1.5 times the iterations of its first
+      ! solve (deterministic: iteration counts only)
       call setup_krylov(solver)
     end if
     solver%uses = solver%uses + 1
@@ -398,6 +411,8 @@ contains
 
     iterations = int(its)
     relative_residual = real(norm, wp)
+    solver%last_iterations = iterations
+    if (solver%uses == 1) solver%setup_iterations = iterations
     converged = relative_residual <= solver%tolerance   ! false for NaN as well
     if (.not. converged) then
       write(text, '(a,i0,a,es10.3,a,es10.3)') 'struct solver (PCG+PFMG) did not converge: ', &

@@ -1,0 +1,137 @@
+"""Coupled scene (`mpmice`) on several ranks and in more dimensions than the physics needs:
+decomposition invariance (1, 2, 4 ranks), a 2D column equal to the 1D one, and a bitwise-identical
+continuation from a checkpoint."""
+import glob
+import os
+
+import h5py
+import numpy as np
+import pytest
+
+from postproc.run_case import ROOT, run_mpmice
+
+TERZAGHI = os.path.join(ROOT, "namelists", "mpmice_terzaghi_1d.nml")
+DARCY = os.path.join(ROOT, "namelists", "mpmice_darcy_1d.nml")
+P_REF = 101325.0
+P0 = 1.0e4
+
+#: side walls that turn the 1D column into a 2D one with the same physics
+SIDE_WALLS = """
+&boundary
+  face = 'x-'
+  fluid = 'free_slip'
+  solid = 'roller'
+/
+&boundary
+  face = 'x+'
+  fluid = 'free_slip'
+  solid = 'roller'
+/
+"""
+
+
+@pytest.fixture(autouse=True)
+def _executable(mpmice_exe, monkeypatch):
+    monkeypatch.setenv("MPMICE_EXE", str(mpmice_exe))
+
+
+def _dumps(out, name):
+    return sorted(p for p in glob.glob(os.path.join(out, f"{name}_[0-9]*.h5")))
+
+
+def _run(tmp_path, namelist, label, nranks, *sets):
+    out = str(tmp_path / label)
+    args = [namelist, "--set", f"&run output_dir = '{out}' /"]
+    for text in sets:
+        args += ["--set", text]
+    run_mpmice(args, nranks=nranks, cwd=str(tmp_path))
+    return out
+
+
+def _fields(path, solid):
+    with h5py.File(path) as f:
+        cells = {k: f[k][...] for k in ("cell/pressure", "cell/water/velocity_x",
+                                        "cell/water/velocity_y", "cell/solid_volume_fraction")}
+        order = np.lexsort((f[f"particles/{solid}/x"][...], f[f"particles/{solid}/y"][...]))
+        parts = {k: f[f"particles/{solid}/{k}"][...][order] for k in ("x", "y", "velocity_y",
+                                                                       "stress_yy")}
+    return cells, parts
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("nranks", [2, 4])
+def test_terzaghi_rank_invariance(tmp_path, nranks):
+    """40-cell column to t = 0.02 s on 2 and 4 ranks equals 1 rank: pressure to 1e-9 p0 (1 rank
+    solves the tridiagonal system directly, more ranks with hypre PCG: their difference is the
+    solver tolerance), particle positions to 1e-13 m, effective stress to 1e-9 p0."""
+    sets = ("&grid ncells = 1, 40, 1 /", "&run end_time = 0.02, output_interval = 0.01 /")
+    one = _dumps(_run(tmp_path, TERZAGHI, "r1", 1, *sets), "terzaghi")
+    many = _dumps(_run(tmp_path, TERZAGHI, f"r{nranks}", nranks, *sets), "terzaghi")
+    assert len(one) == len(many) == 3
+    c1, p1 = _fields(one[-1], "soil")
+    cn, pn = _fields(many[-1], "soil")
+    assert np.max(np.abs(c1["cell/pressure"] - cn["cell/pressure"])) < 1e-9 * P0
+    assert np.max(np.abs(p1["y"] - pn["y"])) < 1e-13
+    assert np.max(np.abs(p1["stress_yy"] - pn["stress_yy"])) < 1e-9 * P0
+    # the load acted: the base carries a pore pressure near p0
+    assert np.max(c1["cell/pressure"]) - P_REF > 0.5 * P0
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("nranks", [2, 4])
+def test_darcy_rank_invariance(tmp_path, nranks):
+    """20-cell Darcy channel to t = 0.02 s on 2 and 4 ranks (blocks split inside the porous
+    column) equals 1 rank: pressure to 1e-9 of the drop, velocities to 1e-12 m/s."""
+    sets = ("&run end_time = 0.02, output_interval = 0.01 /",)
+    one = _dumps(_run(tmp_path, DARCY, "r1", 1, *sets), "darcy")[-1]
+    many = _dumps(_run(tmp_path, DARCY, f"r{nranks}", nranks, *sets), "darcy")[-1]
+    with h5py.File(one) as a, h5py.File(many) as b:
+        dp = 0.5 * P_REF
+        assert np.max(np.abs(a["cell/pressure"][...] - b["cell/pressure"][...])) < 1e-9 * dp
+        assert np.max(np.abs(a["cell/water/velocity_x"][...]
+                             - b["cell/water/velocity_x"][...])) < 1e-12
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("nranks,dims", [(1, "1, 1, 1"), (2, "2, 1, 1"), (4, "2, 2, 1")])
+def test_terzaghi_2d_equals_1d(tmp_path, nranks, dims):
+    """The column as a 2D scene (4 x 40 cells, 2 x 1 particles per cell, free-slip/roller side
+    walls) on 1, 2 and 4 ranks: every column of cells equals the 1D run (pressure to 1e-8 p0)."""
+    nml = tmp_path / "terzaghi_2d.nml"
+    with open(TERZAGHI) as src:
+        nml.write_text(src.read() + SIDE_WALLS)
+    sets = ("&run end_time = 0.02, output_interval = 0.02 /",)
+    ref = _dumps(_run(tmp_path, TERZAGHI, "r1d", 1, "&grid ncells = 1, 40, 1 /", *sets),
+                 "terzaghi")[-1]
+    out = _run(tmp_path, str(nml), f"2d_r{nranks}", nranks,
+               f"&grid ncells = 4, 40, 1, upper = 0.1, 1.0, 0.01, dims = {dims} /",
+               "&solid name='soil', upper = 0.1, 1.0, 0.01, particles_per_cell = 2, 1, 1 /",
+               *sets)
+    two = _dumps(out, "terzaghi")[-1]
+    with h5py.File(ref) as a, h5py.File(two) as b:
+        p1 = a["cell/pressure"][...].reshape(40)
+        p2 = b["cell/pressure"][...].reshape(40, 4)
+        assert np.max(np.abs(p2 - p1[:, None])) < 1e-8 * P0
+        assert np.max(np.abs(b["cell/water/velocity_x"][...])) < 1e-12
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("nranks", [1, 2])
+def test_restart_is_bitwise_identical(tmp_path, nranks):
+    """Run to t = 0.012 s; run 100 steps (checkpoint at the stop), restart, finish: the last
+    dump's fields are bitwise equal (cells, particles and the solid fraction the fluids see)."""
+    sets = ("&grid ncells = 1, 40, 1 /", "&run end_time = 0.012 /")
+    full = _dumps(_run(tmp_path, TERZAGHI, f"full{nranks}", nranks, *sets), "terzaghi")[-1]
+    half_dir = _run(tmp_path, TERZAGHI, f"half{nranks}", nranks, *sets, "&run max_steps = 100 /")
+    checkpoint = os.path.join(half_dir, "terzaghi_checkpoint_000100.h5")
+    assert os.path.isfile(checkpoint)
+    run_mpmice(["--restart", checkpoint, "--set", "&run max_steps = 0 /"], nranks=nranks,
+               cwd=str(tmp_path))
+    cont = _dumps(half_dir, "terzaghi")[-1]
+    assert os.path.basename(cont) == os.path.basename(full)
+    c1, p1 = _fields(full, "soil")
+    c2, p2 = _fields(cont, "soil")
+    for key in c1:
+        assert np.array_equal(c1[key], c2[key]), key
+    for key in p1:
+        assert np.array_equal(p1[key], p2[key]), key
