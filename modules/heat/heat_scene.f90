@@ -12,7 +12,7 @@ module heat_scene
   use parallel_reduce, only: global_sum_field
   use grid_layout, only: grid_t
   use solver_pressure, only: struct_solver_t, struct_solver_init, struct_solver_set_operator, &
-    struct_solver_solve, struct_solver_free
+    struct_solver_solve, struct_solver_free, struct_solver_invalidate
   use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field
   use io_xdmf, only: xdmf_particles_t
   use heat_conduction, only: heat_t, heat_init, heat_assemble, heat_free
@@ -130,6 +130,8 @@ contains
     type(grid_t), intent(in) :: grid            !< block geometry
     logical, intent(in) :: checkpoint           !< full restart state
     if (checkpoint) then
+      ! a restart starts with a fresh preconditioner: so does the run that goes on
+      call struct_solver_invalidate(self%solver)
       call h5_write_cell_field(file, 'checkpoint/' // temperature_path, grid, self%heat%temperature)
     else
       call h5_write_cell_field(file, temperature_path, grid, self%heat%temperature)

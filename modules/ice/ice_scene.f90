@@ -19,7 +19,7 @@ module ice_scene
   use parallel_reduce, only: global_max, global_min, global_sum
   use grid_layout, only: grid_t
   use solver_pressure, only: struct_solver_t, struct_solver_init, struct_solver_set_operator, &
-    struct_solver_solve, struct_solver_free
+    struct_solver_solve, struct_solver_free, struct_solver_invalidate
   use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field
   use io_xdmf, only: xdmf_particles_t
   use driver_scene, only: scene_t
@@ -352,6 +352,8 @@ contains
     integer :: m, d
     prefix = ''
     if (checkpoint) prefix = 'checkpoint/'
+    ! a restart starts with a fresh preconditioner: so does the run that goes on
+    if (checkpoint) call struct_solver_invalidate(self%solver)
     call h5_write_cell_field(file, prefix // 'cell/pressure', grid, self%state%pressure)
     do m = 1, self%state%nfluids
       associate (f => self%state%fluid(m))

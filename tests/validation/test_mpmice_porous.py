@@ -283,10 +283,14 @@ def terzaghi_scene(mpmice_exe, monkeypatch, _scene_probe_dir):
 
 
 def check_darcy(results, tolerance=5e-3):
+    """Pore velocity in the column and Darcy flux in the free water (n U_f of eq. 77, errata
+    E11) both within `tolerance` (measured: 1.5e-4 at most, the water's compressibility at
+    1 atm); steady to 1e-3 between the last two dumps."""
     worst = max(results, key=lambda r: abs(r["rel_error"]))
     assert abs(worst["rel_error"]) < tolerance, worst
     for r in results:
         assert r["steady_change"] < 1e-3, r
+        assert abs(r["u_outside"] / r["darcy_flux_exact"] - 1.0) < tolerance, r
 
 
 #: Fast subset: the extreme solid fractions and pressure drops.
@@ -298,20 +302,36 @@ def test_darcy_subset(darcy_scene, tmp_path):
     check_darcy(mpmice_darcy.run_darcy(str(tmp_path), DARCY_SUBSET))
 
 
-@pytest.mark.slow
 def test_darcy_all_cases(darcy_scene, tmp_path):
     """The paper's 15 cases (Fig. 4) within 0.5 % of eq. 77."""
     check_darcy(mpmice_darcy.run_darcy(str(tmp_path)))
 
 
-def test_terzaghi_50_cells(terzaghi_scene, tmp_path):
-    """50 cells to t = 0.1 s (T_v = 0.41): relative L2 error of the excess pore pressure < 2 %
-    at every dump with T_v >= 0.05."""
-    study = mpmice_terzaghi.run_terzaghi(str(tmp_path), 50, extra_set=["&run end_time = 0.1 /"])
-    r = study["runs"][50]
-    late = r["tv"] >= 0.05
-    assert np.count_nonzero(late) >= 7, r["tv"]
-    assert np.max(r["l2_error"][late]) < 2e-2, dict(zip(r["tv"], r["l2_error"]))
+def test_terzaghi_100_cells(terzaghi_scene, tmp_path):
+    """The paper's column (100 cells, step load) to t = 0.25 s (T_v = 1.03) against eq. 78 with
+    the fluid compressibility: relative L2 error of the excess pore pressure < 1.5 % at every
+    dump with 0.1 <= T_v <= 0.6 (measured at most 1.31 %, at T_v = 0.1), < 3 % up to T_v = 1.03
+    (measured 2.56 %: the pressure is 8 % of p0 there, the absolute error 0.2 % of p0), and the
+    degree of consolidation within 0.005 of U(T_v) at every dump with T_v >= 0.05. Earlier dumps
+    hold the ringing of the column's undrained P-wave that the quasi-static eq. 78 lacks."""
+    study = mpmice_terzaghi.run_terzaghi(str(tmp_path), 100)
+    r = study["runs"][100]
+    mid = (r["tv"] >= 0.1) & (r["tv"] <= 0.6)
+    late = r["tv"] >= 0.1
+    assert np.count_nonzero(mid) >= 8, r["tv"]
+    assert np.max(r["l2_error"][mid]) < 1.5e-2, dict(zip(r["tv"], r["l2_error"]))
+    assert np.max(r["l2_error"][late]) < 3e-2, dict(zip(r["tv"], r["l2_error"]))
+    ok = r["tv"] >= 0.05
+    assert np.max(np.abs(r["u_numeric"][ok] - r["u_exact"][ok])) < 5e-3
+
+
+def test_terzaghi_converges(terzaghi_scene, tmp_path):
+    """At T_v = 0.5 the error falls with the cell count: 50 -> 100 cells, at least by 1.5x
+    (measured 1.71 % -> 0.80 %, order 1.1)."""
+    study = mpmice_terzaghi.run_terzaghi(str(tmp_path), (50, 100),
+                                         extra_set=["&run end_time = 0.125 /"])
+    e50, e100 = study["error_at_tv"][0.5]
+    assert e100 < e50 / 1.5, (e50, e100)
 
 
 @pytest.mark.mpi
