@@ -3,6 +3,7 @@ solution with the fluid compressibility, at several resolutions.
 
 Usage:  python -m postproc.mpmice_terzaghi [--out docs/validation] [--cells 25 50 100 200]
                                            [--nranks 1]
+        python -m postproc.mpmice_terzaghi --dir output/mpmice_terzaghi   (one finished run)
 
 Scene namelists/mpmice_terzaghi_1d.nml: a saturated elastic column, H = 1 m along y, impermeable
 fixed base, drained top face at 1 atm, a 10 kPa load on the skeleton at that face from t = 0
@@ -294,12 +295,38 @@ def plot(study: dict, path: str, profile_cells: int = 100) -> None:
     plt.close(fig)
 
 
+def report_directory(output_dir: str) -> dict:
+    """Compare the dumps of one finished run in `output_dir` with the exact solution: print the
+    error at the report times and write terzaghi_vs_exact.png there (scripts/run.sh)."""
+    paths = list_dumps(output_dir, NAME)
+    if not paths:
+        raise RuntimeError(f"no dumps {NAME}_<step>.h5 in {output_dir}")
+    r = analyse_dumps([read_dump(path) for path in paths])
+    cells = len(r["y"])
+    study = {"cells": [cells], "runs": {cells: r}, "max_error": [r["max_error"]],
+             "order_max": [], "error_at_tv": {tv: [r["at_tv"][tv]["l2_error"]
+                                                    if tv in r["at_tv"] else math.nan]
+                                               for tv in TV_REPORT}, "wall_time": [math.nan]}
+    for target, a in r["at_tv"].items():
+        print(f"T_v = {target:<5} (dump T_v = {a['tv']:.4f}, t = {a['time']:.4g} s): relative L2 "
+              f"error {a['l2_error']:.3e}, U = {a['u_numeric']:.5f} (exact {a['u_exact']:.5f})")
+    print(f"largest relative L2 error over the dumps with T_v >= {TV_MIN}: {r['max_error']:.3e}")
+    path = os.path.join(output_dir, "terzaghi_vs_exact.png")
+    plot(study, path, profile_cells=cells)
+    print(f"comparison plot: {path}")
+    return r
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
     parser.add_argument("--cells", type=int, nargs="+", default=[25, 50, 100, 200])
     parser.add_argument("--nranks", type=int, default=1)
+    parser.add_argument("--dir", help="only compare the dumps of a finished run in DIR")
     args = parser.parse_args(argv)
+    if args.dir:
+        report_directory(args.dir)
+        return 0
     os.makedirs(args.out, exist_ok=True)
     with tempfile.TemporaryDirectory() as work:
         study = run_terzaghi(work, sorted(args.cells), args.nranks)

@@ -9,7 +9,7 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 
-case_file="${1:-namelists/heat_conduction_2d.nml}"
+case_file="${1:-namelists/mpmice_terzaghi_1d.nml}"
 nranks="${2:-2}"
 shift $(( $# > 2 ? 2 : $# )) || true
 
@@ -30,6 +30,12 @@ scene=$("$root/build/bin/mpmice" --check "$case_file" "$@" | \
 case "$scene" in
   heat_conduction)
     PYTHONPATH="$root" "$root/.venv/bin/python" -m postproc.heat_conduction "$output_dir" ;;
+  mpmice)
+    if grep -q "name *= *'terzaghi'" "$output_dir/"*.used.nml 2>/dev/null; then
+      PYTHONPATH="$root" "$root/.venv/bin/python" -m postproc.mpmice_terzaghi --dir "$output_dir"
+    else
+      echo "run.sh: no postprocessing script for this mpmice case; output is in $output_dir"
+    fi ;;
   *)
     echo "run.sh: no postprocessing script for scene '$scene'; output is in $output_dir" ;;
 esac
