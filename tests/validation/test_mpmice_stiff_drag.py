@@ -156,9 +156,9 @@ def test_terzaghi_stiff_implicit_is_stable(terzaghi_implicit):
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "measured on cbde8e0 and c2b4052: the excess pressure settles to a uniform 0.775 p0 at t = 0.01 s "
-    "(0.790 p0 from 0.03 s on) instead of the undrained p0 = 9980 Pa: the effective stress "
-    "(-16 Pa) plus the pore pressure carry 79 % of the 10 kPa load; d = 1e-4 m: 0.97 p0 at "
+    "measured on cbde8e0 and c2b4052: the excess pressure settles to a uniform 0.775 p0 at "
+    "t = 0.01 s (0.790 p0 from 0.03 s on) instead of the undrained p0 = 9980 Pa: the effective "
+    "stress (-16 Pa) plus the pore pressure carry 79 % of the 10 kPa load; d = 1e-4 m: 0.97 p0 at "
     "0.02 s, d = 1 mm within 2 % (postproc/mpmice_stiff_drag.py, "
     "docs/validation/mpmice_stiff_drag.csv)"))
 def test_terzaghi_stiff_implicit_matches_exact(terzaghi_implicit):
@@ -180,9 +180,9 @@ def test_terzaghi_stiff_explicit_fails(solver, tmp_path):
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "driver issue (measured on cbde8e0 and c2b4052): the summed time misses the output time by more than "
-    "the landing slack 1e-9 dt after 5000 steps of 1e-5 s, and the 1.07e-14 s remainder step "
-    "fails dt_min = 1e-12 s; the study uses power-of-two steps because of it"))
+    "driver issue (measured on cbde8e0 and c2b4052): the summed time misses the output time by "
+    "more than the landing slack 1e-9 dt after 5000 steps of 1e-5 s, and the 1.07e-14 s "
+    "remainder step fails dt_min = 1e-12 s; the study uses power-of-two steps because of it"))
 def test_fixed_decimal_dt_lands_on_output_times(solver, tmp_path):
     """The Darcy namelist as is (d = 1 mm) with dt fixed at 1e-5 s, dumps every 0.05 s, to
     0.1 s: must finish (status 0)."""
