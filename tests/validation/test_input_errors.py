@@ -46,6 +46,8 @@ BAD_INPUTS = [
      ["case.nml", "&grid", "ncells", "-5, 1, 1", ">= 1"]),
     ("ncells_not_integer", "&grid ncells = 'abc' /", [],
      ["case.nml", "&grid", "ncells", "'abc'"]),
+    ("end_time_negative", "&run output_dir = 'out', end_time = -1 /", [],
+     ["case.nml", "&run", "end_time", "-1.0", ">= 0 [s]"]),
     ("real_malformed", "&run end_time = 1.0.0 /", [],
      ["case.nml", "&run", "end_time", "1.0.0"]),
     ("integer_given_real", "&run max_steps = 2.5 /", [],
@@ -253,6 +255,15 @@ def test_too_many_ranks_for_the_grid(run_mpmice, tmp_case_dir):
     assert run_mpmice(["--check", "case.nml"], nranks=1, cwd=tmp_case_dir).returncode == 0
     result = run_mpmice(["case.nml"], nranks=2, cwd=tmp_case_dir)
     assert_input_error(result, ["case.nml", "&grid", "ncells", "3, 1, 1", "2 ranks"], tmp_case_dir)
+
+
+@pytest.mark.mpi
+def test_more_ranks_than_cells(run_mpmice, tmp_case_dir):
+    """4 ranks for 3 cells: not even one cell per rank."""
+    write_case(tmp_case_dir, "&grid ncells = 3, 1, 1 /")
+    result = run_mpmice(["case.nml"], nranks=4, cwd=tmp_case_dir)
+    assert_input_error(result, ["case.nml", "&grid", "ncells", "3, 1, 1", "one cell per rank",
+                                "4 ranks"], tmp_case_dir)
 
 
 def test_dims_must_match_ranks(run_mpmice, tmp_case_dir):
