@@ -1,17 +1,27 @@
 !> Ghost cells of the ICE fields on non-periodic domain faces, from `&boundary` (one condition
 !! per face, defaults: fluid 'wall', thermal 'adiabatic').
 !!
-!! Fluid conditions implemented: 'wall' (no slip: every velocity component odd across the face,
-!! so the wall velocity is zero) and 'free_slip' (normal component odd, tangential even). Both
-!! have zero normal face velocity (`ice_face_velocity`) and a homogeneous Neumann condition on the
-!! pressure correction. 'pressure' (open face): the pressure is odd about the prescribed face
-!! pressure (ghost 2 p_b - p), the pressure correction odd about 0 (Dirichlet in eq. 35: the face
-!! counts twice in the diagonal), velocities and scalars even (zero gradient: what flows in
-!! carries the inner state). 'inflow' and 'outflow' are not implemented yet (stopped at
-!! initialisation). Thermal: 'adiabatic' (temperature even: zero flux) or 'fixed' (ghost
-!! 2 T_wall - T, so the face temperature is T_wall). Other scalars are mirrored. Called after the
-!! halo exchange; dimensions are filled in order x, y, z over the full extent of the others so
-!! that edges and corners beyond a face are filled too.
+!! Fluid conditions (ghost g, mirror cell c, prescribed face value q_b):
+!!  - 'wall' (no slip): every velocity component odd (u_g = -u_c), face velocity 0.
+!!  - 'free_slip': normal component odd, tangential even, face velocity 0.
+!!  - 'pressure' (open face): pressure odd about the prescribed face pressure (p_g = 2 p_b - p_c),
+!!    the pressure correction odd about 0 (Dirichlet in eq. 35: the face counts twice in the
+!!    diagonal), velocities and scalars even, face velocity computed like an inner face and
+!!    corrected by the pressure, face pressure p_b.
+!!  - 'inflow': every velocity component odd about `&boundary velocity` (u_g = 2 u_b - u_c, so the
+!!    face mean is u_b), scalars even (the inflowing fluid carries the density, volume fraction,
+!!    specific volume and temperature of the inner cell next to the face; thermal 'fixed' sets the
+!!    face temperature), pressure and pressure correction even. The face velocity of every fluid is
+!!    the normal component of u_b and the pressure does not correct it (homogeneous Neumann on dp:
+!!    the face is absent from the operator, its flux is part of the right-hand side).
+!!  - 'outflow' (zero gradient): every ghost even (velocities, scalars, pressure, pressure
+!!    correction); the face velocity is computed like an inner face (with even ghosts: the inner
+!!    cell's mass-weighted velocity plus dt g) and not corrected (homogeneous Neumann on dp).
+!! Walls, inflow and outflow faces are "closed" to the pressure correction (`state%closed`,
+!! used through `closed_face`); only 'pressure' faces are open. Thermal: 'adiabatic' (temperature
+!! even: zero flux) or 'fixed' (ghost 2 T_wall - T, so the face temperature is T_wall). Other
+!! scalars are mirrored. Called after the halo exchange; dimensions are filled in order x, y, z
+!! over the full extent of the others so that edges and corners beyond a face are filled too.
 module ice_bc
   use mpmice_kinds, only: wp
   use mpmice_errors, only: fatal
@@ -21,24 +31,33 @@ module ice_bc
   private
 
   public :: ice_bc_t, ice_bc_init, ice_bc_fill, bc_scalar, bc_temperature, bc_pressure, bc_dp
+  public :: bc_wall, bc_free_slip, bc_open, bc_inflow, bc_outflow
 
   integer, parameter :: bc_scalar = 0       !< kind: even scalar (density, pressure, ...)
   integer, parameter :: bc_temperature = -1 !< kind: temperature-like (fixed walls: odd about T_w)
   integer, parameter :: bc_pressure = -2    !< kind: pressure (open faces: odd about p_b)
   integer, parameter :: bc_dp = -3          !< kind: pressure correction (open faces: odd about 0)
 
+  integer, parameter :: bc_wall = 1         !< fluid condition 'wall'
+  integer, parameter :: bc_free_slip = 2    !< fluid condition 'free_slip'
+  integer, parameter :: bc_open = 3         !< fluid condition 'pressure'
+  integer, parameter :: bc_inflow = 4       !< fluid condition 'inflow'
+  integer, parameter :: bc_outflow = 5      !< fluid condition 'outflow'
+
   !> Conditions of the six faces (x-, x+, y-, y+, z-, z+).
   type :: ice_bc_t
+    integer :: fluid(6) = bc_wall           !< fluid condition (bc_wall .. bc_outflow)
     logical :: no_slip(6) = .true.          !< 'wall' (else 'free_slip' or open)
     logical :: open(6) = .false.            !< 'pressure': fluid may cross, p prescribed
     real(wp) :: p_face(6) = 101325.0_wp     !< pressure of an open face [Pa]
+    real(wp) :: u_in(3, 6) = 0.0_wp         !< velocity of an inflow face [m/s]
     logical :: fixed_t(6) = .false.         !< thermal 'fixed' (else 'adiabatic')
     real(wp) :: t_wall(6) = 300.0_wp        !< wall temperature [K]
   end type ice_bc_t
 
 contains
 
-  !> Conditions from the configuration; stops on a fluid condition not implemented yet.
+  !> Conditions from the configuration.
   subroutine ice_bc_init(bc, cfg)
     type(ice_bc_t), intent(out) :: bc   !< face conditions
     type(config_t), intent(in) :: cfg   !< configuration
@@ -46,18 +65,25 @@ contains
     integer :: f
     do f = 1, 6
       b = boundary_for_face(cfg, f)
+      bc%no_slip(f) = .false.
       select case (trim(b%fluid))
       case ('wall')
+        bc%fluid(f) = bc_wall
         bc%no_slip(f) = .true.
       case ('free_slip')
-        bc%no_slip(f) = .false.
+        bc%fluid(f) = bc_free_slip
       case ('pressure')
-        bc%no_slip(f) = .false.
+        bc%fluid(f) = bc_open
         bc%open(f) = .true.
         bc%p_face(f) = b%pressure
+      case ('inflow')
+        bc%fluid(f) = bc_inflow
+        bc%u_in(:, f) = b%velocity
+      case ('outflow')
+        bc%fluid(f) = bc_outflow
       case default
         call fatal('ice scene: &boundary face = ''' // trim(b%face) // ''' fluid = ''' // &
-          trim(b%fluid) // ''' is not implemented yet (wall, free_slip, pressure)')
+          trim(b%fluid) // ''' is not implemented (wall, free_slip, pressure, inflow, outflow)')
       end select
       bc%fixed_t(f) = trim(b%thermal) == 'fixed'
       bc%t_wall(f) = b%temperature
@@ -65,8 +91,8 @@ contains
   end subroutine ice_bc_init
 
   !> Fill the ghosts of `field` beyond non-periodic domain faces. `kind`: `bc_scalar`,
-  !! `bc_temperature` (then `scale` multiplies T_wall: 1 for T, cv for cv T) or the velocity
-  !! component 1..3.
+  !! `bc_temperature` (then `scale` multiplies T_wall: 1 for T, cv for cv T), `bc_pressure`,
+  !! `bc_dp` or the velocity component 1..3 (mass-specific momentum too).
   subroutine ice_bc_fill(grid, bc, field, kind, scale)
     type(grid_t), intent(in) :: grid          !< block geometry
     type(ice_bc_t), intent(in) :: bc          !< face conditions
@@ -84,15 +110,22 @@ contains
         f = 2 * (d - 1) + side
         s(side) = 1.0_wp
         w(side) = 0.0_wp
-        if (kind == d) then
-          if (.not. bc%open(f)) s(side) = -1.0_wp
+        if (kind > 0) then
+          ! velocity component `kind` across a face normal to d
+          select case (bc%fluid(f))
+          case (bc_wall)
+            s(side) = -1.0_wp
+          case (bc_free_slip)
+            if (kind == d) s(side) = -1.0_wp
+          case (bc_inflow)
+            s(side) = -1.0_wp
+            w(side) = 2.0_wp * bc%u_in(kind, f)
+          end select
         else if (kind == bc_pressure .and. bc%open(f)) then
           s(side) = -1.0_wp
           w(side) = 2.0_wp * bc%p_face(f)
         else if (kind == bc_dp .and. bc%open(f)) then
           s(side) = -1.0_wp
-        else if (kind > 0) then
-          if (bc%no_slip(f)) s(side) = -1.0_wp
         else if (kind == bc_temperature .and. bc%fixed_t(f)) then
           s(side) = -1.0_wp
           w(side) = 2.0_wp * sc * bc%t_wall(f)

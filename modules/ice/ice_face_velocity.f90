@@ -3,7 +3,10 @@
 !! by the harmonic mean of the intrinsic specific volumes, and gravity. The viscous term of
 !! eq. 30 is zero at faces (as the paper and Uintah's computeVelFace take it; errata E4 moot).
 !!
-!! Faces on a non-periodic domain boundary carry zero normal velocity (wall, free slip).
+!! Faces on a non-periodic domain boundary (`&boundary`, `ice_bc`): 'wall' and 'free_slip' carry
+!! zero normal velocity; 'inflow' the normal component of the prescribed velocity for every
+!! fluid; 'outflow' and 'pressure' faces are computed like inner faces from the ghost cells
+!! (even for outflow). Without the face conditions (`bc` absent) every closed face gets zero.
 !! Departure: where a fluid has mass on one side of a face only, its face specific volume is that
 !! side's (not the harmonic mean with the EOS value of the empty side); this keeps a fluid at
 !! rest across an air-water interface that lies on a face in exact discrete balance (the
@@ -12,6 +15,7 @@ module ice_face_velocity
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
+  use ice_bc, only: ice_bc_t, bc_inflow, bc_outflow
   implicit none
   private
 
@@ -21,13 +25,15 @@ contains
 
   !> u*_f for every fluid on the faces of the owned cells (faces lo..hi+1 in each active
   !! direction), and the face specific volume v_hat = 2 v_L v_R / (v_L + v_R) (eq. 31).
-  !! Needs the cell fields (and pressure) valid in one ghost layer.
-  subroutine ice_face_velocities(state, grid, dt, gravity)
+  !! Needs the cell fields (and pressure) valid in one ghost layer. `bc`: the face conditions;
+  !! without them every closed boundary face (`closed_face`) has zero velocity.
+  subroutine ice_face_velocities(state, grid, dt, gravity, bc)
     type(ice_state_t), intent(inout) :: state   !< fluids (uface, vface written)
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(in) :: dt                  !< time step [s]
     real(wp), intent(in) :: gravity(3)          !< gravitational acceleration [m/s^2]
-    integer :: d, m, i, j, k, o(3), r(2, 3)
+    type(ice_bc_t), intent(in), optional :: bc  !< conditions of the domain faces
+    integer :: d, m, i, j, k, o(3), r(2, 3), fb
     real(wp) :: rl, rr, vl, vr, vhat
 
     do d = 1, 3
@@ -54,8 +60,17 @@ contains
                 end if
                 f%vface(i, j, k, d) = vhat
                 if (closed_face(state, grid, d, [i, j, k])) then
-                  f%uface(i, j, k, d) = 0.0_wp
-                  cycle
+                  fb = 0
+                  if (present(bc)) fb = bc%fluid(face_index(d, [i, j, k]))
+                  if (fb == bc_inflow) then
+                    ! prescribed, the same for every fluid; the pressure does not correct it
+                    f%uface(i, j, k, d) = bc%u_in(d, face_index(d, [i, j, k]))
+                    cycle
+                  else if (fb /= bc_outflow) then
+                    f%uface(i, j, k, d) = 0.0_wp
+                    cycle
+                  end if
+                  ! outflow: like an inner face, with the (even) ghost state
                 end if
                 if (rl + rr > 0.0_wp) then
                   f%uface(i, j, k, d) = (rl * f%vel(i - o(1), j - o(2), k - o(3), d) + &
@@ -100,8 +115,10 @@ contains
     if (idx(d) /= 1) face_index = 2 * d
   end function face_index
 
-  !> True for a boundary face that no fluid crosses (a wall); false inside the domain and on an
-  !! open ('pressure') face.
+  !> True for a boundary face whose velocity the pressure correction leaves alone (homogeneous
+  !! Neumann on dp, the face absent from the operator of eq. 35): 'wall', 'free_slip' (no fluid
+  !! crosses), 'inflow' (prescribed velocity) and 'outflow' (zero gradient); false inside the
+  !! domain and on an open ('pressure') face.
   pure logical function closed_face(state, grid, d, idx)
     type(ice_state_t), intent(in) :: state  !< fluids (closed faces)
     type(grid_t), intent(in) :: grid        !< block geometry

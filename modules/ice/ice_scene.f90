@@ -217,7 +217,7 @@ contains
     end if
 
     call timer_start(timers, self%t_face)
-    call ice_face_velocities(self%state, grid, dt, self%gravity)
+    call ice_face_velocities(self%state, grid, dt, self%gravity, self%bc)
     call ice_exchange_faces(self%state, grid, dt, self%k_exchange)
     call timer_stop(timers, self%t_face)
 
