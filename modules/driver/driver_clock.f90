@@ -88,7 +88,9 @@ contains
     unclipped = min(clock%dt_next, dt_limit)
     clock%step = clock%step + 1
     clock%dt = dt
-    if (t_event - (clock%time + dt) <= event_slack * dt) then
+    ! land on the event when the gap left is round-off: relative to the step, or to the time
+    ! itself (a fixed dt summed over many steps misses a decimal event time by ~N eps t)
+    if (t_event - (clock%time + dt) <= max(event_slack * dt, 1.0e-12_wp * abs(t_event))) then
       clock%time = t_event
     else
       clock%time = clock%time + dt

@@ -66,9 +66,9 @@ contains
             with_solid = .false.
             rigid = .false.
             if (state%solid%present) then
-              call solid_face_partner(state, d, o, i, j, k, phi(nf + 1), v(nf + 1), c, rigid)
+              call solid_face_partner(state, d, o, i, j, k, boundary_side(grid, d, [i, j, k]), &
+                phi(nf + 1), v(nf + 1), c, rigid)
               ! a domain face: the solid of the inner cell (no solid lies beyond)
-              if (boundary_face(grid, d, [i, j, k])) phi(nf + 1) = 2.0_wp * phi(nf + 1)
               with_solid = phi(nf + 1) > 0.0_wp
             end if
             if (with_solid) then
@@ -118,11 +118,13 @@ contains
   !! c_eff = phi_m,up R / phi_s,face makes the exchange's steady state obey exactly that, so a
   !! porous column ending at a face has the resistance of its length (a plain mean of phi_s and
   !! c at the face would lose about half a cell of it at each end).
-  pure subroutine solid_face_partner(state, d, o, i, j, k, phi, v, c, rigid)
+  pure subroutine solid_face_partner(state, d, o, i, j, k, ghost_side, phi, v, c, rigid)
     type(ice_state_t), intent(in) :: state  !< fluids and solid phase
     integer, intent(in) :: d                !< face direction
     integer, intent(in) :: o(3)             !< unit offset along d
     integer, intent(in) :: i, j, k          !< face index
+    integer, intent(in) :: ghost_side       !< 1 / 2: the low / high cell lies beyond a domain
+                                            !! face (no solid there), 0: an inner face
     real(wp), intent(out) :: phi            !< solid volume fraction at the face
     real(wp), intent(out) :: v              !< grain specific volume [m^3/kg]
     real(wp), intent(out) :: c(max_n)       !< reduced drag coefficient per fluid [kg/m^3/s]
@@ -132,7 +134,10 @@ contains
     associate (sp => state%solid)
       pl = sp%vfrac(i - o(1), j - o(2), k - o(3))
       pr = sp%vfrac(i, j, k)
+      if (ghost_side == 1) pl = 0.0_wp
+      if (ghost_side == 2) pr = 0.0_wp
       phi = 0.5_wp * (pl + pr)
+      if (ghost_side /= 0) phi = 2.0_wp * phi
       rigid = sp%rigid_face(i, j, k, d) > 0.5_wp
       wl = merge(1.0_wp, 0.0_wp, pl > 0.0_wp)
       wr = merge(1.0_wp, 0.0_wp, pr > 0.0_wp)
@@ -158,6 +163,18 @@ contains
       end do
     end associate
   end subroutine solid_face_partner
+
+  !> 1 when the low cell of face `idx` (direction d) lies beyond a domain face, 2 for the high
+  !! cell, 0 for an inner face.
+  pure integer function boundary_side(grid, d, idx) result(side)
+    type(grid_t), intent(in) :: grid  !< block geometry
+    integer, intent(in) :: d          !< face direction
+    integer, intent(in) :: idx(3)     !< face index
+    side = 0
+    if (.not. boundary_face(grid, d, idx)) return
+    side = 2
+    if (idx(d) == 1) side = 1
+  end function boundary_side
 
   !> beta_mn = dt v_m phi_n K_mn with K_mn = `k_fluid` between fluids and c_m (the reduced drag
   !! coefficient) between fluid m and the solid (material nf + 1 when nm > nf); the solid's row is

@@ -207,15 +207,20 @@ contains
   end subroutine ice_face_pressure
 
   !> Solid volume fraction of the low face of cell (i,j,k) in direction d for the solid's
-  !! volume flux of eq. 35: the grain fraction the particles place on the face plane
-  !! (`mpmice_solid_cells`), so that the flux phi_s,f u_s,f is the grain volume that actually
-  !! crosses the face (a cell-averaged upwind value is wrong where a cell holds a free surface).
+  !! volume flux of eq. 35: the grain fraction the particles place on the upwind side of the face
+  !! plane (`mpmice_solid_cells`), so that the flux phi_s,f u_s,f is the grain volume that
+  !! actually crosses the face: zero where a free surface of the soil moves away from the face,
+  !! the full fraction inside a body (a cell-averaged upwind value is wrong at such a surface).
   pure real(wp) function solid_face_fraction(state, d, o, i, j, k) result(phi)
     type(ice_state_t), intent(in) :: state  !< solid phase
     integer, intent(in) :: d                !< face direction
     integer, intent(in) :: o(3)             !< unit offset along d (unused: kept for symmetry)
     integer, intent(in) :: i, j, k          !< face index (low face of cell i,j,k)
     if (.false.) phi = real(o(1), wp)
-    phi = state%solid%face_fraction(i, j, k, d)
+    if (state%solid%uface(i, j, k, d) >= 0.0_wp) then
+      phi = state%solid%face_fraction(i, j, k, d)
+    else
+      phi = state%solid%face_fraction_hi(i, j, k, d)
+    end if
   end function solid_face_fraction
 end module ice_pressure

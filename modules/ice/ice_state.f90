@@ -51,7 +51,9 @@ module ice_state
     real(wp), allocatable :: uface0(:, :, :, :) !< the same from the MPM nodal velocities alone
     real(wp), allocatable :: vface(:, :, :, :)  !< exchange-modified face specific volume [m^3/kg]
     real(wp), allocatable :: rigid_face(:, :, :, :) !< 1 where the face velocity is prescribed
-    real(wp), allocatable :: face_fraction(:, :, :, :) !< solid fraction on the face plane [-]
+    real(wp), allocatable :: face_fraction(:, :, :, :) !< solid fraction on the low side of the
+                                                       !! face plane [-]
+    real(wp), allocatable :: face_fraction_hi(:, :, :, :) !< the same on its high side [-]
     logical :: explicit_drag = .false.          !< explicit (forward Euler) drag, for comparison
   end type ice_solid_phase_t
 
@@ -134,8 +136,10 @@ contains
       allocate(s%vel(l(1):u(1), l(2):u(2), l(3):u(3), 3), source=0.0_wp)
       allocate(s%drag(l(1):u(1), l(2):u(2), l(3):u(3), max(state%nfluids, 1)), source=0.0_wp)
       allocate(s%uface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
-      allocate(s%uface0, s%vface, s%rigid_face, s%face_fraction, mold=s%uface)
+      allocate(s%uface0, s%vface, s%rigid_face, s%face_fraction, s%face_fraction_hi, &
+        mold=s%uface)
       s%face_fraction = 0.0_wp
+      s%face_fraction_hi = 0.0_wp
       s%uface0 = 0.0_wp
       s%vface = 0.0_wp
       s%rigid_face = 0.0_wp
@@ -159,7 +163,7 @@ contains
     if (allocated(state%solid%vfrac)) deallocate(state%solid%vfrac, state%solid%source, &
       state%solid%rho, state%solid%spvol, state%solid%kappa, state%solid%vel, state%solid%drag, &
       state%solid%rigid, state%solid%uface, state%solid%uface0, state%solid%vface, &
-      state%solid%rigid_face, state%solid%face_fraction)
+      state%solid%rigid_face, state%solid%face_fraction, state%solid%face_fraction_hi)
     state%solid%present = .false.
     state%nfluids = 0
   end subroutine ice_state_free

@@ -71,15 +71,18 @@ contains
     type(ice_state_t), intent(in) :: state  !< fluids
     type(grid_t), intent(in) :: grid        !< block geometry
     real(wp) :: dt
-    real(wp) :: diffusivity, s
+    real(wp) :: diffusivity, s, rho_min
     integer :: m
     diffusivity = 0.0_wp
     do m = 1, state%nfluids
       associate (f => state%fluid(m), lo => grid%lo, hi => grid%hi)
         if (f%viscosity <= 0.0_wp .and. f%conductivity <= 0.0_wp) cycle
         if (.not. any(f%rho(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) > 0.0_wp)) cycle
+        ! cells where the fluid is present, not a trace: the specific volume of a trace
+        ! (advected m v over a vanishing m) is not a physical one and must not set the step
+        rho_min = 1.0e-6_wp * maxval(f%rho(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
         s = maxval(f%spvol(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), &
-          mask=f%rho(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) > 0.0_wp)
+          mask=f%rho(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) > rho_min)
         diffusivity = max(diffusivity, f%viscosity * s, f%conductivity * s / f%eos%cv)
       end associate
     end do

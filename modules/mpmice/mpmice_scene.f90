@@ -30,7 +30,7 @@ module mpmice_scene
     h5_read_node_field
   use io_xdmf, only: xdmf_particles_t
   use driver_scene, only: scene_t
-  use ice_state, only: ice_solid_alloc
+  use ice_state, only: ice_state_t, ice_solid_alloc
   use ice_scene, only: ice_scene_t, exchange_primitives, exchange_lagrangian
   use ice_equilibration, only: ice_equilibrate
   use ice_face_velocity, only: ice_face_velocities
@@ -38,7 +38,7 @@ module mpmice_scene
     ice_face_pressure
   use ice_lagrangian, only: ice_lagrangian_values
   use ice_advection, only: ice_advect
-  use ice_bc, only: ice_bc_fill, bc_pressure, bc_dp
+  use ice_bc, only: ice_bc_fill, bc_pressure, bc_dp, bc_scalar
   use ice_exchange, only: ice_exchange_faces, ice_exchange_cells
   use ice_viscous, only: ice_viscous_sources
   use mpm_scene, only: mpm_scene_t
@@ -123,13 +123,13 @@ contains
     end do
     call ice_solid_alloc(self%fl%state, grid)
     self%fl%state%solid%explicit_drag = trim(cfg%coupling%drag_scheme) == 'explicit'
-    allocate(self%dep(6 + ns, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+    allocate(self%dep(9 + ns, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
     allocate(self%du(3, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
       grid%lbn(3):grid%ubn(3)), source=0.0_wp)
     allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
-    call halo_init(self%halo, dom, grid, 6 + ns)
+    call halo_init(self%halo, dom, grid, 9 + ns)
     allocate(self%uprev(3, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3), cfg%nfluids), source=0.0_wp)
     allocate(self%nbuf(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
@@ -138,6 +138,9 @@ contains
     ! the initial solid fraction; the fluids fill the pores (their fractions scaled by n)
     call deposit_solids(self, dom, grid)
     self%fl%state%solid%vfrac = self%phi_p
+    ! ghosts beyond a domain face mirror the inner cell, like the fluids' bulk densities
+    call ice_bc_fill(grid, self%fl%bc, self%fl%state%solid%vfrac, bc_scalar)
+    self%phi_p = self%fl%state%solid%vfrac
     self%fl%state%solid%source = 0.0_wp
     do m = 1, self%fl%state%nfluids
       associate (f => self%fl%state%fluid(m))
@@ -145,6 +148,7 @@ contains
       end associate
     end do
     call exchange_primitives(self%fl, dom, grid)
+    call open_face_reservoirs(self%fl%state, grid)
     call ice_equilibrate(self%fl%state, grid, self%fl%eq_tolerance, self%fl%eq_max, its, failed)
     if (global_sum(dom, failed) > 0) call fatal('mpmice scene: initial pressure equilibration ' &
       // 'with the solid failed')
@@ -236,7 +240,7 @@ contains
             grid%lbc(2):grid%ubc(2), grid%lbc(3):grid%ubc(3), s)
         end do
       end do
-      call ice_face_velocities(st, grid, dt, fl%gravity)
+      call ice_face_velocities(st, grid, dt, fl%gravity, fl%bc)
       call fluid_face_predictor_porous(st, grid, self%uprev)
       call solid_face_predictor(st, grid, so%nodes, dt, so%min_mass)
       call ice_exchange_faces(st, grid, dt, fl%k_exchange)
@@ -290,7 +294,8 @@ contains
       call timer_start(timers, self%t_cells)
       call solid_track_fraction(st, grid, dt, self%max_fraction)
       call halo_exchange_cell(fl%halo, dom, grid, st%solid%vfrac)
-      call zero_wall_ghosts(grid, st%solid%vfrac)
+      call ice_bc_fill(grid, fl%bc, st%solid%vfrac, bc_scalar)
+      call open_face_reservoirs(st, grid)
       call timer_stop(timers, self%t_cells)
 
       call timer_start(timers, so%t_g2p)
@@ -360,24 +365,37 @@ contains
     end associate
   end function pressure_solve
 
-  !> No solid beyond a non-periodic domain face: the ghost cells there hold phi_s = 0, so the
-  !! upwind solid flux of a boundary face is phi_s u_s for outflow and 0 for inflow.
-  pure subroutine zero_wall_ghosts(grid, field)
-    type(grid_t), intent(in) :: grid   !< block geometry
-    real(wp), intent(inout) :: field(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell field
-    integer :: i, j, k, c(3), d
+  !> Ghost cells beyond an open ('pressure') face hold a free-fluid reservoir: no solid, and the
+  !! fluids' bulk densities of the mirrored inner cell divided by its porosity (so their
+  !! intrinsic densities are the inner cell's). Beyond a wall the ghosts mirror the inner cell,
+  !! solid included, so the equilibration there sees the same mixture.
+  pure subroutine open_face_reservoirs(state, grid)
+    type(ice_state_t), intent(inout) :: state  !< fluids and solid phase (ghosts updated)
+    type(grid_t), intent(in) :: grid           !< block geometry
+    integer :: i, j, k, d, m, face, c(3)
+    real(wp) :: porosity
     do k = grid%lbc(3), grid%ubc(3)
       do j = grid%lbc(2), grid%ubc(2)
         do i = grid%lbc(1), grid%ubc(1)
           c = [i, j, k]
           do d = 1, 3
             if (.not. grid%active(d) .or. grid%periodic(d)) cycle
-            if (c(d) < 1 .or. c(d) > grid%ncells(d)) field(i, j, k) = 0.0_wp
+            face = 0
+            if (c(d) < 1) face = 2 * d - 1
+            if (c(d) > grid%ncells(d)) face = 2 * d
+            if (face == 0) cycle
+            if (state%closed(face)) cycle
+            porosity = 1.0_wp - state%solid%vfrac(i, j, k)
+            if (porosity <= 0.0_wp) cycle
+            do m = 1, state%nfluids
+              state%fluid(m)%rho(i, j, k) = state%fluid(m)%rho(i, j, k) / porosity
+            end do
+            state%solid%vfrac(i, j, k) = 0.0_wp
           end do
         end do
       end do
     end do
-  end subroutine zero_wall_ghosts
+  end subroutine open_face_reservoirs
 
   !> Rigid solid `s` from `time` to `time + dt` along its prescribed motion.
   subroutine move_rigid(so, s, grid, time, dt)
@@ -465,7 +483,8 @@ contains
     associate (sp => self%fl%state%solid)
       call h5_read_cell_field(file, 'checkpoint/cell/solid_volume_fraction', grid, sp%vfrac)
       call halo_exchange_cell(self%fl%halo, dom, grid, sp%vfrac)
-      call zero_wall_ghosts(grid, sp%vfrac)
+      call ice_bc_fill(grid, self%fl%bc, sp%vfrac, bc_scalar)
+      call open_face_reservoirs(self%fl%state, grid)
       do d = 1, 3
         call h5_read_cell_field(file, 'checkpoint/cell/solid_velocity_' // comp(d), grid, &
           sp%vel(:, :, :, d))
@@ -502,8 +521,11 @@ contains
   function mpmice_all_finite(self, grid) result(finite)
     class(mpmice_scene_t), intent(in) :: self  !< scene
     type(grid_t), intent(in) :: grid           !< block geometry
-    logical :: finite
-    finite = self%fl%all_finite(grid) .and. self%so%all_finite(grid)
+    logical :: finite, solids_finite
+    ! both parts evaluated (a function call inside .and. may be skipped)
+    finite = self%fl%all_finite(grid)
+    solids_finite = self%so%all_finite(grid)
+    finite = finite .and. solids_finite
     associate (lo => grid%lo, hi => grid%hi)
       finite = finite .and. all(ieee_is_finite(self%fl%state%solid%vfrac(lo(1):hi(1), &
         lo(2):hi(2), lo(3):hi(3))))

@@ -56,8 +56,8 @@ contains
   !> Deposit of the particles of solid `s` into `dep(:, i, j, k)` (local, no communication):
   !! component 1 mass [kg], 2 grain volume m_p / rho_s [m^3] (a particle's volume V_p is that of
   !! the mixture it stands for; its grains fill m_p / rho_s of it), 2 + s the grain volume of
-  !! solid s, 3 + nsolids the grain volume of rigid solids, and 3 + nsolids + d the grain
-  !! fraction on the low face plane (direction d) of the cell.
+  !! solid s, 3 + nsolids the grain volume of rigid solids, and 3 + nsolids + 2 d - 1 / 2 d the
+  !! grain fraction on the low / high side of the cell's low face plane in direction d.
   subroutine solid_deposit(p, s, nsolids, rigid, grain_density, grid, dep)
     type(particles_t), intent(in) :: p          !< particles of solid s
     integer, intent(in) :: s                    !< solid index
@@ -82,30 +82,34 @@ contains
       do d = 1, 3
         call overlap_weights(grid, d, p%x(d, ip), l(d), first(d), nc(d), w(:, d))
       end do
-      ! the face plane (at most one, l <= dx/2) strictly inside the domain along each active d:
-      ! grain fraction V_g / (2 l A_face) there, shared tangentially like the cell deposit
+      ! the grain fraction V_g / (2 l A_face) the particle puts on each face plane its domain
+      ! [lo, hi] (in cells) reaches, on the plane's low side (lo < k <= hi) and on its high side
+      ! (lo <= k < hi), shared tangentially like the cell deposit: particles that tile the
+      ! column exactly give both sides, a free surface on the plane only one
       nbase = 3 + nsolids
       do d = 1, 3
         if (.not. grid%active(d)) cycle
         lo = (p%x(d, ip) - l(d) - grid%lower(d)) / grid%dx(d)
         hi = (p%x(d, ip) + l(d) - grid%lower(d)) / grid%dx(d)
-        k = floor(lo) + 1
-        if (real(k, wp) >= hi) cycle
         wf = vg * grid%dx(d) / (2.0_wp * l(d) * grid%cell_volume)
-        ff = first
-        nf = nc
-        ff(d) = k + 1
-        nf(d) = 1
-        do c = 1, nf(3)
-          do b = 1, nf(2)
-            do a = 1, nf(1)
-              wt = wf
-              do e = 1, 3
-                if (e == d) cycle
-                wt = wt * w(merge(a, merge(b, c, e == 2), e == 1), e)
+        do k = ceiling(lo), floor(hi)
+          ff = first
+          nf = nc
+          ff(d) = k + 1
+          nf(d) = 1
+          do c = 1, nf(3)
+            do b = 1, nf(2)
+              do a = 1, nf(1)
+                wt = wf
+                do e = 1, 3
+                  if (e == d) cycle
+                  wt = wt * w(merge(a, merge(b, c, e == 2), e == 1), e)
+                end do
+                associate (q => dep(:, ff(1) + a - 1, ff(2) + b - 1, ff(3) + c - 1))
+                  if (lo < real(k, wp)) q(nbase + 2 * d - 1) = q(nbase + 2 * d - 1) + wt
+                  if (real(k, wp) < hi) q(nbase + 2 * d) = q(nbase + 2 * d) + wt
+                end associate
               end do
-              dep(nbase + d, ff(1) + a - 1, ff(2) + b - 1, ff(3) + c - 1) = &
-                dep(nbase + d, ff(1) + a - 1, ff(2) + b - 1, ff(3) + c - 1) + wt
             end do
           end do
         end do
@@ -182,10 +186,12 @@ contains
     ns = size(solids)
     associate (sp => state%solid)
       sp%face_fraction = 0.0_wp
+      sp%face_fraction_hi = 0.0_wp
       do k = grid%lbc(3), grid%ubc(3)
         do j = grid%lbc(2), grid%ubc(2)
           do i = grid%lbc(1), grid%ubc(1)
-            sp%face_fraction(i, j, k, :) = min(dep(4 + ns:6 + ns, i, j, k), max_fraction)
+            sp%face_fraction(i, j, k, :) = min(dep(4 + ns:8 + ns:2, i, j, k), max_fraction)
+            sp%face_fraction_hi(i, j, k, :) = min(dep(5 + ns:9 + ns:2, i, j, k), max_fraction)
           end do
         end do
       end do
@@ -540,7 +546,12 @@ contains
                 uhi = f%uface(i + o(1), j + o(2), k + o(3), d)
                 flo = upwind_fraction(ulo, f%vfrac(i - o(1), j - o(2), k - o(3)), f%vfrac(i, j, k))
                 fhi = upwind_fraction(uhi, f%vfrac(i, j, k), f%vfrac(i + o(1), j + o(2), k + o(3)))
-                f%lag(i, j, k, d) = 0.5_wp * (flo * ulo + fhi * uhi) / f%vfrac(i, j, k)
+                if (f%vfrac(i, j, k) > 1.0e-3_wp) then
+                  f%lag(i, j, k, d) = 0.5_wp * (flo * ulo + fhi * uhi) / f%vfrac(i, j, k)
+                else
+                  ! a trace of a fluid (e.g. air in a water-filled pore): the plain face mean
+                  f%lag(i, j, k, d) = 0.5_wp * (ulo + uhi)
+                end if
               end do
             end do
           end do
