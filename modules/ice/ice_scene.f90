@@ -39,7 +39,7 @@ module ice_scene
   implicit none
   private
 
-  public :: ice_scene_t, exchange_primitives, exchange_lagrangian
+  public :: ice_scene_t, exchange_primitives, exchange_lagrangian, ice_pressure_iteration
 
   !> Multi-fluid ICE with implicit pressure.
   type, extends(scene_t) :: ice_scene_t
@@ -202,9 +202,7 @@ contains
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
     logical, intent(out) :: accepted             !< the step was taken
-    integer :: its, failed, outer, pcg, negative, m
-    real(wp) :: residual, relres
-    logical :: converged
+    integer :: its, failed, negative, m
 
     accepted = .false.
     call timer_start(timers, self%t_equil)
@@ -221,41 +219,7 @@ contains
     call ice_exchange_faces(self%state, grid, dt, self%k_exchange)
     call timer_stop(timers, self%t_face)
 
-    call timer_start(timers, self%t_pressure)
-    self%state%dp_total = 0.0_wp
-    residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt))
-    outer = 0
-    ! at least one solve: skipping it when the constraint residual is small would make the step
-    ! explicit in the acoustics (unstable at dt > dx/c) and let round-off grow
-    do while ((residual > self%outer_tolerance .or. outer == 0) .and. outer < self%max_outer)
-      outer = outer + 1
-      call timer_start(timers, self%t_operator)
-      call ice_pressure_assemble(self%state, grid, dt, self%theta)
-      call struct_solver_set_operator(self%solver, grid, self%state%diag, &
-        self%state%coef(:, :, :, 1), self%state%coef(:, :, :, 2), self%state%coef(:, :, :, 3))
-      call timer_stop(timers, self%t_operator)
-      self%state%dp = 0.0_wp
-      call timer_start(timers, self%t_pcg)
-      call struct_solver_solve(self%solver, grid, self%state%rhs, self%state%dp, pcg, relres, &
-        converged)
-      call timer_stop(timers, self%t_pcg)
-      self%solves = self%solves + 1
-      self%total_pcg = self%total_pcg + pcg
-      self%max_pcg_seen = max(self%max_pcg_seen, pcg)
-      call halo_exchange_cell(self%halo, dom, grid, self%state%dp, 1)
-      call ice_bc_fill(grid, self%bc, self%state%dp, bc_dp)
-      call ice_pressure_correct(self%state, grid, dt, self%theta)
-      residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt))
-    end do
-    call timer_stop(timers, self%t_pressure)
-    if (residual > self%outer_tolerance) then
-      call log_warning('ICE pressure outer iteration: max |rhs|/V = ' // &
-        real_short_text(residual) // ' after ' // int_text(outer) // ' iterations at t = ' // &
-        real_short_text(time) // ' s')
-      return
-    end if
-    self%total_outer = self%total_outer + outer
-    self%max_outer_seen = max(self%max_outer_seen, outer)
+    if (.not. ice_pressure_iteration(self, dom, grid, time, dt, timers)) return
 
     ! forces and work with p_eq + theta dp_total (theta = 1: p^{n+1}, backward Euler)
     if (self%theta /= 1.0_wp) self%state%pressure = self%state%p_eq + &
@@ -294,6 +258,58 @@ contains
     self%steps = self%steps + 1
     accepted = .true.
   end subroutine ice_scene_step
+
+  !> Outer iteration of eq. 35 (module header): solve for dp (hypre PCG + PFMG, or the direct
+  !! tridiagonal solve of a 1D block), correct p, dp_total and the face velocities, until
+  !! max |rhs|/V <= outer tolerance; at least one solve. False (with a warning) when it does not
+  !! converge: the caller rejects the step. Used by the ICE and the MPMICE scenes.
+  logical function ice_pressure_iteration(self, dom, grid, time, dt, timers) result(ok)
+    class(ice_scene_t), intent(inout) :: self    !< scene
+    type(domain_t), intent(in) :: dom            !< decomposition
+    type(grid_t), intent(in) :: grid             !< block geometry
+    real(wp), intent(in) :: time                 !< time at the start of the step [s]
+    real(wp), intent(in) :: dt                   !< step [s]
+    type(timer_set_t), intent(inout) :: timers   !< stage timers
+    integer :: outer, pcg
+    real(wp) :: residual, relres
+    logical :: converged
+    call timer_start(timers, self%t_pressure)
+    self%state%dp_total = 0.0_wp
+    residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt))
+    outer = 0
+    ! at least one solve: skipping it when the constraint residual is small would make the step
+    ! explicit in the acoustics (unstable at dt > dx/c) and let round-off grow
+    do while ((residual > self%outer_tolerance .or. outer == 0) .and. outer < self%max_outer)
+      outer = outer + 1
+      call timer_start(timers, self%t_operator)
+      call ice_pressure_assemble(self%state, grid, dt, self%theta)
+      call struct_solver_set_operator(self%solver, grid, self%state%diag, &
+        self%state%coef(:, :, :, 1), self%state%coef(:, :, :, 2), self%state%coef(:, :, :, 3))
+      call timer_stop(timers, self%t_operator)
+      self%state%dp = 0.0_wp
+      call timer_start(timers, self%t_pcg)
+      call struct_solver_solve(self%solver, grid, self%state%rhs, self%state%dp, pcg, relres, &
+        converged)
+      call timer_stop(timers, self%t_pcg)
+      self%solves = self%solves + 1
+      self%total_pcg = self%total_pcg + pcg
+      self%max_pcg_seen = max(self%max_pcg_seen, pcg)
+      call halo_exchange_cell(self%halo, dom, grid, self%state%dp, 1)
+      call ice_bc_fill(grid, self%bc, self%state%dp, bc_dp)
+      call ice_pressure_correct(self%state, grid, dt, self%theta)
+      residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt))
+    end do
+    call timer_stop(timers, self%t_pressure)
+    ok = residual <= self%outer_tolerance
+    if (.not. ok) then
+      call log_warning('ICE pressure outer iteration: max |rhs|/V = ' // &
+        real_short_text(residual) // ' after ' // int_text(outer) // ' iterations at t = ' // &
+        real_short_text(time) // ' s')
+      return
+    end if
+    self%total_outer = self%total_outer + outer
+    self%max_outer_seen = max(self%max_outer_seen, outer)
+  end function ice_pressure_iteration
 
   !> Halo exchange and wall ghosts of the primitive fields and the pressure.
   subroutine exchange_primitives(self, dom, grid)

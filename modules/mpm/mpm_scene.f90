@@ -38,7 +38,7 @@ module mpm_scene
   implicit none
   private
 
-  public :: mpm_scene_t
+  public :: mpm_scene_t, move_rigid, mpm_migrate_all
 
   !> Solid bodies on a background grid.
   type, extends(scene_t) :: mpm_scene_t
@@ -163,7 +163,7 @@ contains
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
     logical, intent(out) :: accepted             !< always true
-    integer :: s, removed
+    integer :: s
     real(wp) :: ramp
     call timer_start(timers, self%t_p2g)
     self%nodes%q(:, :, :, :) = 0.0_wp
@@ -193,20 +193,31 @@ contains
     end do
     call timer_stop(timers, self%t_g2p)
     call timer_start(timers, self%t_migrate)
+    call mpm_migrate_all(self, dom, grid, time + dt)
+    call timer_stop(timers, self%t_migrate)
+    call write_series(self, dom, time + dt)
+    accepted = .true.
+  end subroutine mpm_step
+
+  !> Migrate the particles of every solid to their owners; particles that left the domain are
+  !! removed, counted and logged (collective).
+  subroutine mpm_migrate_all(self, dom, grid, time)
+    class(mpm_scene_t), intent(inout) :: self  !< scene
+    type(domain_t), intent(in) :: dom          !< decomposition
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: time               !< time after the step [s]
+    integer :: s, removed
     do s = 1, self%nsolids
       call migrate_particles(self%mig, self%parts(s), dom, grid, removed)
       removed = global_sum(dom, removed)
       if (removed > 0) then
         self%removed = self%removed + int(removed, i8)
         call log_warning('mpm: ' // int_text(removed) // ' particles of ' // &
-          trim(self%names(s)) // ' left the domain at t = ' // real_short_text(time + dt) // ' s')
+          trim(self%names(s)) // ' left the domain at t = ' // real_short_text(time) // ' s')
         self%global_np(s) = global_sum(dom, int(self%parts(s)%np, i8))
       end if
     end do
-    call timer_stop(timers, self%t_migrate)
-    call write_series(self, dom, time + dt)
-    accepted = .true.
-  end subroutine mpm_step
+  end subroutine mpm_migrate_all
 
   !> Move the particles of rigid solid `s` from `time` to `time + dt` along the prescribed
   !! motion and set their velocity to v(time + dt) (inactive dimensions stay at rest).

@@ -23,31 +23,28 @@ module mpmice_scene
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_free, halo_reverse_cell_vec, &
     halo_exchange_cell, halo_exchange_node
-  use parallel_reduce, only: global_max, global_sum
+  use parallel_reduce, only: global_sum
   use grid_layout, only: grid_t
-  use solver_pressure, only: struct_solver_set_operator, struct_solver_solve
   use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field, h5_write_node_field, &
     h5_read_node_field
   use io_xdmf, only: xdmf_particles_t
   use driver_scene, only: scene_t
   use ice_state, only: ice_state_t, ice_solid_alloc
-  use ice_scene, only: ice_scene_t, exchange_primitives, exchange_lagrangian
+  use ice_scene, only: ice_scene_t, exchange_primitives, exchange_lagrangian, &
+    ice_pressure_iteration
   use ice_equilibration, only: ice_equilibrate
   use ice_face_velocity, only: ice_face_velocities
-  use ice_pressure, only: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, &
-    ice_face_pressure
+  use ice_pressure, only: ice_face_pressure
   use ice_lagrangian, only: ice_lagrangian_values
   use ice_advection, only: ice_advect
-  use ice_bc, only: ice_bc_fill, bc_pressure, bc_dp, bc_scalar
+  use ice_bc, only: ice_bc_fill, bc_pressure, bc_scalar
   use ice_exchange, only: ice_exchange_faces, ice_exchange_cells
   use ice_viscous, only: ice_viscous_sources
-  use mpm_scene, only: mpm_scene_t
+  use mpm_scene, only: mpm_scene_t, move_rigid, mpm_migrate_all
   use mpm_constitutive, only: model_rigid
   use mpm_p2g, only: p2g_accumulate, p2g_accumulate_rigid, p2g_complete
   use mpm_nodal, only: nodal_solve, nodal_finish
   use mpm_g2p, only: g2p_update
-  use mpm_rigid, only: rigid_velocity, rigid_displacement
-  use mpm_migration, only: migrate_particles
   use mpm_loads, only: surface_load_t, surface_load_init, surface_load_scatter
   use exchange_drag, only: drag_law_from_name
   use mpmice_solid_cells, only: solid_coupling_t, solid_deposit, solid_cell_fields, &
@@ -246,7 +243,8 @@ contains
       call ice_exchange_faces(st, grid, dt, fl%k_exchange)
       call timer_stop(timers, fl%t_face)
 
-      if (.not. pressure_solve(self, dom, grid, time, dt, timers)) return
+      ! eq. 35 with the solid's volume flux and coefficient (ice_pressure)
+      if (.not. ice_pressure_iteration(fl, dom, grid, time, dt, timers)) return
 
       if (fl%theta /= 1.0_wp) st%pressure = st%p_eq + fl%theta * st%dp_total
       call timer_start(timers, fl%t_halo)
@@ -309,61 +307,12 @@ contains
       end do
       call timer_stop(timers, so%t_g2p)
       call timer_start(timers, so%t_migrate)
-      call migrate_all(so, dom, grid, time + dt)
+      call mpm_migrate_all(so, dom, grid, time + dt)
       call timer_stop(timers, so%t_migrate)
       fl%steps = fl%steps + 1
     end associate
     accepted = .true.
   end subroutine mpmice_step
-
-  !> Outer iteration of eq. 35 with the solid's volume flux (as `ice_scene_step`); false when it
-  !! does not converge (the step is then rejected).
-  logical function pressure_solve(self, dom, grid, time, dt, timers) result(ok)
-    class(mpmice_scene_t), intent(inout) :: self  !< scene
-    type(domain_t), intent(in) :: dom             !< decomposition
-    type(grid_t), intent(in) :: grid              !< block geometry
-    real(wp), intent(in) :: time                  !< time at the start of the step [s]
-    real(wp), intent(in) :: dt                    !< step [s]
-    type(timer_set_t), intent(inout) :: timers    !< stage timers
-    integer :: outer, pcg
-    real(wp) :: residual, relres
-    logical :: converged
-    associate (fl => self%fl, st => self%fl%state)
-      call timer_start(timers, fl%t_pressure)
-      st%dp_total = 0.0_wp
-      residual = global_max(dom, ice_pressure_rhs(st, grid, dt))
-      outer = 0
-      do while ((residual > fl%outer_tolerance .or. outer == 0) .and. outer < fl%max_outer)
-        outer = outer + 1
-        call timer_start(timers, fl%t_operator)
-        call ice_pressure_assemble(st, grid, dt, fl%theta)
-        call struct_solver_set_operator(fl%solver, grid, st%diag, st%coef(:, :, :, 1), &
-          st%coef(:, :, :, 2), st%coef(:, :, :, 3))
-        call timer_stop(timers, fl%t_operator)
-        st%dp = 0.0_wp
-        call timer_start(timers, fl%t_pcg)
-        call struct_solver_solve(fl%solver, grid, st%rhs, st%dp, pcg, relres, converged)
-        call timer_stop(timers, fl%t_pcg)
-        fl%solves = fl%solves + 1
-        fl%total_pcg = fl%total_pcg + pcg
-        fl%max_pcg_seen = max(fl%max_pcg_seen, pcg)
-        call halo_exchange_cell(fl%halo, dom, grid, st%dp, 1)
-        call ice_bc_fill(grid, fl%bc, st%dp, bc_dp)
-        call ice_pressure_correct(st, grid, dt, fl%theta)
-        residual = global_max(dom, ice_pressure_rhs(st, grid, dt))
-      end do
-      call timer_stop(timers, fl%t_pressure)
-      ok = residual <= fl%outer_tolerance
-      if (.not. ok) then
-        call log_warning('MPMICE pressure outer iteration: max |rhs|/V = ' // &
-          real_short_text(residual) // ' after ' // int_text(outer) // ' iterations at t = ' &
-          // real_short_text(time) // ' s')
-        return
-      end if
-      fl%total_outer = fl%total_outer + outer
-      fl%max_outer_seen = max(fl%max_outer_seen, outer)
-    end associate
-  end function pressure_solve
 
   !> Ghost cells beyond an open ('pressure') face hold a free-fluid reservoir: no solid, and the
   !! fluids' bulk densities of the mirrored inner cell divided by its porosity (so their
@@ -396,42 +345,6 @@ contains
       end do
     end do
   end subroutine open_face_reservoirs
-
-  !> Rigid solid `s` from `time` to `time + dt` along its prescribed motion.
-  subroutine move_rigid(so, s, grid, time, dt)
-    type(mpm_scene_t), intent(inout) :: so  !< solids
-    integer, intent(in) :: s                !< rigid solid
-    type(grid_t), intent(in) :: grid        !< block geometry
-    real(wp), intent(in) :: time            !< start of the step [s]
-    real(wp), intent(in) :: dt              !< step [s]
-    real(wp) :: dx(3), v(3)
-    integer :: ip
-    dx = merge(rigid_displacement(so%motions(s), time, dt), 0.0_wp, grid%active)
-    v = merge(rigid_velocity(so%motions(s), time + dt), 0.0_wp, grid%active)
-    do ip = 1, so%parts(s)%np
-      so%parts(s)%x(:, ip) = so%parts(s)%x(:, ip) + dx
-      so%parts(s)%v(:, ip) = v
-    end do
-  end subroutine move_rigid
-
-  !> Migrate every solid's particles; removals are logged and counted.
-  subroutine migrate_all(so, dom, grid, time)
-    type(mpm_scene_t), intent(inout) :: so  !< solids
-    type(domain_t), intent(in) :: dom       !< decomposition
-    type(grid_t), intent(in) :: grid        !< block geometry
-    real(wp), intent(in) :: time            !< time after the step [s]
-    integer :: s, removed
-    do s = 1, so%nsolids
-      call migrate_particles(so%mig, so%parts(s), dom, grid, removed)
-      removed = global_sum(dom, removed)
-      if (removed > 0) then
-        so%removed = so%removed + removed
-        call log_warning('mpmice: ' // int_text(removed) // ' particles of ' // &
-          trim(so%names(s)) // ' left the domain at t = ' // real_short_text(time) // ' s')
-        so%global_np(s) = global_sum(dom, int(so%parts(s)%np, kind(so%global_np)))
-      end if
-    end do
-  end subroutine migrate_all
 
   !> Fluid and solid datasets, plus `cell/solid_volume_fraction` (the tracked phi_s) and
   !! `cell/porosity`; a checkpoint adds the tracked fraction and the solid cell velocity.
