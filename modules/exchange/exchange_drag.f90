@@ -90,6 +90,8 @@ contains
       c = coefficient / (n * phi_s)
     case (drag_impermeable)
       c = impermeable_coefficient
+    case default
+      c = 0.0_wp    ! not reached: the configuration accepts only the laws above
     end select
   end function drag_reduced_coefficient
 end module exchange_drag

@@ -120,6 +120,8 @@ contains
           case (bc_inflow)
             s(side) = -1.0_wp
             w(side) = 2.0_wp * bc%u_in(kind, f)
+          case default
+            ! pressure and outflow faces: even
           end select
         else if (kind == bc_pressure .and. bc%open(f)) then
           s(side) = -1.0_wp
