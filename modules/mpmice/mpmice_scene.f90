@@ -285,6 +285,7 @@ contains
       negative = global_sum(dom, negative)
       if (negative > 0) call log_warning('MPMICE advection: negative fluid mass in ' // &
         int_text(negative) // ' cells at t = ' // real_short_text(time) // ' s')
+      call tame_trace_fluids(st, grid)
       call timer_start(timers, fl%t_halo)
       call exchange_primitives(fl, dom, grid)
       call timer_stop(timers, fl%t_halo)
@@ -313,6 +314,45 @@ contains
     end associate
     accepted = .true.
   end subroutine mpmice_step
+
+  !> A fluid with a vanishing share of a cell's mass (below 1e-10 of it: e.g. air numerically
+  !! left in water-filled pores) takes the mass-weighted temperature and velocity of the cell.
+  !! Its own values come from energy and momentum divided by that vanishing mass and drift
+  !! without bound (a trace of air reached 1e17 K in a submerged sand block, until its volume
+  !! broke the pressure equilibration). Owned cells; the mass itself is unchanged.
+  pure subroutine tame_trace_fluids(state, grid)
+    type(ice_state_t), intent(inout) :: state  !< fluids (temp, vel of traces updated)
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), parameter :: trace = 1.0e-10_wp  !< share of the cell's fluid mass
+    integer :: i, j, k, m, nf
+    real(wp) :: total, t_mix, u_mix(3)
+    nf = state%nfluids
+    if (nf < 2) return
+    do k = grid%lo(3), grid%hi(3)
+      do j = grid%lo(2), grid%hi(2)
+        do i = grid%lo(1), grid%hi(1)
+          total = 0.0_wp
+          t_mix = 0.0_wp
+          u_mix = 0.0_wp
+          do m = 1, nf
+            associate (f => state%fluid(m))
+              total = total + f%rho(i, j, k)
+              t_mix = t_mix + f%rho(i, j, k) * f%temp(i, j, k)
+              u_mix = u_mix + f%rho(i, j, k) * f%vel(i, j, k, :)
+            end associate
+          end do
+          if (total <= 0.0_wp) cycle
+          do m = 1, nf
+            associate (f => state%fluid(m))
+              if (f%rho(i, j, k) >= trace * total) cycle
+              f%temp(i, j, k) = t_mix / total
+              f%vel(i, j, k, :) = u_mix / total
+            end associate
+          end do
+        end do
+      end do
+    end do
+  end subroutine tame_trace_fluids
 
   !> Ghost cells beyond an open ('pressure') face hold a free-fluid reservoir: no solid, and the
   !! fluids' bulk densities of the mirrored inner cell divided by its porosity (so their
