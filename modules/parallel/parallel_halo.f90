@@ -218,7 +218,8 @@ contains
   !> Reverse halo of a cell field `(component, i, j, k)` over `width` ghost layers (default 1):
 !! every value scattered into an in-domain ghost cell is added into the owner's cell and the
 !! ghost is zeroed; then the ghost copies are refreshed from the owners. Used for particle
-!! deposits that reach into the neighbouring block (particle-domain overlaps). Collective.
+!! deposits that reach into the neighbouring block (particle-domain overlaps); then all ghost
+!! layers are refreshed from the owners. Collective.
   subroutine halo_reverse_cell_vec(halo, dom, grid, field, width)
     type(halo_t), intent(inout) :: halo         !< message buffers
     type(domain_t), intent(in) :: dom           !< decomposition
@@ -235,7 +236,8 @@ contains
       call plan_sweep(grid, d, stage_reverse_cell, w, sbox, rbox)
       call sweep_4(halo, dom, d, grid%lbc, field, sbox, rbox, .true.)
     end do
-    call halo_exchange_cell_vec(halo, dom, grid, field, maxval(w))
+    ! refresh every ghost layer: the summed values feed fields used across the full width
+    call halo_exchange_cell_vec(halo, dom, grid, field)
   end subroutine halo_reverse_cell_vec
 
   ! ------------------------------------------------------------------ planning
