@@ -66,6 +66,15 @@ contains
             with_solid = .false.
             rigid = .false.
             if (state%solid%present) then
+              ! a domain face's control volume is the inner half cell: the fluids' fractions
+              ! there (not the mean with the ghost, a reservoir beyond an open face)
+              select case (boundary_side(grid, d, [i, j, k]))
+              case (1)
+                phi(1:nf) = [(state%fluid(m)%vfrac(i, j, k), m = 1, nf)]
+              case (2)
+                phi(1:nf) = [(state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)), m = 1, nf)]
+              case default
+              end select
               call solid_face_partner(state, d, o, i, j, k, boundary_side(grid, d, [i, j, k]), &
                 phi(nf + 1), v(nf + 1), c, rigid)
               ! a domain face: the solid of the inner cell (no solid lies beyond)
