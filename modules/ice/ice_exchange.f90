@@ -225,7 +225,6 @@ contains
     integer :: m, n, i, j, k, nf, nm
     real(wp) :: beta(max_n, max_n), rhs(max_n, 3), phi(max_n), v(max_n), mass(max_n), c(max_n)
     real(wp) :: ke_old, ke_new, total_mass, heat
-    logical :: rigid
 
     nf = state%nfluids
     if (nf < 2 .and. .not. state%solid%present) return
@@ -239,7 +238,6 @@ contains
           end do
           total_mass = sum(mass(1:nf))
           nm = nf
-          rigid = .false.
           if (state%solid%present) then
             if (state%solid%vfrac(i, j, k) > 0.0_wp) then
               nm = nf + 1
@@ -247,8 +245,6 @@ contains
               v(nm) = state%solid%spvol(i, j, k)
               mass(nm) = state%solid%rho(i, j, k)
               c(1:nf) = state%solid%drag(i, j, k, 1:nf)
-              ! the solid's final velocity is known (mpmice_solid_cells): its row is fixed
-              rigid = .true.
             end if
           end if
           if (k_exchange > 0.0_wp .or. nm > nf) then
@@ -257,16 +253,15 @@ contains
               rhs(m, 1:3) = state%fluid(m)%lag(i, j, k, 1:3)
               ke_old = ke_old + 0.5_wp * mass(m) * sum(rhs(m, 1:3)**2)
             end do
-            call fill_beta(nf, nm, dt, v, phi, k_exchange, c, rigid, beta)
+            ! with the solid: its final cell velocity is known (mpmice_solid_cells), so its row
+            ! is held fixed and only the fluids are dragged toward it
+            call fill_beta(nf, nm, dt, v, phi, k_exchange, c, nm > nf, beta)
             if (nm > nf) then
-              ! the solid's final cell velocity (its row is fixed: rigid)
               rhs(nm, 1:3) = state%solid%vel(i, j, k, 1:3)
               if (state%solid%explicit_drag) then
                 call exchange_explicit(nm, beta, rhs, 3)
-              else if (rigid) then
-                call exchange_solve(nm, beta, rhs, 3)
               else
-                call exchange_solve(nm, beta, rhs, 3, mass)
+                call exchange_solve(nm, beta, rhs, 3)
               end if
             else
               call exchange_solve(nf, beta, rhs, 3, mass)

@@ -46,7 +46,6 @@ module ice_state
     real(wp), allocatable :: vel(:, :, :, :)    !< cell velocity of the solid (i,j,k,component) [m/s]
     real(wp), allocatable :: drag(:, :, :, :)   !< reduced drag coefficient c per fluid (i,j,k,m):
                                                 !! drag per volume phi_m phi_s c du [kg/m^3/s]
-    real(wp), allocatable :: rigid(:, :, :)     !< 1 where the solid velocity is prescribed, else 0
     real(wp), allocatable :: uface(:, :, :, :)  !< face-normal solid velocity [m/s]
     real(wp), allocatable :: uface0(:, :, :, :) !< the same from the MPM nodal velocities alone
     real(wp), allocatable :: vface(:, :, :, :)  !< exchange-modified face specific volume [m^3/kg]
@@ -127,12 +126,11 @@ contains
     associate (s => state%solid)
       s%present = .true.
       allocate(s%vfrac(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-      allocate(s%source, s%rho, s%spvol, s%kappa, s%rigid, mold=s%vfrac)
+      allocate(s%source, s%rho, s%spvol, s%kappa, mold=s%vfrac)
       s%source = 0.0_wp
       s%rho = 0.0_wp
       s%spvol = 0.0_wp
       s%kappa = 0.0_wp
-      s%rigid = 0.0_wp
       allocate(s%vel(l(1):u(1), l(2):u(2), l(3):u(3), 3), source=0.0_wp)
       allocate(s%drag(l(1):u(1), l(2):u(2), l(3):u(3), max(state%nfluids, 1)), source=0.0_wp)
       allocate(s%uface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
@@ -162,7 +160,7 @@ contains
     if (allocated(state%cons)) deallocate(state%cons)
     if (allocated(state%solid%vfrac)) deallocate(state%solid%vfrac, state%solid%source, &
       state%solid%rho, state%solid%spvol, state%solid%kappa, state%solid%vel, state%solid%drag, &
-      state%solid%rigid, state%solid%uface, state%solid%uface0, state%solid%vface, &
+      state%solid%uface, state%solid%uface0, state%solid%vface, &
       state%solid%rigid_face, state%solid%face_fraction, state%solid%face_fraction_hi)
     state%solid%present = .false.
     state%nfluids = 0

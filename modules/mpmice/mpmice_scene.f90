@@ -112,7 +112,6 @@ contains
         self%coupling(s)%drag_coefficient = c%drag_coefficient
         if (c%grain_bulk_modulus > 0.0_wp) self%coupling(s)%grain_kappa = 1.0_wp / &
           c%grain_bulk_modulus
-        self%coupling(s)%rigid = self%so%mats(s)%model == model_rigid
         self%coupling(s)%grain_density = c%density
         self%loads(s) = surface_load_init(c%traction, c%traction_lower, c%traction_upper, &
           c%traction_ramp_time, grid)
@@ -120,13 +119,13 @@ contains
     end do
     call ice_solid_alloc(self%fl%state, grid)
     self%fl%state%solid%explicit_drag = trim(cfg%coupling%drag_scheme) == 'explicit'
-    allocate(self%dep(9 + ns, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+    allocate(self%dep(8 + ns, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
     allocate(self%du(3, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
       grid%lbn(3):grid%ubn(3)), source=0.0_wp)
     allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
-    call halo_init(self%halo, dom, grid, 9 + ns)
+    call halo_init(self%halo, dom, grid, 8 + ns)
     allocate(self%uprev(3, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3), cfg%nfluids), source=0.0_wp)
     allocate(self%nbuf(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
@@ -163,12 +162,12 @@ contains
     ns = size(self%coupling)
     self%dep = 0.0_wp
     do s = 1, ns
-      call solid_deposit(self%so%parts(s), s, ns, self%coupling(s)%rigid, &
-        self%coupling(s)%grain_density, grid, self%dep)
+      call solid_deposit(self%so%parts(s), s, ns, self%coupling(s)%grain_density, grid, &
+        self%dep)
     end do
     call halo_reverse_cell_vec(self%halo, dom, grid, self%dep)
     call solid_cell_fields(self%fl%state, grid, self%dep, self%coupling, self%max_fraction, &
-      self%so%nodes, self%so%min_mass, self%phi_p)
+      self%phi_p)
   end subroutine deposit_solids
 
   !> The smaller of the fluid (advective CFL, viscosity) and solid (wave speed) limits.

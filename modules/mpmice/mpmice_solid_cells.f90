@@ -48,7 +48,6 @@ module mpmice_solid_cells
     real(wp) :: drag_coefficient = 0.0_wp   !< K of the constant law [kg/m^3/s]
     real(wp) :: grain_kappa = 0.0_wp        !< 1 / grain bulk modulus [1/Pa] (0: incompressible)
     real(wp) :: grain_density = 2650.0_wp   !< rho_s of the grains [kg/m^3]
-    logical :: rigid = .false.              !< prescribed motion
   end type solid_coupling_t
 
 contains
@@ -56,13 +55,12 @@ contains
   !> Deposit of the particles of solid `s` into `dep(:, i, j, k)` (local, no communication):
   !! component 1 mass [kg], 2 grain volume m_p / rho_s [m^3] (a particle's volume V_p is that of
   !! the mixture it stands for; its grains fill m_p / rho_s of it), 2 + s the grain volume of
-  !! solid s, 3 + nsolids the grain volume of rigid solids, and 3 + nsolids + 2 d - 1 / 2 d the
-  !! grain fraction on the low / high side of the cell's low face plane in direction d.
-  subroutine solid_deposit(p, s, nsolids, rigid, grain_density, grid, dep)
+  !! solid s, and 2 + nsolids + 2 d - 1 / 2 d the grain fraction on the low / high side of the
+  !! cell's low face plane in direction d.
+  subroutine solid_deposit(p, s, nsolids, grain_density, grid, dep)
     type(particles_t), intent(in) :: p          !< particles of solid s
     integer, intent(in) :: s                    !< solid index
     integer, intent(in) :: nsolids              !< number of solids
-    logical, intent(in) :: rigid                !< solid s is rigid
     real(wp), intent(in) :: grain_density       !< rho_s [kg/m^3]
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(inout) :: dep(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< deposits
@@ -86,7 +84,7 @@ contains
       ! [lo, hi] (in cells) reaches, on the plane's low side (lo < k <= hi) and on its high side
       ! (lo <= k < hi), shared tangentially like the cell deposit: particles that tile the
       ! column exactly give both sides, a free surface on the plane only one
-      nbase = 3 + nsolids
+      nbase = 2 + nsolids
       do d = 1, 3
         if (.not. grid%active(d)) cycle
         lo = (p%x(d, ip) - l(d) - grid%lower(d)) / grid%dx(d)
@@ -122,7 +120,6 @@ contains
               q(1) = q(1) + wt * p%mass(ip)
               q(2) = q(2) + wt * vg
               q(2 + s) = q(2 + s) + wt * vg
-              if (rigid) q(3 + nsolids) = q(3 + nsolids) + wt * vg
             end associate
           end do
         end do
@@ -170,16 +167,14 @@ contains
   end subroutine overlap_weights
 
   !> From the summed deposits (valid in ghost cells too): the particles' solid fraction
-  !! (capped at `max_fraction`), bulk density, grain specific volume and compressibility, the
-  !! rigid flags, and the reduced drag coefficient per fluid (slip from the velocities of time n).
-  subroutine solid_cell_fields(state, grid, dep, solids, max_fraction, nodes, min_mass, phi_p)
+  !! (capped at `max_fraction`), bulk density, grain specific volume and compressibility, and
+  !! the reduced drag coefficient per fluid (slip from the velocities of time n).
+  subroutine solid_cell_fields(state, grid, dep, solids, max_fraction, phi_p)
     type(ice_state_t), intent(inout) :: state   !< fluids; solid phase written
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(in) :: dep(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< deposits
     type(solid_coupling_t), intent(in) :: solids(:) !< coupling parameters per solid
     real(wp), intent(in) :: max_fraction        !< largest solid fraction [-]
-    type(mpm_nodes_t), intent(in) :: nodes      !< node fields (rigid mass in q(8))
-    real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
     real(wp), intent(out) :: phi_p(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< particle fraction
     integer :: i, j, k, s, m, ns
     real(wp) :: vol, phi, cs, rho_f, slip, wsum
@@ -190,8 +185,8 @@ contains
       do k = grid%lbc(3), grid%ubc(3)
         do j = grid%lbc(2), grid%ubc(2)
           do i = grid%lbc(1), grid%ubc(1)
-            sp%face_fraction(i, j, k, :) = min(dep(4 + ns:8 + ns:2, i, j, k), max_fraction)
-            sp%face_fraction_hi(i, j, k, :) = min(dep(5 + ns:9 + ns:2, i, j, k), max_fraction)
+            sp%face_fraction(i, j, k, :) = min(dep(3 + ns:7 + ns:2, i, j, k), max_fraction)
+            sp%face_fraction_hi(i, j, k, :) = min(dep(4 + ns:8 + ns:2, i, j, k), max_fraction)
           end do
         end do
       end do
@@ -205,8 +200,6 @@ contains
             sp%spvol(i, j, k) = 0.0_wp
             sp%kappa(i, j, k) = 0.0_wp
             sp%drag(i, j, k, :) = 0.0_wp
-            sp%rigid(i, j, k) = merge(1.0_wp, 0.0_wp, corner_rigid(nodes, grid, [i, j, k], &
-              min_mass))
             if (vol <= 0.0_wp .or. dep(1, i, j, k) <= 0.0_wp) cycle
             sp%spvol(i, j, k) = vol / dep(1, i, j, k)
             do m = 1, state%nfluids
@@ -234,25 +227,6 @@ contains
       end do
     end associate
   end subroutine solid_cell_fields
-
-  !> True when a corner node of cell `c` carries rigid (prescribed-motion) mass.
-  pure logical function corner_rigid(nodes, grid, c, min_mass) result(rigid)
-    type(mpm_nodes_t), intent(in) :: nodes  !< node fields
-    type(grid_t), intent(in) :: grid        !< block geometry
-    integer, intent(in) :: c(3)             !< cell index
-    real(wp), intent(in) :: min_mass        !< empty-node threshold [kg]
-    integer :: a, b, e, top(3)
-    top = merge(1, 0, grid%active)
-    rigid = .false.
-    do e = 0, top(3)
-      do b = 0, top(2)
-        do a = 0, top(1)
-          if (c(1) + a > grid%ubn(1) .or. c(2) + b > grid%ubn(2) .or. c(3) + e > grid%ubn(3)) cycle
-          if (nodes%q(8, c(1) + a, c(2) + b, c(3) + e) > min_mass) rigid = .true.
-        end do
-      end do
-    end do
-  end function corner_rigid
 
   !> Solid cell velocity for the cell exchange (eqs. 28, 51): mass-weighted mean of the corner
   !! nodes' final velocities v^L (after the pressure force and drag of the faces). The fluids are
