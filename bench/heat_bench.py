@@ -13,7 +13,7 @@ import os
 import re
 import tempfile
 
-from postproc.run_case import ROOT, run_mpmice
+from postproc.run_case import ROOT, run_mpmice, stage_timers
 
 NAMELIST = os.path.join(ROOT, "namelists", "heat_conduction_2d.nml")
 
@@ -26,11 +26,7 @@ def run_one(n: int, steps: int, nranks: int, work: str) -> dict:
                          "--set", f"&run output_dir = '{out}', end_time = {steps * dt!r}, "
                                   "output_interval = 0.0, checkpoint_interval = 0.0 /"],
                         nranks=nranks, cwd=work)
-    stages = {}
-    for line in result.stdout.splitlines():
-        m = re.match(r"\s*(.+?)\s+(\d+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s*$", line)
-        if m:
-            stages[m.group(1).strip()] = float(m.group(3))
+    stages = {name: seconds for name, (_, seconds) in stage_timers(result.stdout).items()}
     iterations = float(re.search(r"PCG iterations mean ([\d.]+)", result.stdout).group(1))
     cell_steps = n * n * steps
     return {"cells": n * n, "ranks": nranks, "steps": steps, "iterations": iterations,

@@ -20,7 +20,7 @@ import os
 import re
 import tempfile
 
-from postproc.run_case import ROOT, run_mpmice
+from postproc.run_case import ROOT, run_mpmice, stage_timers
 
 NAMELIST = os.path.join(ROOT, "namelists", "mpm_collapse_2d.nml")
 STAGES = ("MPM particle to grid", "MPM nodal solve", "MPM grid to particle + stress",
@@ -38,11 +38,7 @@ def run_one(cell: float, steps: int, nranks: int, work: str) -> dict:
                          "--set", f"&run output_dir = '{out}', max_steps = {steps}, "
                                   "output_interval = 10.0, checkpoint_interval = 0.0 /"],
                         nranks=nranks, cwd=work, timeout=1800)
-    stages = {}
-    for line in result.stdout.splitlines():
-        m = re.match(r"\s*(.+?)\s+(\d+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s*$", line)
-        if m:
-            stages[m.group(1).strip()] = (int(m.group(2)), float(m.group(3)))
+    stages = stage_timers(result.stdout)
     particles = int(re.search(r"sand \(mohr_coulomb\): (\d+) particles", result.stdout).group(1))
     taken = stages[STAGES[0]][0]
     total = sum(stages[s][1] for s in STAGES)

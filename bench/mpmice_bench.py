@@ -16,7 +16,7 @@ import os
 import re
 import tempfile
 
-from postproc.run_case import ROOT, run_mpmice
+from postproc.run_case import ROOT, run_mpmice, stage_timers
 
 NAMELIST = os.path.join(ROOT, "namelists", "mpmice_submerged_block_2d.nml")
 
@@ -31,11 +31,7 @@ def run_one(cell: float, steps: int, nranks: int, work: str) -> dict:
                          "--set", f"&run output_dir = '{out}', max_steps = {steps}, "
                                   "output_interval = 10.0, checkpoint_interval = 0.0 /"],
                         nranks=nranks, cwd=work, timeout=1800)
-    stages = {}
-    for line in result.stdout.splitlines():
-        m = re.match(r"\s*(.+?)\s+(\d+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s*$", line)
-        if m:
-            stages[m.group(1).strip()] = (int(m.group(2)), float(m.group(3)))
+    stages = stage_timers(result.stdout)
     particles = int(re.search(r"sand \(mohr_coulomb\): (\d+) particles", result.stdout).group(1))
     taken = stages["ICE advection"][0]
     timed = {k: v for k, v in stages.items() if k != "output and checkpoint"

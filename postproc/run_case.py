@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import os
+import re
 import shutil
 import subprocess
 
@@ -67,3 +68,19 @@ def run_mpmice(args, nranks: int = 1, cwd: str | None = None, timeout: float = 6
         raise RuntimeError(f"{' '.join(command)} failed ({result.returncode}):\n"
                            f"{result.stdout}\n{result.stderr}")
     return result
+
+
+#: A row of the stage-timer table a run prints at the end: stage, calls, max [s], mean [s], %,
+#: per call [ms].
+_TIMER_ROW = re.compile(r"\s*(.+?)\s+(\d+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s*$")
+
+
+def stage_timers(stdout: str) -> dict[str, tuple[int, float]]:
+    """The stage-timer table of a run's standard output: {stage: (calls, max seconds over
+    ranks)} (the benchmarks' per-stage costs)."""
+    stages = {}
+    for line in stdout.splitlines():
+        m = _TIMER_ROW.match(line)
+        if m:
+            stages[m.group(1).strip()] = (int(m.group(2)), float(m.group(3)))
+    return stages
