@@ -30,7 +30,7 @@ module mpmice_solid_cells
   use mpm_particles, only: particles_t
   use mpm_nodes, only: mpm_nodes_t
   use ice_state, only: ice_state_t
-  use ice_face_velocity, only: face_range, closed_face, boundary_face
+  use ice_face_velocity, only: face_range, closed_face, upwind
   use ice_pressure, only: solid_face_fraction
   use exchange_drag, only: drag_reduced_coefficient
   implicit none
@@ -442,14 +442,6 @@ contains
     end associate
   end subroutine solid_track_fraction
 
-  !> Upwind value (`left` for u >= 0).
-  pure real(wp) function upwind_fraction(u, left, right) result(v)
-    real(wp), intent(in) :: u      !< face velocity [m/s]
-    real(wp), intent(in) :: left   !< low-cell value
-    real(wp), intent(in) :: right  !< high-cell value
-    v = merge(left, right, u >= 0.0_wp)
-  end function upwind_fraction
-
   !> Advective part of the fluid face predictor (eq. 31) at faces next to solid: the face's own
   !! final velocity of the previous step instead of the mass-weighted mean of the two cell
   !! velocities (a staggered momentum there; departure from eq. 31). A fluid's cell velocity in
@@ -518,8 +510,8 @@ contains
                 if (.not. near_solid(state, grid, [i, j, k])) cycle
                 ulo = f%uface(i, j, k, d)
                 uhi = f%uface(i + o(1), j + o(2), k + o(3), d)
-                flo = upwind_fraction(ulo, f%vfrac(i - o(1), j - o(2), k - o(3)), f%vfrac(i, j, k))
-                fhi = upwind_fraction(uhi, f%vfrac(i, j, k), f%vfrac(i + o(1), j + o(2), k + o(3)))
+                flo = upwind(ulo, f%vfrac(i - o(1), j - o(2), k - o(3)), f%vfrac(i, j, k))
+                fhi = upwind(uhi, f%vfrac(i, j, k), f%vfrac(i + o(1), j + o(2), k + o(3)))
                 if (f%vfrac(i, j, k) > 1.0e-3_wp) then
                   f%lag(i, j, k, d) = 0.5_wp * (flo * ulo + fhi * uhi) / f%vfrac(i, j, k)
                 else
