@@ -9,40 +9,47 @@
 !! rho_f u_f dt A and every other flux is the mass flux times the reconstructed specific value
 !! ("compatible" fluxes: a uniform specific quantity stays uniform). The update is unsplit (all
 !! directions from the same Lagrangian state). Needs rho and `lag` valid in two ghost layers.
-!! Energy with one fluid (departure from eq. 60, docs/ice.md): the specific total energy
-!! cv T + |u|^2/2 is
-!! advected (its face value from the reconstructed cv T and velocity components) and the new
-!! temperature is (E/m - |u|^2/2)/cv, so the kinetic energy that momentum advection removes
-!! reappears as heat and total energy is conserved; advecting cv T alone left the Sod post-shock
-!! pressure 0.3 % low. With several fluids cv T is advected (eq. 60): E/m - |u|^2/2 is
-!! ill-conditioned for a fluid with a tiny mass in a cell.
+!! Energy without a solid phase (departure from eq. 60, docs/ice.md): the specific total energy
+!! cv T + |u|^2/2 + Phi is advected, Phi = -g.x the potential of the gravity components along
+!! non-periodic active axes (`potential_gravity`; its face value the potential at the centroid
+!! of the swept volume, its cell value at the cell centre), and the new temperature is
+!! (E/m - |u|^2/2 - Phi)/cv: the kinetic energy that momentum advection removes reappears as
+!! heat, and the potential energy that the moved mass releases too, so total energy (internal,
+!! kinetic and potential) is conserved to round-off together with the Lagrangian step (which
+!! leaves the work of those gravity components out of cv T + |u|^2/2, `ice_lagrangian`).
+!! Advecting cv T alone left the Sod post-shock pressure 0.3 % low and the two-fluid sloshing
+!! box drifting 5e-10 per step. With a solid phase (MPMICE) cv T is advected (eq. 60).
 module ice_advection
   use mpmice_kinds, only: wp
-  use grid_layout, only: grid_t
+  use grid_layout, only: grid_t, cell_centre
   use ice_state, only: ice_state_t
   use ice_face_velocity, only: face_range
   implicit none
   private
 
-  public :: ice_advect, limited_slope
+  public :: ice_advect, limited_slope, potential_gravity
 
 contains
 
   !> Advect every fluid: new rho, vel, temp and spvol on the owned cells. Returns the number of
-  !! owned cells whose mass became negative (0 on success).
-  subroutine ice_advect(state, grid, dt, order, negative)
+  !! owned cells whose mass became negative (0 on success). `gravity`: carried as potential
+  !! energy (module header; absent: none).
+  subroutine ice_advect(state, grid, dt, order, negative, gravity)
     type(ice_state_t), intent(inout) :: state  !< fluids (rho, lag, uface read; primitives written)
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     integer, intent(in) :: order               !< 1 first order, 2 limited second order
     integer, intent(out) :: negative           !< owned cells with negative new mass
+    real(wp), intent(in), optional :: gravity(3) !< gravitational acceleration [m/s^2]
     integer :: d, m, n, i, j, k, o(3), r(2, 3), up(3)
-    real(wp) :: area, u, sweep, dist, rho_f, mflux, q_f, vol
+    real(wp) :: area, u, sweep, dist, rho_f, mflux, q_f, vol, g(3)
     logical :: total
 
     vol = grid%cell_volume
     negative = 0
-    total = state%nfluids == 1 .and. .not. state%solid%present
+    total = .not. state%solid%present
+    g = 0.0_wp
+    if (present(gravity) .and. total) g = potential_gravity(grid, gravity)
     do m = 1, state%nfluids
       associate (f => state%fluid(m), c => state%cons)
         do k = grid%lo(3), grid%hi(3)
@@ -52,8 +59,8 @@ contains
               do n = 1, 5
                 c(i, j, k, 1 + n) = c(i, j, k, 1) * f%lag(i, j, k, n)
               end do
-              if (total) c(i, j, k, 5) = c(i, j, k, 5) + &
-                0.5_wp * c(i, j, k, 1) * sum(f%lag(i, j, k, 1:3)**2)
+              if (total) c(i, j, k, 5) = c(i, j, k, 5) + c(i, j, k, 1) * &
+                (0.5_wp * sum(f%lag(i, j, k, 1:3)**2) + potential(i, j, k))
             end do
           end do
         end do
@@ -89,7 +96,8 @@ contains
                   if (order > 1) q_f = q_f + dist * limited_slope(f%lag(up(1) - o(1), &
                     up(2) - o(2), up(3) - o(3), n), q_f, &
                     f%lag(up(1) + o(1), up(2) + o(2), up(3) + o(3), n), grid%dx(d))
-                  if (n == 4 .and. total) q_f = q_f + 0.5_wp * ke_face(up, o, dist)
+                  if (n == 4 .and. total) q_f = q_f + 0.5_wp * ke_face(up, o, dist) + &
+                    potential(up(1), up(2), up(3)) - merge(dist, 0.0_wp, order > 1) * g(d)
                   c(i - o(1), j - o(2), k - o(3), 1 + n) = &
                     c(i - o(1), j - o(2), k - o(3), 1 + n) - mflux * q_f
                   c(i, j, k, 1 + n) = c(i, j, k, 1 + n) + mflux * q_f
@@ -108,7 +116,7 @@ contains
                 f%vel(i, j, k, 1:3) = c(i, j, k, 2:4) / c(i, j, k, 1)
                 if (total) then
                   f%temp(i, j, k) = (c(i, j, k, 5) / c(i, j, k, 1) - 0.5_wp * &
-                    sum(f%vel(i, j, k, 1:3)**2)) / f%eos%cv
+                    sum(f%vel(i, j, k, 1:3)**2) - potential(i, j, k)) / f%eos%cv
                 else
                   f%temp(i, j, k) = c(i, j, k, 5) / (c(i, j, k, 1) * f%eos%cv)
                 end if
@@ -125,6 +133,15 @@ contains
     end do
 
   contains
+
+    !> Potential -g.x [J/kg] at the centre of cell (ci, cj, ck).
+    real(wp) function potential(ci, cj, ck)
+      integer, intent(in) :: ci  !< cell index along x
+      integer, intent(in) :: cj  !< cell index along y
+      integer, intent(in) :: ck  !< cell index along z
+      potential = -(g(1) * cell_centre(grid, 1, ci) + g(2) * cell_centre(grid, 2, cj) + &
+        g(3) * cell_centre(grid, 3, ck))
+    end function potential
 
     !> |u|^2 carried through a face: the squares of the reconstructed velocity components.
     real(wp) function ke_face(cell, off, distance)
@@ -143,6 +160,16 @@ contains
       end do
     end function ke_face
   end subroutine ice_advect
+
+  !> The gravity components carried as potential energy by the advection (module header): those
+  !! along active, non-periodic axes (a potential is not single-valued along a periodic one);
+  !! the others stay kinetic work of the Lagrangian step.
+  pure function potential_gravity(grid, gravity) result(g)
+    type(grid_t), intent(in) :: grid       !< block geometry
+    real(wp), intent(in) :: gravity(3)     !< gravitational acceleration [m/s^2]
+    real(wp) :: g(3)
+    g = merge(gravity, 0.0_wp, grid%active .and. .not. grid%periodic)
+  end function potential_gravity
 
   !> Monotonised-central limited slope [unit/m] of a cell from its neighbours:
   !! minmod(2a, 2b, (a+b)/2) of the one-sided differences a, b (0 at an extremum).

@@ -4,17 +4,23 @@
 !! Per owned cell and fluid m (mass M = rho_bar V, face area A_d = V/dx_d, outward sums over the
 !! two faces of each active direction):
 !!   (M u)_L = M u - dt V phi (p_f,hi - p_f,lo)/dx + dt M g + viscous      (eqs. 42, 45)
-!!   (M e)_L = M cv T - dt sum_f A p_f phi_f u_f - (1/2) M (|u_L|^2 - |u|^2) + conduction
-!!                                                                        (eqs. 43, 46)
-!! with phi_f the upwind face volume fraction (the fluid's own volume flux, as in eq. 35)
+!!   (M e)_L = M cv T + V phi kappa p dp_total + (M / M_cell) D + conduction (eqs. 43, 46)
 !!   (M v)_L = M v - V phi kappa dp_total                                 (eqs. 56-57)
-!! Departure from eq. 43 for ONE fluid (docs/ice.md): the work term is the pressure work through
-!! the faces minus the change of kinetic energy, so that the Lagrangian phase conserves total
-!! energy exactly (the face terms telescope). Uintah's p dV form, V phi kappa p dp, left the Sod
-!! post-shock state 0.7 % low in pressure (a wrong shock jump); this form gives the exact plateau.
-!! With several fluids the Uintah form (M e)_L = M cv T + V phi kappa p dp_total is used: the
-!! face form gives a fluid with a tiny mass in a cell the whole work of the volume flux entering
-!! it (measured: runaway temperatures at an air-water interface). The specific-volume change
+!! The work V phi kappa p dp_total is Uintah's p dV form (the fluid's share phi kappa dp of the
+!! dilatation). Departure from eq. 43 (docs/ice.md): without a solid phase the cell's energy
+!! defect
+!!   D = - dt sum_f A p_f sum_m phi_m,f u_m,f - sum_m [V phi_m kappa_m p dp_total
+!!       + (1/2) M_m (|u_m,L|^2 - |u_m|^2) - W_g,m]
+!! (phi_m,f the upwind face volume fraction, the fluid's own volume flux as in eq. 35; W_g,m the
+!! work of the gravity components that `ice_advection` does not carry as potential energy, see
+!! there) is added to the fluids of the cell in proportion to their masses: the Lagrangian phase
+!! then conserves the total energy of the mixture exactly (the face terms telescope), the kinetic
+!! energy removed by viscosity reappears as heat, and a fluid with a tiny mass in a cell gets a
+!! tiny share (the per-fluid face form gave it the whole work of the volume flux entering it:
+!! runaway temperatures at an air-water interface). With one fluid this is the face form
+!!   (M e)_L = M cv T - dt sum_f A p_f phi_f u_f - (1/2) M (|u_L|^2 - |u|^2) + W_g,
+!! which gives the exact Sod plateau (the p dV form alone left the post-shock state 0.7 % low).
+!! With a solid phase (MPMICE) the p dV form alone is used. The specific-volume change
 !! uses the pressure change of the implicit solve (phi kappa dp = -dt div(phi u_f) at
 !! convergence), as Uintah's ICE does. Viscous momentum and conducted heat come from
 !! `ice_viscous` (explicit, state at time n).
@@ -23,6 +29,7 @@ module ice_lagrangian
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
   use ice_face_velocity, only: upwind
+  use ice_advection, only: potential_gravity
   implicit none
   private
 
@@ -41,9 +48,20 @@ contains
     !! (i, j, k, 4, fluid), from `ice_viscous_sources`
     real(wp), intent(in) :: sources(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :, :)
     integer :: d, m, i, j, k, o(3)
-    real(wp) :: mass, vol, mom, work, phi, uh, ul
+    real(wp) :: mass, vol, mom, work, phi, uh, ul, g_kinetic(3)
+    real(wp), allocatable :: defect(:, :, :), cell_mass(:, :, :)
+    logical :: mixture
 
     vol = grid%cell_volume
+    ! the conservative mixture-energy correction (module header), not with a solid phase
+    mixture = .not. state%solid%present
+    ! gravity work that stays kinetic: the components not carried as potential energy
+    g_kinetic = gravity - potential_gravity(grid, gravity)
+    if (mixture) then
+      allocate(defect(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), grid%lo(3):grid%hi(3)), &
+        source=0.0_wp)
+      allocate(cell_mass, source=defect)
+    end if
     do m = 1, state%nfluids
       associate (f => state%fluid(m))
         do k = grid%lo(3), grid%hi(3)
@@ -51,13 +69,29 @@ contains
             do i = grid%lo(1), grid%hi(1)
               mass = f%rho(i, j, k) * vol
               phi = f%vfrac(i, j, k)
+              ! pressure work through the faces with the fluid's upwind volume flux, also where
+              ! the fluid has no mass (its volume flux into a neighbour works on the cell)
+              work = 0.0_wp
+              if (mixture) then
+                do d = 1, 3
+                  if (.not. grid%active(d)) cycle
+                  o = 0
+                  o(d) = 1
+                  uh = f%uface(i + o(1), j + o(2), k + o(3), d)
+                  ul = f%uface(i, j, k, d)
+                  work = work - dt * vol / grid%dx(d) * &
+                    (state%pface(i + o(1), j + o(2), k + o(3), d) * uh * upwind(uh, phi, &
+                    f%vfrac(i + o(1), j + o(2), k + o(3))) - state%pface(i, j, k, d) * ul * &
+                    upwind(ul, f%vfrac(i - o(1), j - o(2), k - o(3)), phi))
+                end do
+              end if
               if (mass <= 0.0_wp) then
                 f%lag(i, j, k, 1:3) = 0.0_wp
                 f%lag(i, j, k, 4) = f%eos%cv * f%temp(i, j, k)
                 f%lag(i, j, k, 5) = f%spvol(i, j, k)
+                if (mixture) defect(i, j, k) = defect(i, j, k) + work
                 cycle
               end if
-              work = 0.0_wp
               do d = 1, 3
                 mom = mass * (f%vel(i, j, k, d) + dt * gravity(d)) + sources(i, j, k, d, m)
                 if (grid%active(d)) then
@@ -65,31 +99,35 @@ contains
                   o(d) = 1
                   mom = mom - dt * vol * phi * (state%pface(i + o(1), j + o(2), k + o(3), d) - &
                     state%pface(i, j, k, d)) / grid%dx(d)
-                  if (state%nfluids == 1 .and. .not. state%solid%present) then
-                    uh = f%uface(i + o(1), j + o(2), k + o(3), d)
-                    ul = f%uface(i, j, k, d)
-                    work = work - dt * vol / grid%dx(d) * &
-                      (state%pface(i + o(1), j + o(2), k + o(3), d) * uh * upwind(uh, phi, &
-                      f%vfrac(i + o(1), j + o(2), k + o(3))) - state%pface(i, j, k, d) * ul * &
-                      upwind(ul, f%vfrac(i - o(1), j - o(2), k - o(3)), phi))
-                  end if
                 end if
                 f%lag(i, j, k, d) = mom / mass
               end do
-              if (state%nfluids == 1 .and. .not. state%solid%present) then
-                ! gravity work stays kinetic: remove it from the kinetic-energy change
-                work = work - 0.5_wp * mass * (sum(f%lag(i, j, k, 1:3)**2) - &
-                  sum(f%vel(i, j, k, 1:3)**2)) + dt * mass * &
-                  dot_product(gravity, 0.5_wp * (f%lag(i, j, k, 1:3) + f%vel(i, j, k, 1:3)))
-              else
-                ! Uintah's p dV work: the fluid's share phi kappa dp of the dilatation
-                work = vol * phi * f%kappa(i, j, k) * state%pressure(i, j, k) * &
-                  state%dp_total(i, j, k)
+              ! Uintah's p dV work: the fluid's share phi kappa dp of the dilatation
+              f%lag(i, j, k, 4) = f%eos%cv * f%temp(i, j, k) + (vol * phi * f%kappa(i, j, k) * &
+                state%pressure(i, j, k) * state%dp_total(i, j, k) + sources(i, j, k, 4, m)) / mass
+              if (mixture) then
+                defect(i, j, k) = defect(i, j, k) + work - vol * phi * f%kappa(i, j, k) * &
+                  state%pressure(i, j, k) * state%dp_total(i, j, k) - 0.5_wp * mass * &
+                  (sum(f%lag(i, j, k, 1:3)**2) - sum(f%vel(i, j, k, 1:3)**2)) + dt * mass * &
+                  dot_product(g_kinetic, 0.5_wp * (f%lag(i, j, k, 1:3) + f%vel(i, j, k, 1:3)))
+                cell_mass(i, j, k) = cell_mass(i, j, k) + mass
               end if
-              f%lag(i, j, k, 4) = f%eos%cv * f%temp(i, j, k) + (work + sources(i, j, k, 4, m)) &
-                / mass
               f%lag(i, j, k, 5) = f%spvol(i, j, k) - &
                 vol * phi * f%kappa(i, j, k) * state%dp_total(i, j, k) / mass
+            end do
+          end do
+        end do
+      end associate
+    end do
+    if (.not. mixture) return
+    ! the defect to the fluids by mass: the same energy per unit mass for every fluid
+    do m = 1, state%nfluids
+      associate (f => state%fluid(m))
+        do k = grid%lo(3), grid%hi(3)
+          do j = grid%lo(2), grid%hi(2)
+            do i = grid%lo(1), grid%hi(1)
+              if (f%rho(i, j, k) <= 0.0_wp) cycle
+              f%lag(i, j, k, 4) = f%lag(i, j, k, 4) + defect(i, j, k) / cell_mass(i, j, k)
             end do
           end do
         end do

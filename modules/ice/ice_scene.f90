@@ -246,7 +246,7 @@ contains
     call timer_stop(timers, self%t_halo)
 
     call timer_start(timers, self%t_advect)
-    call ice_advect(self%state, grid, dt, self%order, negative)
+    call ice_advect(self%state, grid, dt, self%order, negative, self%gravity)
     call timer_stop(timers, self%t_advect)
     negative = global_sum(dom, negative)
     if (negative > 0) call log_warning('ICE advection: negative mass in ' // &
