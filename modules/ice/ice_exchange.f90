@@ -294,23 +294,65 @@ contains
               end do
             end if
           end if
-          if (h_exchange > 0.0_wp .and. nf > 1) then
-            do m = 1, nf
-              rhs(m, 1) = state%fluid(m)%lag(i, j, k, 4) / state%fluid(m)%eos%cv
-              do n = 1, nf
-                beta(m, n) = dt * v(m) * phi(n) * h_exchange / state%fluid(m)%eos%cv
-              end do
-              beta(m, m) = 0.0_wp
-            end do
-            call exchange_solve(nf, beta, rhs, 1)
-            do m = 1, nf
-              state%fluid(m)%lag(i, j, k, 4) = rhs(m, 1) * state%fluid(m)%eos%cv
-            end do
-          end if
+          call exchange_heat(state, i, j, k, dt, h_exchange, phi, v)
         end do
       end do
     end do
   end subroutine ice_exchange_cells
+
+  !> Implicit heat exchange (eqs. 52-55) in cell (i,j,k): among the fluids with H_ff =
+  !! `h_exchange` and, where the cell holds solid with a heat capacity, between each fluid and the
+  !! solid with H_fs = `state%solid%h_exchange`; beta_mn = dt v_m phi_n H / c_m for a fluid m,
+  !! dt phi_s phi_n H / C_s for the solid (C_s = rho_bar_s c_s). The fluids' `lag(i,j,k,4)` and the
+  !! solid's `temp(i,j,k)` are updated; sum C T is conserved.
+  subroutine exchange_heat(state, i, j, k, dt, h_exchange, phi, v)
+    type(ice_state_t), intent(inout) :: state  !< fluids (lag) and solid (temp)
+    integer, intent(in) :: i, j, k             !< cell
+    real(wp), intent(in) :: dt                 !< time step [s]
+    real(wp), intent(in) :: h_exchange         !< fluid-fluid H [W/m^3/K]
+    real(wp), intent(in) :: phi(max_n)         !< fluid volume fractions
+    real(wp), intent(in) :: v(max_n)           !< fluid specific volumes [m^3/kg]
+    real(wp) :: beta(max_n, max_n), x(max_n, 1), w(max_n), phi_s, h_s, cap
+    integer :: m, n, nf, nh
+    logical :: with_solid
+    nf = state%nfluids
+    with_solid = .false.
+    phi_s = 0.0_wp
+    h_s = 0.0_wp
+    cap = 0.0_wp
+    if (state%solid%present) then
+      h_s = state%solid%h_exchange
+      phi_s = state%solid%vfrac(i, j, k)
+      cap = state%solid%heat_cap(i, j, k)
+      with_solid = h_s > 0.0_wp .and. phi_s > 0.0_wp .and. cap > 0.0_wp
+    end if
+    if (.not. (with_solid .or. (h_exchange > 0.0_wp .and. nf > 1))) return
+    nh = nf
+    if (with_solid) nh = nf + 1
+    beta = 0.0_wp
+    do m = 1, nf
+      associate (f => state%fluid(m))
+        x(m, 1) = f%lag(i, j, k, 4) / f%eos%cv
+        w(m) = f%rho(i, j, k) * f%eos%cv
+        do n = 1, nf
+          if (n /= m) beta(m, n) = dt * v(m) * phi(n) * h_exchange / f%eos%cv
+        end do
+        if (with_solid) beta(m, nh) = dt * v(m) * phi_s * h_s / f%eos%cv
+      end associate
+    end do
+    if (with_solid) then
+      x(nh, 1) = state%solid%temp(i, j, k)
+      w(nh) = cap
+      do n = 1, nf
+        beta(nh, n) = dt * phi_s * phi(n) * h_s / cap
+      end do
+    end if
+    call exchange_solve(nh, beta, x, 1, w)
+    do m = 1, nf
+      state%fluid(m)%lag(i, j, k, 4) = x(m, 1) * state%fluid(m)%eos%cv
+    end do
+    if (with_solid) state%solid%temp(i, j, k) = x(nh, 1)
+  end subroutine exchange_heat
 
   !> Explicit (forward Euler) exchange: x_m += sum_n beta_mn (x_n - x_m), for the comparison
   !! option `&coupling drag_scheme = 'explicit'` (unstable once beta > 1).

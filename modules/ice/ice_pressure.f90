@@ -19,6 +19,8 @@ module ice_pressure
   public :: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, ice_face_pressure
   public :: solid_face_fraction
 
+  real(wp), parameter :: pore_min = 1.0e-3_wp  !< smallest pore fraction in the face weights
+
 contains
 
   !> Operator of eq. 35: low-face coefficients `state%coef` and diagonal `state%diag`
@@ -160,9 +162,12 @@ contains
     end do
   end subroutine ice_pressure_correct
 
-  !> Face pressures of eq. 37 (weights: total bulk density of the two cells); a wall face takes
-  !! the pressure of its inner cell extrapolated hydrostatically, p_c -+ rho_c g dx/2, so that the
-  !! wall carries the weight of a fluid at rest. Needs the pressure valid in one ghost layer.
+  !> Face pressures of eq. 37 (weights: total bulk density of the fluids of the two cells, per
+  !! pore volume 1 - phi_s where a solid phase is present); a wall face takes the pressure of its
+  !! inner cell extrapolated hydrostatically, p_c -+ rho_c g dx/2 with the same density, so that
+  !! the wall carries the weight of a fluid at rest (in a porous cell the fluid's intrinsic
+  !! density: the bulk one left the wall cells of a porous cavity 0.3 g out of balance, whose drag
+  !! heated the water by 0.03 K per day). Needs the pressure valid in one ghost layer.
   subroutine ice_face_pressure(state, grid, gravity)
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
     type(grid_t), intent(in) :: grid           !< block geometry
@@ -186,6 +191,12 @@ contains
               rl = rl + state%fluid(m)%rho(i - o(1), j - o(2), k - o(3))
               rr = rr + state%fluid(m)%rho(i, j, k)
             end do
+            if (state%solid%present) then
+              ! the fluids' mass per pore volume: the pore pressure at rest carries the weight
+              ! of the fluid alone, rho_f g (the skeleton's weight is borne by its stress)
+              rl = rl / max(1.0_wp - state%solid%vfrac(i - o(1), j - o(2), k - o(3)), pore_min)
+              rr = rr / max(1.0_wp - state%solid%vfrac(i, j, k), pore_min)
+            end if
             if (boundary_face(grid, d, [i, j, k]) .and. .not. &
               closed_face(state, grid, d, [i, j, k])) then
               state%pface(i, j, k, d) = state%p_boundary(face_index(d, [i, j, k]))

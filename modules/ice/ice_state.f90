@@ -54,6 +54,12 @@ module ice_state
                                                        !! face plane [-]
     real(wp), allocatable :: face_fraction_hi(:, :, :, :) !< the same on its high side [-]
     logical :: explicit_drag = .false.          !< explicit (forward Euler) drag, for comparison
+    real(wp), allocatable :: heat_cap(:, :, :)  !< heat capacity per volume rho_bar_s c_s [J/m^3/K]
+    real(wp), allocatable :: conductance(:, :, :) !< phi_s k_s of the grains [W/m/K]
+    real(wp), allocatable :: temp(:, :, :)      !< solid cell temperature [K]: m c T / m c at the
+                                                !! deposit, then the Lagrangian value
+    real(wp) :: h_exchange = 0.0_wp             !< fluid-solid heat exchange H [W/m^3/K]: heat per
+                                                !! volume H phi_f phi_s (T_s - T_f)
   end type ice_solid_phase_t
 
   !> All fluids of a block and their shared fields.
@@ -126,7 +132,11 @@ contains
     associate (s => state%solid)
       s%present = .true.
       allocate(s%vfrac(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-      allocate(s%source, s%rho, s%spvol, s%kappa, mold=s%vfrac)
+      allocate(s%source, s%rho, s%spvol, s%kappa, s%heat_cap, s%conductance, s%temp, &
+        mold=s%vfrac)
+      s%heat_cap = 0.0_wp
+      s%conductance = 0.0_wp
+      s%temp = 0.0_wp
       s%source = 0.0_wp
       s%rho = 0.0_wp
       s%spvol = 0.0_wp
@@ -161,7 +171,8 @@ contains
     if (allocated(state%solid%vfrac)) deallocate(state%solid%vfrac, state%solid%source, &
       state%solid%rho, state%solid%spvol, state%solid%kappa, state%solid%vel, state%solid%drag, &
       state%solid%uface, state%solid%uface0, state%solid%vface, &
-      state%solid%rigid_face, state%solid%face_fraction, state%solid%face_fraction_hi)
+      state%solid%rigid_face, state%solid%face_fraction, state%solid%face_fraction_hi, &
+      state%solid%heat_cap, state%solid%conductance, state%solid%temp)
     state%solid%present = .false.
     state%nfluids = 0
   end subroutine ice_state_free

@@ -23,7 +23,7 @@ module mpmice_scene
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_free, halo_reverse_cell_vec, &
     halo_exchange_cell, halo_exchange_node
-  use parallel_reduce, only: global_sum
+  use parallel_reduce, only: global_sum, global_min
   use grid_layout, only: grid_t
   use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field, h5_write_node_field, &
     h5_read_node_field
@@ -37,7 +37,7 @@ module mpmice_scene
   use ice_pressure, only: ice_face_pressure
   use ice_lagrangian, only: ice_lagrangian_values
   use ice_advection, only: ice_advect
-  use ice_bc, only: ice_bc_fill, bc_pressure, bc_scalar
+  use ice_bc, only: ice_bc_fill, bc_pressure, bc_scalar, bc_temperature
   use ice_exchange, only: ice_exchange_faces, ice_exchange_cells
   use ice_viscous, only: ice_viscous_sources
   use mpm_scene, only: mpm_scene_t, move_rigid, mpm_migrate_all
@@ -49,7 +49,8 @@ module mpmice_scene
   use exchange_drag, only: drag_law_from_name
   use mpmice_solid_cells, only: solid_coupling_t, solid_deposit, solid_cell_fields, &
     solid_face_predictor, solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, &
-    solid_pore_pressure, fluid_face_blend, fluid_face_predictor_porous
+    solid_pore_pressure, fluid_face_blend, fluid_face_predictor_porous, heat_components
+  use mpmice_solid_heat, only: solid_conduction, solid_conduction_dt, solid_heat_to_particles
   implicit none
   private
 
@@ -69,6 +70,8 @@ module mpmice_scene
     real(wp) :: relaxation = 0.1_wp                       !< solid-fraction relaxation per step
     real(wp), allocatable :: uprev(:, :, :, :, :)          !< last final face velocities
     real(wp), allocatable :: nbuf(:, :, :)                 !< node-shaped scratch (checkpoints)
+    real(wp), allocatable :: temp_old(:, :, :)             !< solid cell temperature at time n [K]
+    real(wp), allocatable :: dtemp(:, :, :)                !< its increment over the step [K]
     integer :: t_cells = 0, t_nodes = 0                   !< timer ids
   contains
     procedure :: init => mpmice_init
@@ -113,23 +116,29 @@ contains
         if (c%grain_bulk_modulus > 0.0_wp) self%coupling(s)%grain_kappa = 1.0_wp / &
           c%grain_bulk_modulus
         self%coupling(s)%grain_density = c%density
+        self%coupling(s)%heat_capacity = c%heat_capacity
+        self%coupling(s)%conductivity = c%conductivity
         self%loads(s) = surface_load_init(c%traction, c%traction_lower, c%traction_upper, &
           c%traction_ramp_time, grid)
       end associate
     end do
     call ice_solid_alloc(self%fl%state, grid)
     self%fl%state%solid%explicit_drag = trim(cfg%coupling%drag_scheme) == 'explicit'
-    allocate(self%dep(8 + ns, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+    self%fl%state%solid%h_exchange = cfg%coupling%heat_exchange_coefficient
+    allocate(self%dep(8 + ns + heat_components, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
     allocate(self%du(3, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
       grid%lbn(3):grid%ubn(3)), source=0.0_wp)
     allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
-    call halo_init(self%halo, dom, grid, 8 + ns)
+    call halo_init(self%halo, dom, grid, 8 + ns + heat_components)
     allocate(self%uprev(3, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3), cfg%nfluids), source=0.0_wp)
     allocate(self%nbuf(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
       grid%lbn(3):grid%ubn(3)), source=0.0_wp)
+    allocate(self%temp_old, self%dtemp, mold=self%phi_p)
+    self%temp_old = 0.0_wp
+    self%dtemp = 0.0_wp
 
     ! the initial solid fraction; the fluids fill the pores (their fractions scaled by n)
     call deposit_solids(self, dom, grid)
@@ -162,21 +171,25 @@ contains
     ns = size(self%coupling)
     self%dep = 0.0_wp
     do s = 1, ns
-      call solid_deposit(self%so%parts(s), s, ns, self%coupling(s)%grain_density, grid, &
-        self%dep)
+      call solid_deposit(self%so%parts(s), s, ns, self%coupling(s), grid, self%dep)
     end do
     call halo_reverse_cell_vec(self%halo, dom, grid, self%dep)
     call solid_cell_fields(self%fl%state, grid, self%dep, self%coupling, self%max_fraction, &
       self%phi_p)
+    ! the solid's conduction sees the fluid's thermal conditions at the domain faces
+    call ice_bc_fill(grid, self%fl%bc, self%fl%state%solid%conductance, bc_scalar)
+    call ice_bc_fill(grid, self%fl%bc, self%fl%state%solid%temp, bc_temperature)
   end subroutine deposit_solids
 
-  !> The smaller of the fluid (advective CFL, viscosity) and solid (wave speed) limits.
+  !> The smallest of the fluid (advective CFL, viscosity, conduction), solid (wave speed) and
+  !! solid conduction (cfl times `solid_conduction_dt`) limits.
   function mpmice_stable_dt(self, dom, grid) result(dt)
     class(mpmice_scene_t), intent(inout) :: self  !< scene
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
     real(wp) :: dt
-    dt = min(self%fl%stable_dt(dom, grid), self%so%stable_dt(dom, grid))
+    dt = min(self%fl%stable_dt(dom, grid), self%so%stable_dt(dom, grid), &
+      self%fl%cfl * global_min(dom, solid_conduction_dt(self%fl%state, grid)))
   end function mpmice_stable_dt
 
   !> One coupled step (module header); rejected with the state unchanged when the pressure
@@ -270,8 +283,17 @@ contains
       ! the fluids' drag toward the solid's final velocity (eqs. 50-51)
       call timer_start(timers, fl%t_lagrange)
       call solid_cell_velocity(st, grid, so%nodes, so%min_mass)
+      ! the solid's heat: conduction (38-39), then the exchange with the fluids (52-55) in
+      ! ice_exchange_cells, the increments back to the particles (68, 73)
+      self%temp_old = st%solid%temp
+      call solid_conduction(st, grid, dt, self%dtemp)
       call ice_exchange_cells(st, grid, dt, fl%k_exchange, fl%h_exchange)
       call fluid_face_blend(st, grid)
+      self%dtemp = st%solid%temp - self%temp_old
+      call halo_exchange_cell(fl%halo, dom, grid, self%dtemp)
+      do s = 1, so%nsolids
+        call solid_heat_to_particles(so%parts(s), grid, self%dtemp)
+      end do
       if (fl%theta /= 1.0_wp) st%pressure = st%p_eq + st%dp_total
       call timer_stop(timers, fl%t_lagrange)
 
@@ -499,7 +521,8 @@ contains
     call self%fl%free()
     call self%so%free()
     call halo_free(self%halo)
-    if (allocated(self%dep)) deallocate(self%dep, self%du, self%phi_p, self%uprev, self%nbuf)
+    if (allocated(self%dep)) deallocate(self%dep, self%du, self%phi_p, self%uprev, self%nbuf, &
+      self%temp_old, self%dtemp)
     if (allocated(self%coupling)) deallocate(self%coupling, self%loads)
   end subroutine mpmice_free
 end module mpmice_scene

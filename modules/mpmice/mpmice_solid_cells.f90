@@ -39,7 +39,8 @@ module mpmice_solid_cells
 
   public :: solid_coupling_t, solid_deposit, solid_cell_fields, solid_face_predictor, &
     solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, solid_pore_pressure, &
-    fluid_face_blend, fluid_face_predictor_porous
+    fluid_face_blend, fluid_face_predictor_porous, overlap_weights, deformed_half_widths
+  public :: heat_components
 
   !> Coupling parameters of one solid material.
   type :: solid_coupling_t
@@ -48,7 +49,13 @@ module mpmice_solid_cells
     real(wp) :: drag_coefficient = 0.0_wp   !< K of the constant law [kg/m^3/s]
     real(wp) :: grain_kappa = 0.0_wp        !< 1 / grain bulk modulus [1/Pa] (0: incompressible)
     real(wp) :: grain_density = 2650.0_wp   !< rho_s of the grains [kg/m^3]
+    real(wp) :: heat_capacity = 800.0_wp    !< c_s [J/kg/K]
+    real(wp) :: conductivity = 0.4_wp       !< k_s of the grains [W/m/K]
   end type solid_coupling_t
+
+  !> Deposit components beyond the 8 + nsolids of the mechanics: heat capacity m c [J/K],
+  !! energy m c T [J], grain conductance V_g k [W m^2/K].
+  integer, parameter :: heat_components = 3
 
 contains
 
@@ -56,27 +63,22 @@ contains
   !! component 1 mass [kg], 2 grain volume m_p / rho_s [m^3] (a particle's volume V_p is that of
   !! the mixture it stands for; its grains fill m_p / rho_s of it), 2 + s the grain volume of
   !! solid s, and 2 + nsolids + 2 d - 1 / 2 d the grain fraction on the low / high side of the
-  !! cell's low face plane in direction d.
-  subroutine solid_deposit(p, s, nsolids, grain_density, grid, dep)
+  !! cell's low face plane in direction d; then (`heat_components`) 9 + nsolids the heat capacity
+  !! m_p c_s [J/K], 10 + nsolids the energy m_p c_s T_p [J], 11 + nsolids the grain conductance
+  !! (m_p / rho_s) k_s [W m^2/K].
+  subroutine solid_deposit(p, s, nsolids, solid, grid, dep)
     type(particles_t), intent(in) :: p          !< particles of solid s
     integer, intent(in) :: s                    !< solid index
     integer, intent(in) :: nsolids              !< number of solids
-    real(wp), intent(in) :: grain_density       !< rho_s [kg/m^3]
+    type(solid_coupling_t), intent(in) :: solid !< its grain density and thermal parameters
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(inout) :: dep(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< deposits
     integer :: ip, d, k, a, b, c, first(3), nc(3), nf(3), ff(3), e, nbase
-    real(wp) :: w(2, 3), wt, vg, l(3), lo, hi, wf
+    real(wp) :: w(2, 3), wt, vg, l(3), lo, hi, wf, mc
     do ip = 1, p%np
-      vg = p%mass(ip) / grain_density
-      ! the deformed particle domain F [-l0, l0]: its half-width along each axis (bounding box),
-      ! so that its faces move with the material (a compressed particle does not shed solid)
-      do d = 1, 3
-        l(d) = 0.0_wp
-        do k = 1, 3
-          if (grid%active(k)) l(d) = l(d) + abs(p%f(d + 3 * (k - 1), ip)) * p%half_width(k)
-        end do
-        l(d) = min(l(d), 0.5_wp * grid%dx(d))
-      end do
+      vg = p%mass(ip) / solid%grain_density
+      mc = p%mass(ip) * solid%heat_capacity
+      l = deformed_half_widths(p, ip, grid)
       do d = 1, 3
         call overlap_weights(grid, d, p%x(d, ip), l(d), first(d), nc(d), w(:, d))
       end do
@@ -120,12 +122,33 @@ contains
               q(1) = q(1) + wt * p%mass(ip)
               q(2) = q(2) + wt * vg
               q(2 + s) = q(2 + s) + wt * vg
+              q(9 + nsolids) = q(9 + nsolids) + wt * mc
+              q(10 + nsolids) = q(10 + nsolids) + wt * mc * p%temperature(ip)
+              q(11 + nsolids) = q(11 + nsolids) + wt * vg * solid%conductivity
             end associate
           end do
         end do
       end do
     end do
   end subroutine solid_deposit
+
+  !> Half-widths [m] along the axes of particle `ip`'s deformed domain F [-l0, l0] (its bounding
+  !! box), at most dx/2, so that the domain's faces move with the material (a compressed particle
+  !! does not shed solid).
+  pure function deformed_half_widths(p, ip, grid) result(l)
+    type(particles_t), intent(in) :: p          !< particles
+    integer, intent(in) :: ip                   !< particle
+    type(grid_t), intent(in) :: grid            !< block geometry
+    real(wp) :: l(3)
+    integer :: d, k
+    do d = 1, 3
+      l(d) = 0.0_wp
+      do k = 1, 3
+        if (grid%active(k)) l(d) = l(d) + abs(p%f(d + 3 * (k - 1), ip)) * p%half_width(k)
+      end do
+      l(d) = min(l(d), 0.5_wp * grid%dx(d))
+    end do
+  end function deformed_half_widths
 
   !> Cells (at most 2: l <= dx/2) overlapped along `d` by the particle domain [x - l, x + l] and their
   !! fractions of it, clipped to the domain in a non-periodic dimension (fractions renormalised).
@@ -168,7 +191,8 @@ contains
 
   !> From the summed deposits (valid in ghost cells too): the particles' solid fraction
   !! (capped at `max_fraction`), bulk density, grain specific volume and compressibility, and
-  !! the reduced drag coefficient per fluid (slip from the velocities of time n).
+  !! the reduced drag coefficient per fluid (slip from the velocities of time n); the heat
+  !! capacity per volume, conductance phi_s k_s and mass-weighted temperature of the solid.
   subroutine solid_cell_fields(state, grid, dep, solids, max_fraction, phi_p)
     type(ice_state_t), intent(inout) :: state   !< fluids; solid phase written
     type(grid_t), intent(in) :: grid            !< block geometry
@@ -200,6 +224,11 @@ contains
             sp%spvol(i, j, k) = 0.0_wp
             sp%kappa(i, j, k) = 0.0_wp
             sp%drag(i, j, k, :) = 0.0_wp
+            sp%heat_cap(i, j, k) = dep(9 + ns, i, j, k) / grid%cell_volume
+            sp%conductance(i, j, k) = dep(11 + ns, i, j, k) / grid%cell_volume
+            sp%temp(i, j, k) = 0.0_wp
+            if (dep(9 + ns, i, j, k) > 0.0_wp) sp%temp(i, j, k) = dep(10 + ns, i, j, k) / &
+              dep(9 + ns, i, j, k)
             if (vol <= 0.0_wp .or. dep(1, i, j, k) <= 0.0_wp) cycle
             sp%spvol(i, j, k) = vol / dep(1, i, j, k)
             do m = 1, state%nfluids

@@ -1,0 +1,147 @@
+!> Heat of the solid phase of a coupled scene (paper eqs. 38-39, 52-55, 68, 73; errata E9:
+!! q = -k grad T with the conductivity k).
+!!
+!! The solid's heat lives where the fluid's does, on the ICE cells:
+!! * the particles deposit their heat capacity m_p c_s, energy m_p c_s T_p and grain conductance
+!!   (m_p / rho_s) k_s with the same overlap weights w_pc as their grain volume
+!!   (`mpmice_solid_cells%solid_deposit`); the cell temperature is the capacity-weighted mean;
+!! * conduction (eqs. 38-39) is explicit on the cells with face conductances the harmonic mean of
+!!   phi_s k_s of the two cells (zero where either has no solid), the same stencil and ghost
+!!   conditions as the fluid's conduction (`ice_viscous`), so that at local thermal equilibrium
+!!   the mixture conducts with k_m = sum_f phi_f k_f + phi_s k_s;
+!! * the fluid-solid exchange (eqs. 52-55) is implicit, in `ice_exchange_cells`;
+!! * the particles receive the cell increments with the deposit's weights,
+!!   T_p += sum_c w_pc dT_c (eqs. 68, 73), so sum_p m_p c_s dT_p = sum_c C_c dT_c exactly.
+!! Departure from the paper (docs/mpmice.md): the solid's conduction is done on the cells, not on
+!! the MPM nodes (eq. 38) followed by a cell-to-node interpolation of the exchange.
+module mpmice_solid_heat
+  use mpmice_kinds, only: wp
+  use grid_layout, only: grid_t
+  use ice_state, only: ice_state_t
+  use mpm_particles, only: particles_t
+  use mpmice_solid_cells, only: overlap_weights, deformed_half_widths
+  implicit none
+  private
+
+  public :: solid_conduction, solid_conduction_dt, solid_heat_to_particles
+
+contains
+
+  !> Explicit conduction of the solid over dt: `state%solid%temp` of the owned cells with solid
+  !! (heat capacity > 0) gets dt / (C V) sum_faces A k_face (T_nb - T) / dx. Needs `temp` and
+  !! `conductance` valid in one ghost layer (domain faces: the fluid's thermal conditions).
+  subroutine solid_conduction(state, grid, dt, scratch)
+    type(ice_state_t), intent(inout) :: state   !< solid temp updated (owned cells)
+    type(grid_t), intent(in) :: grid            !< block geometry
+    real(wp), intent(in) :: dt                  !< time step [s]
+    real(wp), intent(inout) :: scratch(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< heat [J]
+    integer :: d, i, j, k, o(3)
+    real(wp) :: area, k_lo, k_hi
+    associate (sp => state%solid)
+      if (.not. any(sp%conductance > 0.0_wp)) return
+      scratch = 0.0_wp
+      do d = 1, 3
+        if (.not. grid%active(d)) cycle
+        o = 0
+        o(d) = 1
+        area = grid%cell_volume / grid%dx(d)
+        do k = grid%lo(3), grid%hi(3)
+          do j = grid%lo(2), grid%hi(2)
+            do i = grid%lo(1), grid%hi(1)
+              if (sp%heat_cap(i, j, k) <= 0.0_wp) cycle
+              k_lo = harmonic(sp%conductance(i - o(1), j - o(2), k - o(3)), sp%conductance(i, j, k))
+              k_hi = harmonic(sp%conductance(i, j, k), sp%conductance(i + o(1), j + o(2), k + o(3)))
+              scratch(i, j, k) = scratch(i, j, k) + dt * area / grid%dx(d) * &
+                (k_hi * (sp%temp(i + o(1), j + o(2), k + o(3)) - sp%temp(i, j, k)) - &
+                k_lo * (sp%temp(i, j, k) - sp%temp(i - o(1), j - o(2), k - o(3))))
+            end do
+          end do
+        end do
+      end do
+      do k = grid%lo(3), grid%hi(3)
+        do j = grid%lo(2), grid%hi(2)
+          do i = grid%lo(1), grid%hi(1)
+            if (sp%heat_cap(i, j, k) <= 0.0_wp) cycle
+            sp%temp(i, j, k) = sp%temp(i, j, k) + scratch(i, j, k) / &
+              (sp%heat_cap(i, j, k) * grid%cell_volume)
+          end do
+        end do
+      end do
+    end associate
+  end subroutine solid_conduction
+
+  !> Stability limit [s] of `solid_conduction` on this rank: 1 / max_c sum_faces k_face /
+  !! (C_c dx^2) (the forward-Euler update stays a convex combination); huge without conduction.
+  !! Needs the same ghost values as `solid_conduction`.
+  function solid_conduction_dt(state, grid) result(dt)
+    type(ice_state_t), intent(in) :: state  !< solid phase
+    type(grid_t), intent(in) :: grid        !< block geometry
+    real(wp) :: dt
+    real(wp) :: rate, rate_max
+    integer :: d, i, j, k, o(3)
+    rate_max = 0.0_wp
+    associate (sp => state%solid)
+      if (.not. any(sp%conductance > 0.0_wp)) then
+        dt = huge(1.0_wp)
+        return
+      end if
+      do k = grid%lo(3), grid%hi(3)
+        do j = grid%lo(2), grid%hi(2)
+          do i = grid%lo(1), grid%hi(1)
+            if (sp%heat_cap(i, j, k) <= 0.0_wp) cycle
+            rate = 0.0_wp
+            do d = 1, 3
+              if (.not. grid%active(d)) cycle
+              o = 0
+              o(d) = 1
+              rate = rate + (harmonic(sp%conductance(i - o(1), j - o(2), k - o(3)), &
+                sp%conductance(i, j, k)) + harmonic(sp%conductance(i, j, k), &
+                sp%conductance(i + o(1), j + o(2), k + o(3)))) / grid%dx(d)**2
+            end do
+            rate_max = max(rate_max, rate / sp%heat_cap(i, j, k))
+          end do
+        end do
+      end do
+    end associate
+    dt = huge(1.0_wp)
+    if (rate_max > 0.0_wp) dt = 1.0_wp / rate_max
+  end function solid_conduction_dt
+
+  !> Add the cell temperature increments `dtemp` [K] to the particles with the weights of their
+  !! deposit (positions and F as at the deposit: call before G2P). `dtemp` valid in the ghost
+  !! cells the particles' domains reach.
+  subroutine solid_heat_to_particles(p, grid, dtemp)
+    type(particles_t), intent(inout) :: p      !< particles (temperature updated)
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: dtemp(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< increment [K]
+    integer :: ip, d, a, b, c, first(3), nc(3)
+    real(wp) :: w(2, 3), l(3), inc
+    do ip = 1, p%np
+      l = deformed_half_widths(p, ip, grid)
+      do d = 1, 3
+        call overlap_weights(grid, d, p%x(d, ip), l(d), first(d), nc(d), w(:, d))
+      end do
+      inc = 0.0_wp
+      do c = 1, nc(3)
+        do b = 1, nc(2)
+          do a = 1, nc(1)
+            inc = inc + w(a, 1) * w(b, 2) * w(c, 3) * &
+              dtemp(first(1) + a - 1, first(2) + b - 1, first(3) + c - 1)
+          end do
+        end do
+      end do
+      p%temperature(ip) = p%temperature(ip) + inc
+    end do
+  end subroutine solid_heat_to_particles
+
+  !> Harmonic mean of two conductances (0 when either is 0) [W/m/K].
+  pure real(wp) function harmonic(a, b)
+    real(wp), intent(in) :: a  !< low cell
+    real(wp), intent(in) :: b  !< high cell
+    if (a > 0.0_wp .and. b > 0.0_wp) then
+      harmonic = 2.0_wp * a * b / (a + b)
+    else
+      harmonic = 0.0_wp
+    end if
+  end function harmonic
+end module mpmice_solid_heat
