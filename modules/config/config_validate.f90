@@ -45,11 +45,12 @@ contains
   end subroutine config_check
 
   !> Ghost layers the numerics need: `advection_order` cells for advection, 2 for GIMP and 1 for
-  !! linear shape functions.
+  !! linear shape functions, 2 for the Smagorinsky model (the strain rate of the ghost cells).
   pure integer function ghost_width_needed(cfg)
     type(config_t), intent(in) :: cfg  !< configuration
     ghost_width_needed = max(cfg%numerics%advection_order, 1)
     if (cfg%numerics%shape_function == 'gimp') ghost_width_needed = max(ghost_width_needed, 2)
+    if (cfg%ice%smagorinsky) ghost_width_needed = max(ghost_width_needed, 2)
   end function ghost_width_needed
 
   !> `&run`.
@@ -117,7 +118,8 @@ contains
         call set_error(err, 'grid', 'ghost_width', ints_repr([p%ghost_width]), &
           ints_repr([need]) // '..4 (advection_order = ' // &
           ints_repr([cfg%numerics%advection_order]) // ', shape_function = ' // &
-          quoted(cfg%numerics%shape_function) // ')')
+          quoted(cfg%numerics%shape_function) // ', &ice smagorinsky = ' // &
+          trim(merge('.true. ', '.false.', cfg%ice%smagorinsky)) // ')')
         return
       end if
 

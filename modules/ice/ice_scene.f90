@@ -59,6 +59,7 @@ module ice_scene
     integer :: eq_max = 100                   !< equilibration iteration limit
     integer :: order = 2                      !< advection order
     real(wp) :: theta = 1.0_wp                !< implicit weight of the pressure change
+    real(wp) :: smagorinsky = 0.0_wp          !< Smagorinsky constant C_s (0: no eddy viscosity)
     integer :: steps = 0                      !< accepted steps
     integer :: total_outer = 0                !< outer iterations summed
     integer :: max_outer_seen = 0             !< largest outer-iteration count
@@ -119,6 +120,7 @@ contains
     self%eq_max = cfg%ice%max_equilibration_iterations
     self%order = cfg%numerics%advection_order
     self%theta = cfg%numerics%time_theta
+    if (cfg%ice%smagorinsky) self%smagorinsky = cfg%ice%smagorinsky_constant
     if (cfg%nfluids < 1) call fatal('ice scene: no &fluid group')
 
     call ice_state_alloc(self%state, grid, cfg%nfluids)
@@ -153,7 +155,7 @@ contains
 
   !> CFL limit: cfl * min over cells, directions and fluids of dx / (|u| + f c), f the
   !! sound-speed factor (0: the advective limit of the implicit scheme), and cfl times the
-  !! explicit viscosity/conduction limit (`ice_viscous_dt`).
+  !! explicit viscosity/conduction limit (`ice_viscous_dt`, with the Smagorinsky eddy viscosity).
   function ice_scene_stable_dt(self, dom, grid) result(dt)
     class(ice_scene_t), intent(inout) :: self  !< scene
     type(domain_t), intent(in) :: dom          !< decomposition
@@ -189,7 +191,7 @@ contains
       dt = huge(1.0_wp)
     end if
     ! explicit viscosity and conduction
-    dt = min(dt, self%cfl * global_min(dom, ice_viscous_dt(self%state, grid)))
+    dt = min(dt, self%cfl * global_min(dom, ice_viscous_dt(self%state, grid, self%smagorinsky)))
   end function ice_scene_stable_dt
 
   !> One ICE step; rejected (state unchanged) when the outer iteration does not converge or a
@@ -234,7 +236,7 @@ contains
     do m = 1, self%state%nfluids
       self%sources(:, :, :, :, m) = 0.0_wp
       call ice_viscous_sources(self%state, grid, m, dt, self%sources(:, :, :, 1:3, m), &
-        self%sources(:, :, :, 4, m))
+        self%sources(:, :, :, 4, m), self%smagorinsky)
     end do
     call ice_lagrangian_values(self%state, grid, dt, self%gravity, self%sources)
     call ice_exchange_cells(self%state, grid, dt, self%k_exchange, self%h_exchange)

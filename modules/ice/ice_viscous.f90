@@ -1,40 +1,74 @@
 !> Explicit viscous momentum and heat-conduction sources of the Lagrangian step (paper eqs. 23-25
-!! without the turbulence model, and the conduction term of eq. 43, errata E9: q = -k grad T).
+!! with the optional Smagorinsky eddy viscosity, and the conduction term of eq. 43, errata E9:
+!! q = -k grad T).
 !!
-!! Per fluid m and owned cell, with face coefficients the harmonic means of phi mu and phi k of
-!! the two cells (zero when the fluid is absent on either side):
-!!   d(M u_c) = dt sum_d A_d [mu_f (u_c,R - u_c,L)/dx_d]_lo^hi     (Laplacian form of div tau)
-!!   d(M e)   = dt sum_d A_d [k_f (T_R - T_L)/dx_d]_lo^hi
-!! Simplification (docs/ice.md): the Laplacian form mu lap(u) of div tau, i.e. without the
-!! (mu/3) grad(div u) part and without Smagorinsky; exact for the shear flows used to validate it.
-!! Walls: the mirrored ghosts make both fluxes zero (free slip, adiabatic). Needs velocity and
-!! temperature valid in one ghost layer. The stability limit of the explicit update is
-!! `ice_viscous_dt`.
+!! Momentum: the divergence of the Newtonian stress (eqs. 23-25, Stokes' hypothesis)
+!!   tau = mu_e (grad u + grad u^T) - (2/3) mu_e (div u) I,   mu_e = mu + mu_t,
+!!   mu_t = rho (C_s Delta)^2 |S|,  |S| = sqrt(2 S:S),  S = (grad u + grad u^T)/2,
+!!   Delta = (product of the active dx_d)^(1/ndim)    (Smagorinsky, `&ice smagorinsky`),
+!! in flux form: per fluid m, owned cell and component c,
+!!   d(M u_c) = dt sum_d A_d [tau_cd]_lo^hi,   d(M e) = dt sum_d A_d [k_f (T_R - T_L)/dx_d]_lo^hi,
+!! with tau_cd at a face normal to d from the compact difference (u_R - u_L)/dx_d of the two
+!! cells for the normal derivatives and, for the derivatives along another axis e, the mean of
+!! the two cells' central differences (u(+e) - u(-e))/(2 dx_e); div u at the face likewise.
+!! Face coefficients: the harmonic mean of phi (mu + v^-1 nu_t) of the two cells (zero when the
+!! fluid is absent on either side; v^-1 nu_t = rho_micro (C_s Delta)^2 |S| is the fluid's eddy
+!! viscosity, so phi mu_t = rho_bar (C_s Delta)^2 |S|), and of phi k. For constant mu this is
+!! mu lap(u) + (mu/3) grad(div u) to second order; for a variable mu_e the cross terms
+!! d_d(mu_e d_c u_d) are kept. The strain rate |S| of a cell uses the central differences of
+!! its neighbours' velocities. Walls: the mirrored ghosts (no slip: all components odd) give the
+!! wall shear stress; adiabatic walls carry no heat. Needs velocity and temperature valid in one
+!! ghost layer (edges and corners included) and, with Smagorinsky, the velocity in two. The
+!! stability limit of the explicit update is `ice_viscous_dt`. Viscous heating: the kinetic
+!! energy the stress removes reappears as heat through the energy correction of the Lagrangian
+!! step (`ice_lagrangian`, ICE scene without a solid phase).
 module ice_viscous
   use mpmice_kinds, only: wp
+  use mpmice_errors, only: fatal
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
   implicit none
   private
 
-  public :: ice_viscous_sources, ice_viscous_dt
+  public :: ice_viscous_sources, ice_viscous_dt, ice_eddy_viscosity, stress_factor
+
+  !> Largest eigenvalue of the discrete stress divergence over that of the Laplacian form mu lap:
+  !! the symbol is -(Lambda I + M/3), Lambda the Laplacian's, M = diag(lambda_c - s_c^2) + s s^T
+  !! with lambda_c = 4 sin^2(theta_c/2)/dx_c^2 >= s_c^2 = sin^2(theta_c)/dx_c^2, so its
+  !! eigenvalues lie in [Lambda, 4 Lambda / 3] (4/3 reached by the longitudinal mode theta = pi).
+  real(wp), parameter :: stress_factor = 4.0_wp / 3.0_wp
 
 contains
 
   !> Add dt times the viscous force [kg m/s] to `mom(:,:,:,1:3)` and dt times the conducted
-  !! heat [J] to `heat(:,:,:)` of fluid m (owned cells).
-  subroutine ice_viscous_sources(state, grid, m, dt, mom, heat)
+  !! heat [J] to `heat(:,:,:)` of fluid m (owned cells). `smagorinsky`: C_s of the eddy
+  !! viscosity (absent or <= 0: none).
+  subroutine ice_viscous_sources(state, grid, m, dt, mom, heat, smagorinsky)
     type(ice_state_t), intent(in) :: state     !< fluids
     type(grid_t), intent(in) :: grid           !< block geometry
     integer, intent(in) :: m                   !< fluid
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(inout) :: mom(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :) !< momentum [kg m/s]
     real(wp), intent(inout) :: heat(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)   !< energy [J]
+    real(wp), intent(in), optional :: smagorinsky  !< Smagorinsky constant C_s [-]
     integer :: d, i, j, k, o(3), c
-    real(wp) :: area, mu_lo, mu_hi, k_lo, k_hi, phi_lo, phi_hi
+    real(wp) :: area, k_lo, k_hi, phi_lo, phi_hi, cs, flux_lo(3), flux_hi(3)
+    real(wp), allocatable :: coef(:, :, :), nu_t(:, :, :)
+    logical :: momentum
 
+    cs = 0.0_wp
+    if (present(smagorinsky)) cs = smagorinsky
     associate (f => state%fluid(m))
-      if (f%viscosity <= 0.0_wp .and. f%conductivity <= 0.0_wp) return
+      momentum = f%viscosity > 0.0_wp .or. cs > 0.0_wp
+      if (.not. momentum .and. f%conductivity <= 0.0_wp) return
+      ! cell coefficient phi mu_e = phi mu + phi v^-1 nu_t
+      allocate(coef(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), grid%lbc(3):grid%ubc(3)))
+      coef = f%vfrac * f%viscosity
+      if (cs > 0.0_wp) then
+        allocate(nu_t, mold=coef)
+        call ice_eddy_viscosity(state, grid, m, cs, nu_t)
+        where (f%spvol > 0.0_wp) coef = coef + f%vfrac * nu_t / f%spvol
+      end if
       do d = 1, 3
         if (.not. grid%active(d)) cycle
         o = 0
@@ -43,17 +77,18 @@ contains
         do k = grid%lo(3), grid%hi(3)
           do j = grid%lo(2), grid%hi(2)
             do i = grid%lo(1), grid%hi(1)
+              if (momentum) then
+                call stress_flux(d, [i, j, k], flux_lo)
+                call stress_flux(d, [i + o(1), j + o(2), k + o(3)], flux_hi)
+                do c = 1, 3
+                  mom(i, j, k, c) = mom(i, j, k, c) + dt * area * (flux_hi(c) - flux_lo(c))
+                end do
+              end if
+              if (f%conductivity <= 0.0_wp) cycle
               phi_lo = face_mean(f%vfrac(i - o(1), j - o(2), k - o(3)), f%vfrac(i, j, k))
               phi_hi = face_mean(f%vfrac(i, j, k), f%vfrac(i + o(1), j + o(2), k + o(3)))
-              mu_lo = phi_lo * f%viscosity
-              mu_hi = phi_hi * f%viscosity
               k_lo = phi_lo * f%conductivity
               k_hi = phi_hi * f%conductivity
-              do c = 1, 3
-                mom(i, j, k, c) = mom(i, j, k, c) + dt * area / grid%dx(d) * &
-                  (mu_hi * (f%vel(i + o(1), j + o(2), k + o(3), c) - f%vel(i, j, k, c)) - &
-                  mu_lo * (f%vel(i, j, k, c) - f%vel(i - o(1), j - o(2), k - o(3), c)))
-              end do
               heat(i, j, k) = heat(i, j, k) + dt * area / grid%dx(d) * &
                 (k_hi * (f%temp(i + o(1), j + o(2), k + o(3)) - f%temp(i, j, k)) - &
                 k_lo * (f%temp(i, j, k) - f%temp(i - o(1), j - o(2), k - o(3))))
@@ -62,28 +97,130 @@ contains
         end do
       end do
     end associate
+
+  contains
+
+    !> tau_c,dn (c = 1..3) [Pa] on the low face in direction `dn` of cell `idx` (module header).
+    subroutine stress_flux(dn, idx, tau)
+      integer, intent(in) :: dn        !< face normal
+      integer, intent(in) :: idx(3)    !< the face's high cell
+      real(wp), intent(out) :: tau(3)  !< stress components tau_c,dn [Pa]
+      integer :: l(3), e
+      real(wp) :: mu_f, normal(3), transverse(3), div
+      l = idx
+      l(dn) = idx(dn) - 1
+      mu_f = face_mean(coef(l(1), l(2), l(3)), coef(idx(1), idx(2), idx(3)))
+      tau = 0.0_wp
+      if (mu_f <= 0.0_wp) return
+      associate (v => state%fluid(m)%vel)
+        ! normal(c) = d u_c / d x_dn; transverse(e) = d u_dn / d x_e (e /= dn, active)
+        normal = (v(idx(1), idx(2), idx(3), :) - v(l(1), l(2), l(3), :)) / grid%dx(dn)
+        transverse = 0.0_wp
+        div = normal(dn)
+        do e = 1, 3
+          if (e == dn .or. .not. grid%active(e)) cycle
+          transverse(e) = face_central(v(:, :, :, dn), e, l, idx)
+          div = div + face_central(v(:, :, :, e), e, l, idx)
+        end do
+      end associate
+      ! tau_c,dn = mu (d u_c/d x_dn + d u_dn/d x_c) - (2/3) mu div u delta_c,dn
+      tau = mu_f * (normal + transverse)
+      tau(dn) = mu_f * (2.0_wp * normal(dn) - 2.0_wp / 3.0_wp * div)
+    end subroutine stress_flux
+
+    !> d q / d x_e on the face between cells `l` and `h`: the mean of their central differences.
+    real(wp) function face_central(q, e, l, h)
+      real(wp), intent(in) :: q(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)  !< cell field
+      integer, intent(in) :: e     !< axis of the derivative
+      integer, intent(in) :: l(3)  !< low cell
+      integer, intent(in) :: h(3)  !< high cell
+      integer :: oe(3)
+      oe = 0
+      oe(e) = 1
+      face_central = 0.25_wp * (q(h(1) + oe(1), h(2) + oe(2), h(3) + oe(3)) - &
+        q(h(1) - oe(1), h(2) - oe(2), h(3) - oe(3)) + q(l(1) + oe(1), l(2) + oe(2), l(3) + oe(3)) - &
+        q(l(1) - oe(1), l(2) - oe(2), l(3) - oe(3))) / grid%dx(e)
+    end function face_central
   end subroutine ice_viscous_sources
 
+  !> Kinematic Smagorinsky eddy viscosity nu_t = (C_s Delta)^2 |S| [m^2/s] of fluid m on the owned
+  !! cells and one ghost layer (0 beyond), from the central differences of the cell velocities
+  !! (module header). Needs the velocity valid in two ghost layers.
+  subroutine ice_eddy_viscosity(state, grid, m, cs, nu_t)
+    type(ice_state_t), intent(in) :: state   !< fluids
+    type(grid_t), intent(in) :: grid         !< block geometry
+    integer, intent(in) :: m                 !< fluid
+    real(wp), intent(in) :: cs               !< Smagorinsky constant C_s [-]
+    real(wp), intent(out) :: nu_t(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< [m^2/s]
+    integer :: i, j, k, a, b, lo(3), hi(3), o(3)
+    real(wp) :: g(3, 3), s2, delta2
+    nu_t = 0.0_wp
+    if (any(grid%active .and. grid%ng < 2)) call fatal('ice_eddy_viscosity: the Smagorinsky ' // &
+      'model needs two ghost layers')
+    delta2 = product(merge(grid%dx, 1.0_wp, grid%active))**(2.0_wp / real(count(grid%active), wp))
+    lo = merge(grid%lo - 1, grid%lo, grid%active)
+    hi = merge(grid%hi + 1, grid%hi, grid%active)
+    associate (v => state%fluid(m)%vel)
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            g = 0.0_wp
+            do b = 1, 3
+              if (.not. grid%active(b)) cycle
+              o = 0
+              o(b) = 1
+              g(:, b) = (v(i + o(1), j + o(2), k + o(3), :) - v(i - o(1), j - o(2), k - o(3), :)) &
+                / (2.0_wp * grid%dx(b))
+            end do
+            ! 2 S:S with S = (g + g^T)/2
+            s2 = 0.0_wp
+            do b = 1, 3
+              do a = 1, 3
+                s2 = s2 + 0.5_wp * (g(a, b) + g(b, a))**2
+              end do
+            end do
+            nu_t(i, j, k) = cs**2 * delta2 * sqrt(s2)
+          end do
+        end do
+      end do
+    end associate
+  end subroutine ice_eddy_viscosity
+
   !> Stability limit [s] of the explicit diffusion on this rank: 0.5 / (sum_d 1/dx_d^2) divided
-  !! by the largest diffusivity, mu v (momentum) or k v / cv (heat), over fluids and owned
+  !! by the largest diffusivity, (4/3) (mu v + nu_t) (momentum: `stress_factor`, nu_t the largest
+  !! Smagorinsky eddy viscosity of the fluid when `smagorinsky` > 0) or k v / cv (heat), over
+  !! fluids and owned
   !! cells; huge when there is no diffusion.
-  function ice_viscous_dt(state, grid) result(dt)
+  function ice_viscous_dt(state, grid, smagorinsky) result(dt)
     type(ice_state_t), intent(in) :: state  !< fluids
     type(grid_t), intent(in) :: grid        !< block geometry
+    real(wp), intent(in), optional :: smagorinsky  !< Smagorinsky constant C_s [-] (<= 0: none)
     real(wp) :: dt
-    real(wp) :: diffusivity, s, rho_min
+    real(wp) :: diffusivity, s, rho_min, cs, nu_max
+    real(wp), allocatable :: nu_t(:, :, :)
+    logical, allocatable :: present_cells(:, :, :)
     integer :: m
+    cs = 0.0_wp
+    if (present(smagorinsky)) cs = smagorinsky
+    if (cs > 0.0_wp) allocate(nu_t(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+      grid%lbc(3):grid%ubc(3)))
     diffusivity = 0.0_wp
     do m = 1, state%nfluids
       associate (f => state%fluid(m), lo => grid%lo, hi => grid%hi)
-        if (f%viscosity <= 0.0_wp .and. f%conductivity <= 0.0_wp) cycle
+        if (f%viscosity <= 0.0_wp .and. f%conductivity <= 0.0_wp .and. cs <= 0.0_wp) cycle
         if (.not. any(f%rho(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) > 0.0_wp)) cycle
         ! cells where the fluid is present, not a trace: the specific volume of a trace
         ! (advected m v over a vanishing m) is not a physical one and must not set the step
         rho_min = 1.0e-6_wp * maxval(f%rho(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-        s = maxval(f%spvol(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), &
-          mask=f%rho(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) > rho_min)
-        diffusivity = max(diffusivity, f%viscosity * s, f%conductivity * s / f%eos%cv)
+        present_cells = f%rho(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) > rho_min
+        s = maxval(f%spvol(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), mask=present_cells)
+        nu_max = 0.0_wp
+        if (cs > 0.0_wp) then
+          call ice_eddy_viscosity(state, grid, m, cs, nu_t)
+          nu_max = maxval(nu_t(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), mask=present_cells)
+        end if
+        diffusivity = max(diffusivity, stress_factor * (f%viscosity * s + nu_max), &
+          f%conductivity * s / f%eos%cv)
       end associate
     end do
     if (diffusivity > 0.0_wp) then
@@ -93,7 +230,7 @@ contains
     end if
   end function ice_viscous_dt
 
-  !> Harmonic mean of two volume fractions (0 when either is 0).
+  !> Harmonic mean of two non-negative face coefficients (0 when either is 0).
   pure real(wp) function face_mean(a, b)
     real(wp), intent(in) :: a  !< low cell
     real(wp), intent(in) :: b  !< high cell

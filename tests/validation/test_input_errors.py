@@ -74,6 +74,11 @@ BAD_INPUTS = [
      ["case.nml", "&heat", "conductivity", "NaN"]),
     ("ghost_width_too_small", "&grid ghost_width = 1 /", [],
      ["case.nml", "&grid", "ghost_width", "= 1", "2..4"]),
+    ("ghost_width_smagorinsky", "&grid ghost_width = 1 /\n&numerics advection_order = 1, "
+     "shape_function = 'linear' /\n&ice smagorinsky = .true. /", [],
+     ["case.nml", "&grid", "ghost_width", "= 1", "2..4", "smagorinsky = .true."]),
+    ("smagorinsky_constant_zero", "&ice smagorinsky = .true., smagorinsky_constant = 0.0 /", [],
+     ["case.nml", "&ice", "smagorinsky_constant", "= 0", "> 0"]),
     ("modes_zero", "&heat modes = 0, 1, 1 /", [],
      ["case.nml", "&heat", "modes", "0, 1, 1"]),
     ("repeated_group", "&time cfl = 0.4 /\n&time cfl = 0.3 /", [],
