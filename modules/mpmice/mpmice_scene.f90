@@ -49,7 +49,7 @@ module mpmice_scene
   use exchange_drag, only: drag_law_from_name
   use mpmice_solid_cells, only: solid_coupling_t, solid_deposit, solid_cell_fields, &
     solid_face_predictor, solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, &
-    solid_pore_pressure, fluid_face_blend, fluid_face_predictor_porous, heat_components
+    solid_pore_pressure, fluid_face_blend, fluid_face_predictor_porous, deposit_size
   use mpmice_solid_heat, only: solid_conduction, solid_conduction_dt, solid_heat_to_particles
   implicit none
   private
@@ -125,13 +125,13 @@ contains
     call ice_solid_alloc(self%fl%state, grid)
     self%fl%state%solid%explicit_drag = trim(cfg%coupling%drag_scheme) == 'explicit'
     self%fl%state%solid%h_exchange = cfg%coupling%heat_exchange_coefficient
-    allocate(self%dep(8 + ns + heat_components, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+    allocate(self%dep(deposit_size(ns), grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
     allocate(self%du(3, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
       grid%lbn(3):grid%ubn(3)), source=0.0_wp)
     allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
-    call halo_init(self%halo, dom, grid, 8 + ns + heat_components)
+    call halo_init(self%halo, dom, grid, deposit_size(ns))
     allocate(self%uprev(3, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3), cfg%nfluids), source=0.0_wp)
     allocate(self%nbuf(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &

@@ -40,7 +40,7 @@ module mpmice_solid_cells
   public :: solid_coupling_t, solid_deposit, solid_cell_fields, solid_face_predictor, &
     solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, solid_pore_pressure, &
     fluid_face_blend, fluid_face_predictor_porous, overlap_weights, deformed_half_widths
-  public :: heat_components
+  public :: deposit_size
 
   !> Coupling parameters of one solid material.
   type :: solid_coupling_t
@@ -53,9 +53,11 @@ module mpmice_solid_cells
     real(wp) :: conductivity = 0.4_wp       !< k_s of the grains [W/m/K]
   end type solid_coupling_t
 
-  !> Deposit components beyond the 8 + nsolids of the mechanics: heat capacity m c [J/K],
-  !! energy m c T [J], grain conductance V_g k [W m^2/K].
-  integer, parameter :: heat_components = 3
+  !> Deposit components beyond the 8 + nsolids of the mechanics and the face planes: heat
+  !! capacity, energy and grain conductance (3), the cell's own side of its high planes (3).
+  integer, parameter :: extra_components = 6
+  !> unit_offset(:, d): the index offset of one cell along dimension d.
+  integer, parameter :: unit_offset(3, 3) = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
 
 contains
 
@@ -65,7 +67,10 @@ contains
   !! solid s, and 2 + nsolids + 2 d - 1 / 2 d the grain fraction on the low / high side of the
   !! cell's low face plane in direction d; then (`heat_components`) 9 + nsolids the heat capacity
   !! m_p c_s [J/K], 10 + nsolids the energy m_p c_s T_p [J], 11 + nsolids the grain conductance
-  !! (m_p / rho_s) k_s [W m^2/K].
+  !! (m_p / rho_s) k_s [W m^2/K]; 11 + nsolids + d the grain fraction on the cell's own (low) side
+  !! of its high face plane in direction d (the value 1 + nsolids + 2 d holds in the next cell,
+  !! kept here too so that every cell carries its own planes: out-of-domain ghost cells beyond
+  !! a wall are not exchanged between blocks). `deposit_size` components in all.
   subroutine solid_deposit(p, s, nsolids, solid, grid, dep)
     type(particles_t), intent(in) :: p          !< particles of solid s
     integer, intent(in) :: s                    !< solid index
@@ -89,8 +94,10 @@ contains
       nbase = 2 + nsolids
       do d = 1, 3
         if (.not. grid%active(d)) cycle
-        lo = (p%x(d, ip) - l(d) - grid%lower(d)) / grid%dx(d)
-        hi = (p%x(d, ip) + l(d) - grid%lower(d)) / grid%dx(d)
+        ! domain ends within round-off of a plane are on it (particles seeded to tile the cells
+        ! end exactly on the planes: a 1e-16 overshoot would put their grains on both sides)
+        lo = snap_to_plane((p%x(d, ip) - l(d) - grid%lower(d)) / grid%dx(d))
+        hi = snap_to_plane((p%x(d, ip) + l(d) - grid%lower(d)) / grid%dx(d))
         wf = vg * grid%dx(d) / (2.0_wp * l(d) * grid%cell_volume)
         do k = ceiling(lo), floor(hi)
           ff = first
@@ -109,6 +116,12 @@ contains
                   if (lo < real(k, wp)) q(nbase + 2 * d - 1) = q(nbase + 2 * d - 1) + wt
                   if (real(k, wp) < hi) q(nbase + 2 * d) = q(nbase + 2 * d) + wt
                 end associate
+                if (lo < real(k, wp)) then
+                  associate (q => dep(:, ff(1) + a - 1 - unit_offset(1, d), ff(2) + b - 1 - unit_offset(2, d), &
+                    ff(3) + c - 1 - unit_offset(3, d)))
+                    q(11 + nsolids + d) = q(11 + nsolids + d) + wt
+                  end associate
+                end if
               end do
             end do
           end do
@@ -131,6 +144,19 @@ contains
       end do
     end do
   end subroutine solid_deposit
+
+  !> Number of deposit components of `nsolids` solids (`solid_deposit`).
+  pure integer function deposit_size(nsolids)
+    integer, intent(in) :: nsolids  !< number of solids
+    deposit_size = 8 + nsolids + extra_components
+  end function deposit_size
+
+  !> A coordinate in cells, put on the nearest plane when it lies within 1e-9 cells of it.
+  pure real(wp) function snap_to_plane(x) result(y)
+    real(wp), intent(in) :: x  !< coordinate [cells]
+    y = x
+    if (abs(x - anint(x)) < 1.0e-9_wp) y = anint(x)
+  end function snap_to_plane
 
   !> Half-widths [m] along the axes of particle `ip`'s deformed domain F [-l0, l0] (its bounding
   !! box), at most dx/2, so that the domain's faces move with the material (a compressed particle
@@ -201,7 +227,7 @@ contains
     real(wp), intent(in) :: max_fraction        !< largest solid fraction [-]
     real(wp), intent(out) :: phi_p(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< particle fraction
     integer :: i, j, k, s, m, ns
-    real(wp) :: vol, phi, cs, rho_f, slip, wsum
+    real(wp) :: vol, phi, cs, rho_f, slip, wsum, phi_body, scale
     ns = size(solids)
     associate (sp => state%solid)
       sp%face_fraction = 0.0_wp
@@ -231,6 +257,10 @@ contains
               dep(9 + ns, i, j, k)
             if (vol <= 0.0_wp .or. dep(1, i, j, k) <= 0.0_wp) cycle
             sp%spvol(i, j, k) = vol / dep(1, i, j, k)
+            ! a cell crossed by the soil's surface: the drag of the body's fraction over the
+            ! share phi / phi_body of the cell the body fills (series resistance, below)
+            phi_body = surface_body_fraction(grid, dep, ns, [i, j, k], phi, max_fraction)
+            scale = (1.0_wp - phi) / (1.0_wp - phi_body)
             do m = 1, state%nfluids
               associate (f => state%fluid(m))
                 rho_f = 1.0_wp / max(f%spvol(i, j, k), tiny(1.0_wp))
@@ -239,9 +269,9 @@ contains
                 wsum = 0.0_wp
                 do s = 1, ns
                   if (dep(2 + s, i, j, k) <= 0.0_wp) cycle
-                  cs = cs + dep(2 + s, i, j, k) * drag_reduced_coefficient(solids(s)%drag_law, &
-                    phi, solids(s)%grain_size, f%viscosity, rho_f, slip, &
-                    solids(s)%drag_coefficient)
+                  cs = cs + dep(2 + s, i, j, k) * scale * drag_reduced_coefficient( &
+                    solids(s)%drag_law, phi_body, solids(s)%grain_size, f%viscosity, rho_f, &
+                    slip, solids(s)%drag_coefficient)
                   wsum = wsum + dep(2 + s, i, j, k)
                 end do
                 sp%drag(i, j, k, m) = cs / wsum
@@ -256,6 +286,38 @@ contains
       end do
     end associate
   end subroutine solid_cell_fields
+
+  !> Solid fraction of the body in cell c: where one of the cell's face planes carries no grains
+  !! on the cell's side and another carries more than the cell average `phi` (a free surface of
+  !! the soil crosses the cell, e.g. the top cell of a settling column), the largest plane
+  !! fraction; otherwise `phi`. The drag of such a cell is that of the body over the share
+  !! phi / phi_body of the cell it fills: R_cell = (phi / phi_body) R(phi_body), R = phi_s c /
+  !! phi_f the resistance of eq. 18 per length. With the cell average instead, the Kozeny-Carman
+  !! resistance of the top cell of the consolidation column fell to 0.61 of the body's once it
+  !! had settled by 7 % of a cell, draining the column 0.7 % too fast.
+  pure real(wp) function surface_body_fraction(grid, dep, ns, c, phi, max_fraction) &
+    result(phi_body)
+    type(grid_t), intent(in) :: grid            !< block geometry
+    real(wp), intent(in) :: dep(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< deposits
+    integer, intent(in) :: ns                   !< number of solids
+    integer, intent(in) :: c(3)                 !< cell
+    real(wp), intent(in) :: phi                 !< cell solid fraction
+    real(wp), intent(in) :: max_fraction        !< cap of the fraction
+    integer :: d
+    real(wp) :: lo_side, hi_side, fmin, fmax
+    phi_body = phi
+    fmin = huge(1.0_wp)
+    fmax = 0.0_wp
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      ! the cell's own side of its low plane and of its high plane
+      lo_side = dep(2 + ns + 2 * d, c(1), c(2), c(3))
+      hi_side = dep(11 + ns + d, c(1), c(2), c(3))
+      fmin = min(fmin, lo_side, hi_side)
+      fmax = max(fmax, lo_side, hi_side)
+    end do
+    if (fmin <= 1.0e-12_wp .and. fmax > phi + 1.0e-9_wp) phi_body = min(fmax, max_fraction)
+  end function surface_body_fraction
 
   !> Solid cell velocity for the cell exchange (eqs. 28, 51): mass-weighted mean of the corner
   !! nodes' final velocities v^L (after the pressure force and drag of the faces). The fluids are

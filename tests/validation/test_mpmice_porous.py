@@ -308,36 +308,51 @@ def test_darcy_all_cases(darcy_scene, tmp_path):
 
 
 def test_terzaghi_100_cells(terzaghi_scene, tmp_path):
-    """The paper's column (100 cells, step load) to t = 0.25 s (T_v = 1.03) against eq. 78 with
-    the fluid compressibility: relative L2 error of the excess pore pressure < 1.5 % at every
-    dump with 0.1 <= T_v <= 0.6 (measured at most 1.31 %, at T_v = 0.1), < 3 % up to T_v = 1.03
-    (measured 2.85 %: the pressure is 8 % of p0 there, the absolute error 0.2 % of p0), and the
-    degree of consolidation within 0.005 of U(T_v) at every dump with T_v >= 0.05. Earlier dumps
-    hold the ringing of the column's undrained P-wave that the quasi-static eq. 78 lacks."""
+    """The paper's column (100 cells, step load, the paper's densities) to t = 0.25 s
+    (T_v = 1.03) against eq. 78 with the fluid compressibility: relative L2 error of the excess
+    pore pressure < 1.5 % at every dump with 0.1 <= T_v <= 0.6 (measured at most 1.27 %, at
+    T_v = 0.1), < 2 % up to T_v = 1.03 (measured 1.75 %: Biot's inertia, ~0.35 % of c_v, where
+    the pressure is 8 % of p0), and the degree of consolidation within 0.005 of U(T_v) at every
+    dump with T_v >= 0.05. Earlier dumps hold the ringing of the column's undrained P-wave that
+    the quasi-static eq. 78 lacks."""
     study = mpmice_terzaghi.run_terzaghi(str(tmp_path), 100)
     r = study["runs"][100]
     mid = (r["tv"] >= 0.1) & (r["tv"] <= 0.6)
     late = r["tv"] >= 0.1
     assert np.count_nonzero(mid) >= 8, r["tv"]
     assert np.max(r["l2_error"][mid]) < 1.5e-2, dict(zip(r["tv"], r["l2_error"]))
-    assert np.max(r["l2_error"][late]) < 3e-2, dict(zip(r["tv"], r["l2_error"]))
+    assert np.max(r["l2_error"][late]) < 2e-2, dict(zip(r["tv"], r["l2_error"]))
     ok = r["tv"] >= 0.05
     assert np.max(np.abs(r["u_numeric"][ok] - r["u_exact"][ok])) < 5e-3
 
 
+def test_terzaghi_quasi_static_100_cells(terzaghi_scene, tmp_path):
+    """The issue's target, <= 1 % relative L2 error at 100 cells, at every dump from T_v = 0.05
+    to 1.03, in the quasi-static limit eq. 78 describes (densities / 100, which eq. 78 does not
+    contain: no P-wave ringing, no inertia; measured at most 0.80 %)."""
+    study = mpmice_terzaghi.run_terzaghi(str(tmp_path), 100,
+                                         extra_set=mpmice_terzaghi.QUASI_STATIC_SET)
+    r = study["runs"][100]
+    ok = r["tv"] >= 0.05
+    assert np.count_nonzero(ok) >= 19, r["tv"]
+    assert np.max(r["l2_error"][ok]) <= 1e-2, dict(zip(r["tv"], r["l2_error"]))
+
+
 def test_terzaghi_converges(terzaghi_scene, tmp_path):
-    """At T_v = 0.5 the error falls with the cell count: 50 -> 100 cells, at least by 1.5x
-    (measured 2.38 % -> 0.96 %, order 1.3)."""
+    """At T_v = 0.5 the error falls with the cell count: 50 -> 100 cells, at least by 2x
+    (measured 2.02 % -> 0.47 %, order 2.1)."""
     study = mpmice_terzaghi.run_terzaghi(str(tmp_path), (50, 100),
                                          extra_set=["&run end_time = 0.125 /"])
     e50, e100 = study["error_at_tv"][0.5]
-    assert e100 < e50 / 1.5, (e50, e100)
+    assert e100 < e50 / 2.0, (e50, e100)
 
 
 @pytest.mark.mpi
 def test_terzaghi_rank_invariance(terzaghi_scene, tmp_path):
-    """50 cells to t = 0.05 s on 1 and 2 ranks: max |p1 - p2| / p0 < 1e-9 over all dumps."""
-    extra = ["&run end_time = 0.05 /"]
+    """50 cells to t = 0.05 s on 1 and 2 ranks: max |p1 - p2| / p0 < 1e-9 over all dumps with
+    the pressure solved to 1e-12 (measured 3e-11; the 1 rank direct solve and the 2 rank PCG
+    differ by the solver tolerance: 1.9e-9 at the default 1e-10)."""
+    extra = ["&run end_time = 0.05 /", "&solver tolerance = 1.0e-12 /"]
     one = mpmice_terzaghi.run_terzaghi(str(tmp_path), 50, 1, extra)["runs"][50]
     two = mpmice_terzaghi.run_terzaghi(str(tmp_path), 50, 2, extra)["runs"][50]
     assert np.array_equal(one["time"], two["time"])
