@@ -26,15 +26,25 @@ contains
   !> u*_f for every fluid on the faces of the owned cells (faces lo..hi+1 in each active
   !! direction), and the face specific volume v_hat = 2 v_L v_R / (v_L + v_R) (eq. 31).
   !! Needs the cell fields (and pressure) valid in one ghost layer. `bc`: the face conditions;
-  !! without them every closed boundary face (`closed_face`) has zero velocity.
-  subroutine ice_face_velocities(state, grid, dt, gravity, bc)
+  !! without them every closed boundary face (`closed_face`) has zero velocity. `advect`
+  !! (default false): the face velocity is the prediction at time n + dt of the velocity at the
+  !! face, so it also carries the advective change -dt (u.grad) u_d (departure from eq. 30, used
+  !! with `time_theta` < 1, where dt is theta times the step: docs/ice.md): the normal part from
+  !! the compact difference across the face, the transverse parts from the mean of the two
+  !! cells' central differences and velocities; only where the fluid has mass on both sides.
+  subroutine ice_face_velocities(state, grid, dt, gravity, bc, advect)
     type(ice_state_t), intent(inout) :: state   !< fluids (uface, vface written)
     type(grid_t), intent(in) :: grid            !< block geometry
-    real(wp), intent(in) :: dt                  !< time step [s]
+    real(wp), intent(in) :: dt                  !< time over which the face velocity acts [s]
     real(wp), intent(in) :: gravity(3)          !< gravitational acceleration [m/s^2]
     type(ice_bc_t), intent(in), optional :: bc  !< conditions of the domain faces
-    integer :: d, m, i, j, k, o(3), r(2, 3), fb
-    real(wp) :: rl, rr, vl, vr, vhat
+    logical, intent(in), optional :: advect     !< add the advective change (see above)
+    integer :: d, m, i, j, k, o(3), r(2, 3), fb, e, oe(3)
+    real(wp) :: rl, rr, vl, vr, vhat, convect
+    logical :: with_advection
+
+    with_advection = .false.
+    if (present(advect)) with_advection = advect
 
     do d = 1, 3
       if (.not. grid%active(d)) cycle
@@ -77,6 +87,23 @@ contains
                     rr * f%vel(i, j, k, d)) / (rl + rr)
                 else
                   f%uface(i, j, k, d) = 0.0_wp
+                end if
+                if (with_advection .and. rl > 0.0_wp .and. rr > 0.0_wp) then
+                  ! - dt (u.grad) u_d at the face
+                  convect = f%uface(i, j, k, d) * (f%vel(i, j, k, d) - &
+                    f%vel(i - o(1), j - o(2), k - o(3), d)) / grid%dx(d)
+                  do e = 1, 3
+                    if (e == d .or. .not. grid%active(e)) cycle
+                    oe = 0
+                    oe(e) = 1
+                    convect = convect + 0.5_wp * (f%vel(i, j, k, e) + &
+                      f%vel(i - o(1), j - o(2), k - o(3), e)) * 0.25_wp * &
+                      (f%vel(i + oe(1), j + oe(2), k + oe(3), d) - &
+                      f%vel(i - oe(1), j - oe(2), k - oe(3), d) + &
+                      f%vel(i - o(1) + oe(1), j - o(2) + oe(2), k - o(3) + oe(3), d) - &
+                      f%vel(i - o(1) - oe(1), j - o(2) - oe(2), k - o(3) - oe(3), d)) / grid%dx(e)
+                  end do
+                  f%uface(i, j, k, d) = f%uface(i, j, k, d) - dt * convect
                 end if
                 ! eq. 31: - dt v_hat (p_R - p_L)/dx + dt g
                 f%uface(i, j, k, d) = f%uface(i, j, k, d) + dt * (-vhat * (state%pressure(i, j, k) &

@@ -216,12 +216,15 @@ contains
       return
     end if
 
+    ! face velocities at time n + theta dt (docs/ice.md): theta = 1 the paper's eq. 30-31;
+    ! theta < 1 the time-centred prediction, with the advective change
     call timer_start(timers, self%t_face)
-    call ice_face_velocities(self%state, grid, dt, self%gravity, self%bc)
-    call ice_exchange_faces(self%state, grid, dt, self%k_exchange)
+    call ice_face_velocities(self%state, grid, self%theta * dt, self%gravity, self%bc, &
+      self%theta < 1.0_wp)
+    call ice_exchange_faces(self%state, grid, self%theta * dt, self%k_exchange)
     call timer_stop(timers, self%t_face)
 
-    if (.not. ice_pressure_iteration(self, dom, grid, time, dt, timers)) return
+    if (.not. ice_pressure_iteration(self, dom, grid, time, dt, timers, self%theta)) return
 
     ! forces and work with p_eq + theta dp_total (theta = 1: p^{n+1}, backward Euler)
     if (self%theta /= 1.0_wp) self%state%pressure = self%state%p_eq + &
@@ -265,16 +268,22 @@ contains
   !! tridiagonal solve of a 1D block), correct p, dp_total and the face velocities, until
   !! max |rhs|/V <= outer tolerance; at least one solve. False (with a warning) when it does not
   !! converge: the caller rejects the step. Used by the ICE and the MPMICE scenes.
-  logical function ice_pressure_iteration(self, dom, grid, time, dt, timers) result(ok)
+  logical function ice_pressure_iteration(self, dom, grid, time, dt, timers, face_time) &
+    result(ok)
     class(ice_scene_t), intent(inout) :: self    !< scene
     type(domain_t), intent(in) :: dom            !< decomposition
     type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: time                 !< time at the start of the step [s]
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
+    !> the face velocities are at time n + face_time dt (their pressure gradient acts for
+    !! face_time dt; default 1, the end of the step)
+    real(wp), intent(in), optional :: face_time
     integer :: outer, pcg
-    real(wp) :: residual, relres
+    real(wp) :: residual, relres, weight
     logical :: converged
+    weight = self%theta
+    if (present(face_time)) weight = self%theta * face_time
     call timer_start(timers, self%t_pressure)
     self%state%dp_total = 0.0_wp
     residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt))
@@ -284,7 +293,7 @@ contains
     do while ((residual > self%outer_tolerance .or. outer == 0) .and. outer < self%max_outer)
       outer = outer + 1
       call timer_start(timers, self%t_operator)
-      call ice_pressure_assemble(self%state, grid, dt, self%theta)
+      call ice_pressure_assemble(self%state, grid, dt, weight)
       call struct_solver_set_operator(self%solver, grid, self%state%diag, &
         self%state%coef(:, :, :, 1), self%state%coef(:, :, :, 2), self%state%coef(:, :, :, 3))
       call timer_stop(timers, self%t_operator)
@@ -298,7 +307,7 @@ contains
       self%max_pcg_seen = max(self%max_pcg_seen, pcg)
       call halo_exchange_cell(self%halo, dom, grid, self%state%dp, 1)
       call ice_bc_fill(grid, self%bc, self%state%dp, bc_dp)
-      call ice_pressure_correct(self%state, grid, dt, self%theta)
+      call ice_pressure_correct(self%state, grid, dt, weight)
       residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt))
     end do
     call timer_stop(timers, self%t_pressure)
