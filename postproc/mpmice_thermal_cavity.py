@@ -4,6 +4,7 @@ section "Thermal induced cavity flow"; issue 6 scene 3) and the Darcy-Rayleigh b
 Usage:  python -m postproc.mpmice_thermal_cavity [--out docs/validation] [--ra 10 100 1000]
                                                  [--n 20 40] [--end-thermal 1.0] [--nranks 1]
         python -m postproc.mpmice_thermal_cavity --paper [--n 10 20 40]
+        python -m postproc.mpmice_thermal_cavity --summary CSV [CSV ...]   (Nu against cells)
 
 Scene namelists/mpmice_thermal_cavity_2d.nml: H = 1 m, left wall T0 + dT/2, right wall T0 - dT/2,
 dT = 1 K, adiabatic top and bottom, the paper's water and skeleton (phi_s = 0.6). The Darcy-
@@ -18,8 +19,9 @@ the wall, the mean over the wall of 2 (phi_f k_f (T_w - T_f,1) + phi_s k_s (T_w 
 printed too: at steady state the two agree (energy balance). Benchmarks (Darcy model, square
 cavity): about 1.08 (Ra 10), 3.1 (Ra 100), 13.4 (Ra 1000); published values spread over
 3.10-3.16 at Ra 100 and 12.96-14.06 at Ra 1000 (Walker & Homsy 1978, Gross et al. 1986, Manole &
-Lage 1992, Baytas & Pop 1999). Writes mpmice_thermal_cavity.csv and .png (temperature and
-velocity of the last run of each Ra).
+Lage 1992, Baytas & Pop 1999). Writes <tag>.csv and <tag>.png (temperature and velocity of the
+finest run of each Ra); --summary draws Nu against the cell count for every Ra of the given CSVs
+with the benchmarks and their 3 % band (mpmice_thermal_cavity_nusselt.png).
 """
 from __future__ import annotations
 
@@ -112,11 +114,40 @@ def plot(runs: list[tuple[str, dict]], path: str) -> None:
         im = ax.contourf(xc, xc, t.T - 0.5 * (T_HOT + T_COLD), levels=21, cmap="coolwarm")
         step = max(1, n // 16)
         ax.quiver(xc[::step], xc[::step], u[::step, ::step].T, v[::step, ::step].T)
-        ax.set_title(title, fontsize=9)
+        speed = float(np.max(np.hypot(u, v)))
+        ax.set_title(f"{title}\nlargest pore speed {speed:.2e} m/s", fontsize=9)
         ax.set_aspect("equal")
         ax.set_xlabel("x [m]")
         fig.colorbar(im, ax=ax, label="T - T0 [K]", shrink=0.8)
     axes[0][0].set_ylabel("y [m]")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_summary(csv_paths: list[str], path: str) -> None:
+    """Nu against cells per Ra from the CSVs written by main, with the benchmarks (3 % band)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    rows = []
+    for csv in csv_paths:
+        data = np.genfromtxt(csv, delimiter=",", names=True)
+        rows.extend(np.atleast_1d(data).tolist())
+    ras = sorted({r[0] for r in rows})
+    fig, axes = plt.subplots(1, len(ras), figsize=(3.6 * len(ras), 3.4), squeeze=False)
+    for ax, ra in zip(axes[0], ras):
+        pts = sorted((r[2], r[3]) for r in rows if r[0] == ra)
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", label="MPMICE, hot wall")
+        ref = BENCHMARK.get(round(ra, 6))
+        if ref:
+            ax.axhline(ref, color="k", lw=0.8, label=f"benchmark {ref}")
+            ax.axhspan(0.97 * ref, 1.03 * ref, color="0.85", label="+-3 %")
+        ax.set_xscale("log", base=2)
+        ax.set_xlabel("cells per side")
+        ax.set_title(f"Ra = {ra:.4g}", fontsize=9)
+        ax.legend(fontsize=7)
+    axes[0][0].set_ylabel("mean Nusselt number")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -132,8 +163,13 @@ def main(argv=None) -> int:
                         help="end time in thermal times sigma H^2 / alpha_m (6.1e6 s)")
     parser.add_argument("--nranks", type=int, default=1)
     parser.add_argument("--tag", default="mpmice_thermal_cavity")
+    parser.add_argument("--summary", nargs="+", metavar="CSV",
+                        help="only draw Nu against cells from these CSVs")
     args = parser.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
+    if args.summary:
+        plot_summary(args.summary, os.path.join(args.out, "mpmice_thermal_cavity_nusselt.png"))
+        return 0
     cases = [(rayleigh(PAPER_GRAIN), PAPER_GRAIN)] if args.paper else \
         [(ra, grain_for(ra)) for ra in args.ra]
     rows, panels = [], []

@@ -78,7 +78,7 @@ contains
     type(solid_coupling_t), intent(in) :: solid !< its grain density and thermal parameters
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(inout) :: dep(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< deposits
-    integer :: ip, d, k, a, b, c, first(3), nc(3), nf(3), ff(3), e, nbase
+    integer :: ip, d, k, a, b, c, first(3), nc(3), nf(3), ff(3), e, nbase, cb(3)
     real(wp) :: w(2, 3), wt, vg, l(3), lo, hi, wf, mc
     do ip = 1, p%np
       vg = p%mass(ip) / solid%grain_density
@@ -117,10 +117,10 @@ contains
                   if (real(k, wp) < hi) q(nbase + 2 * d) = q(nbase + 2 * d) + wt
                 end associate
                 if (lo < real(k, wp)) then
-                  associate (q => dep(:, ff(1) + a - 1 - unit_offset(1, d), ff(2) + b - 1 - unit_offset(2, d), &
-                    ff(3) + c - 1 - unit_offset(3, d)))
-                    q(11 + nsolids + d) = q(11 + nsolids + d) + wt
-                  end associate
+                  ! the cell below the plane keeps its own side too
+                  cb = [ff(1) + a - 1, ff(2) + b - 1, ff(3) + c - 1] - unit_offset(:, d)
+                  dep(11 + nsolids + d, cb(1), cb(2), cb(3)) = &
+                    dep(11 + nsolids + d, cb(1), cb(2), cb(3)) + wt
                 end if
               end do
             end do
@@ -176,8 +176,8 @@ contains
     end do
   end function deformed_half_widths
 
-  !> Cells (at most 2: l <= dx/2) overlapped along `d` by the particle domain [x - l, x + l] and their
-  !! fractions of it, clipped to the domain in a non-periodic dimension (fractions renormalised).
+  !> Cells (at most 2: l <= dx/2) overlapped along `d` by the particle domain [x - l, x + l] and
+  !! their fractions of it, clipped to the domain in a non-periodic dimension (fractions renormalised).
   pure subroutine overlap_weights(grid, d, x, l, first, n, w)
     type(grid_t), intent(in) :: grid   !< block geometry
     integer, intent(in) :: d           !< dimension
