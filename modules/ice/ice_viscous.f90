@@ -189,8 +189,8 @@ contains
   !> Stability limit [s] of the explicit diffusion on this rank: 0.5 / (sum_d 1/dx_d^2) divided
   !! by the largest diffusivity, (4/3) (mu v + nu_t) (momentum: `stress_factor`, nu_t the largest
   !! Smagorinsky eddy viscosity of the fluid when `smagorinsky` > 0) or k v / cv (heat), over
-  !! fluids and owned
-  !! cells; huge when there is no diffusion.
+  !! fluids and owned cells (momentum: without the cells holding solid of a coupled scene); huge
+  !! when there is no diffusion.
   function ice_viscous_dt(state, grid, smagorinsky) result(dt)
     type(ice_state_t), intent(in) :: state  !< fluids
     type(grid_t), intent(in) :: grid        !< block geometry
@@ -214,13 +214,24 @@ contains
         rho_min = 1.0e-6_wp * maxval(f%rho(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
         present_cells = f%rho(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) > rho_min
         s = maxval(f%spvol(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), mask=present_cells)
+        diffusivity = max(diffusivity, f%conductivity * s / f%eos%cv)
+        if (state%solid%present) then
+          ! in cells holding solid the coupled step replaces the fluid's cell velocity by the
+          ! mean of its face velocities (mpmice_solid_cells%fluid_face_blend): the explicit
+          ! viscous update there cannot grow, only the free fluid limits the step
+          s = maxval(f%spvol(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), &
+            mask=f%rho(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) > rho_min .and. &
+            state%solid%vfrac(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) <= 0.0_wp)
+          if (s < 0.0_wp) s = 0.0_wp
+          present_cells = present_cells .and. &
+            state%solid%vfrac(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) <= 0.0_wp
+        end if
         nu_max = 0.0_wp
-        if (cs > 0.0_wp) then
+        if (cs > 0.0_wp .and. any(present_cells)) then
           call ice_eddy_viscosity(state, grid, m, cs, nu_t)
           nu_max = maxval(nu_t(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), mask=present_cells)
         end if
-        diffusivity = max(diffusivity, stress_factor * (f%viscosity * s + nu_max), &
-          f%conductivity * s / f%eos%cv)
+        diffusivity = max(diffusivity, stress_factor * (f%viscosity * s + nu_max))
       end associate
     end do
     if (diffusivity > 0.0_wp) then
