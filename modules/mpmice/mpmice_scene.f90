@@ -7,8 +7,10 @@
 !!  and solid (33) -> face exchange with drag (34, E8) -> implicit pressure with the solid's volume
 !!  flux (35-36) -> face pressure (37) -> fluid Lagrangian values (42-46) -> solid cell velocity
 !!  with -(1-n) grad p (48) -> cell exchange of the fluids with the solid (50-51) -> solid face
-!!  increments to the nodes (52, 66-69, E5) -> fluid advection (58-65) -> tracked solid fraction
-!!  -> G2P + constitutive update (70-75) -> pore pressure on the particles -> migration.
+!!  increments to the nodes (52, 66-69, E5) -> the solid's conduction (38-39) and the implicit
+!!  fluid-solid heat exchange (52-55), increments to the particles (68, 73) -> fluid advection
+!!  (58-65) -> tracked solid fraction -> G2P + constitutive update (70-75) -> pore pressure on
+!!  the particles -> migration.
 !!
 !! The skeleton's constitutive models see the effective stress only (eq. 3); the fluid pressure
 !! acts on it through the face pressure gradient. A fluid's `&fluid volume_fraction` is its share
