@@ -30,7 +30,7 @@ module ice_viscous
   implicit none
   private
 
-  public :: ice_viscous_sources, ice_viscous_dt, ice_eddy_viscosity, stress_factor
+  public :: ice_viscous_sources, ice_viscous_dt, ice_eddy_viscosity, stress_factor, face_mean
 
   !> Largest eigenvalue of the discrete stress divergence over that of the Laplacian form mu lap:
   !! the symbol is -(Lambda I + M/3), Lambda the Laplacian's, M = diag(lambda_c - s_c^2) + s s^T

@@ -20,6 +20,7 @@ module mpmice_solid_heat
   use ice_state, only: ice_state_t
   use mpm_particles, only: particles_t
   use mpmice_solid_cells, only: overlap_weights, deformed_half_widths
+  use ice_viscous, only: face_mean
   implicit none
   private
 
@@ -49,8 +50,10 @@ contains
           do j = grid%lo(2), grid%hi(2)
             do i = grid%lo(1), grid%hi(1)
               if (sp%heat_cap(i, j, k) <= 0.0_wp) cycle
-              k_lo = harmonic(sp%conductance(i - o(1), j - o(2), k - o(3)), sp%conductance(i, j, k))
-              k_hi = harmonic(sp%conductance(i, j, k), sp%conductance(i + o(1), j + o(2), k + o(3)))
+              k_lo = face_mean(sp%conductance(i - o(1), j - o(2), k - o(3)), &
+                sp%conductance(i, j, k))
+              k_hi = face_mean(sp%conductance(i, j, k), &
+                sp%conductance(i + o(1), j + o(2), k + o(3)))
               scratch(i, j, k) = scratch(i, j, k) + dt * area / grid%dx(d) * &
                 (k_hi * (sp%temp(i + o(1), j + o(2), k + o(3)) - sp%temp(i, j, k)) - &
                 k_lo * (sp%temp(i, j, k) - sp%temp(i - o(1), j - o(2), k - o(3))))
@@ -94,8 +97,8 @@ contains
               if (.not. grid%active(d)) cycle
               o = 0
               o(d) = 1
-              rate = rate + (harmonic(sp%conductance(i - o(1), j - o(2), k - o(3)), &
-                sp%conductance(i, j, k)) + harmonic(sp%conductance(i, j, k), &
+              rate = rate + (face_mean(sp%conductance(i - o(1), j - o(2), k - o(3)), &
+                sp%conductance(i, j, k)) + face_mean(sp%conductance(i, j, k), &
                 sp%conductance(i + o(1), j + o(2), k + o(3)))) / grid%dx(d)**2
             end do
             rate_max = max(rate_max, rate / sp%heat_cap(i, j, k))
@@ -133,15 +136,4 @@ contains
       p%temperature(ip) = p%temperature(ip) + inc
     end do
   end subroutine solid_heat_to_particles
-
-  !> Harmonic mean of two conductances (0 when either is 0) [W/m/K].
-  pure real(wp) function harmonic(a, b)
-    real(wp), intent(in) :: a  !< low cell
-    real(wp), intent(in) :: b  !< high cell
-    if (a > 0.0_wp .and. b > 0.0_wp) then
-      harmonic = 2.0_wp * a * b / (a + b)
-    else
-      harmonic = 0.0_wp
-    end if
-  end function harmonic
 end module mpmice_solid_heat
