@@ -23,8 +23,8 @@ def _executable(mpmice_exe, monkeypatch):
 
 def test_sod_accuracy(tmp_path):
     """Relative L1 density error < 1.0 % at 200 cells (measured 0.94 %, 0.77 % now), smaller
-    than at 100 cells; pressure between contact and shock: mean within 0.1 % of the exact p*, every cell
-    within 0.2 % (the post-shock overshoot, 0.6 %, is left out of the window)."""
+    than at 100 cells; pressure between contact and shock: mean within 0.1 % of the exact p*,
+    every cell within 0.2 % (the post-shock overshoot, 0.6 %, is left out of the window)."""
     rows, dump = ice_sod.study(str(tmp_path), [100, 200])
     assert rows[1][1] < 0.010, rows
     assert rows[1][1] < 0.8 * rows[0][1], rows
