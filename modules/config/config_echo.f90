@@ -88,6 +88,8 @@ contains
     call add('flip_fraction', real_repr(cfg%mpm%flip_fraction))
     call add('gravity_ramp_time', real_repr(cfg%mpm%gravity_ramp_time))
     call add('local_damping', real_repr(cfg%mpm%local_damping))
+    call add('rigid_contact', quoted(cfg%mpm%rigid_contact))
+    call add('contact_friction', real_repr(cfg%mpm%contact_friction))
     text = text // '/' // nl // '&coupling' // nl
     call add('drag_scheme', quoted(cfg%coupling%drag_scheme))
     call add('heat_exchange_coefficient', real_repr(cfg%coupling%heat_exchange_coefficient))

@@ -16,7 +16,7 @@ module config_materials
   public :: max_fluids, max_solids, max_regions, max_boundaries, max_polygon_points
   public :: eos_names, solid_model_names, solid_shape_names, face_names
   public :: boundary_fluid_names, boundary_thermal_names, boundary_solid_names
-  public :: drag_law_names, drag_scheme_names
+  public :: drag_law_names, drag_scheme_names, rigid_contact_names
   public :: particles_per_cell_used
 
   integer, parameter :: max_fluids = 8        !< most `&fluid` groups in one input
@@ -37,6 +37,9 @@ module config_materials
   !> Allowed values of `&solid drag_law` (fluid-solid drag of scene 'mpmice').
   character(len=*), parameter :: drag_law_names(4) = [character(len=name_len) :: &
     'kozeny_carman', 'beetstra', 'constant', 'impermeable']
+  !> Allowed values of `&mpm rigid_contact` (deformable solids against rigid ones).
+  character(len=*), parameter :: rigid_contact_names(2) = [character(len=name_len) :: &
+    'no_slip', 'friction']
   !> Allowed values of `&coupling drag_scheme`.
   character(len=*), parameter :: drag_scheme_names(2) = [character(len=name_len) :: &
     'implicit', 'explicit']
@@ -78,6 +81,8 @@ module config_materials
     real(wp) :: flip_fraction = 0.99_wp              !< 1 pure FLIP, 0 pure PIC
     real(wp) :: gravity_ramp_time = 0.0_wp           !< gravity grows linearly over this time [s]
     real(wp) :: local_damping = 0.0_wp               !< local (Cundall) damping factor 0..1
+    character(len=name_len) :: rigid_contact = 'no_slip' !< one of rigid_contact_names
+    real(wp) :: contact_friction = 0.0_wp            !< Coulomb coefficient of 'friction' [-]
   end type mpm_params_t
 
   !> `&coupling`: fluid-solid coupling of scene 'mpmice'.

@@ -75,9 +75,13 @@ contains
     character(len=*), intent(in) :: text     !< namelist text
     integer, intent(out) :: ios              !< iostat
     character(len=*), intent(inout) :: iomsg !< iomsg
-    real(wp) :: flip_fraction, gravity_ramp_time, local_damping
-    namelist /mpm/ flip_fraction, gravity_ramp_time, local_damping
+    real(wp) :: flip_fraction, gravity_ramp_time, local_damping, contact_friction
+    character(len=name_len) :: rigid_contact
+    namelist /mpm/ flip_fraction, gravity_ramp_time, local_damping, rigid_contact, &
+      contact_friction
     flip_fraction = p%flip_fraction
+    rigid_contact = p%rigid_contact
+    contact_friction = p%contact_friction
     gravity_ramp_time = p%gravity_ramp_time
     local_damping = p%local_damping
     read(text, nml=mpm, iostat=ios, iomsg=iomsg)
@@ -85,6 +89,8 @@ contains
     p%flip_fraction = flip_fraction
     p%gravity_ramp_time = gravity_ramp_time
     p%local_damping = local_damping
+    p%rigid_contact = rigid_contact
+    p%contact_friction = contact_friction
   end subroutine read_mpm
 
   !> `&coupling`.

@@ -12,7 +12,8 @@ module config_types
     fluid_params_t, solid_params_t, region_params_t, boundary_params_t, max_fluids, max_solids, &
     max_regions, max_boundaries, max_polygon_points, eos_names, solid_model_names, &
     solid_shape_names, face_names, boundary_fluid_names, boundary_thermal_names, &
-    boundary_solid_names, drag_law_names, drag_scheme_names, particles_per_cell_used
+    boundary_solid_names, drag_law_names, drag_scheme_names, rigid_contact_names, &
+    particles_per_cell_used
   implicit none
   private
 
@@ -24,7 +25,7 @@ module config_types
   public :: max_fluids, max_solids, max_regions, max_boundaries, max_polygon_points
   public :: eos_names, solid_model_names, solid_shape_names, face_names
   public :: boundary_fluid_names, boundary_thermal_names, boundary_solid_names
-  public :: drag_law_names, drag_scheme_names
+  public :: drag_law_names, drag_scheme_names, rigid_contact_names
   public :: particles_per_cell_used, boundary_for_face
 
   !> Scenes the driver knows (the allowed values of `&run scene`). Later issues append to it.

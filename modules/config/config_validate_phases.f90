@@ -10,7 +10,7 @@ module config_validate_phases
   use config_types, only: config_t, solid_params_t, eos_names, &
     solid_model_names, solid_shape_names, face_names, boundary_fluid_names, &
     boundary_thermal_names, boundary_solid_names, max_polygon_points, drag_law_names, &
-    drag_scheme_names
+    drag_scheme_names, rigid_contact_names
   use config_text, only: real_repr, reals_repr, ints_repr, quoted, join_names
   use config_check_tools, only: config_error_t, set_error, check_real, check_int, check_choice, &
     occurrence_label
@@ -89,6 +89,13 @@ contains
         min_value=0.0_wp)
       call check_real(err, 'mpm', 'local_damping', p%local_damping, '0..1', min_value=0.0_wp, &
         max_value=1.0_wp)
+      call check_choice(err, 'mpm', 'rigid_contact', p%rigid_contact, rigid_contact_names)
+      call check_real(err, 'mpm', 'contact_friction', p%contact_friction, '>= 0', &
+        min_value=0.0_wp)
+      if (.not. err%found .and. trim(p%rigid_contact) == 'friction' .and. &
+        trim(cfg%run%scene) == 'mpmice') call set_error(err, 'mpm', 'rigid_contact', &
+        quoted(p%rigid_contact), '''no_slip'' in scene ''mpmice'' (frictional contact with ' // &
+        'rigid bodies is available in scene ''mpm'' only)')
     end associate
     associate (p => cfg%coupling)
       call check_choice(err, 'coupling', 'drag_scheme', p%drag_scheme, drag_scheme_names)

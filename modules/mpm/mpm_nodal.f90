@@ -5,7 +5,11 @@
 !! Boundary conditions per face (`&boundary solid`): fixed (v = 0), roller (normal component 0,
 !! free slip), free (nothing), velocity (v = prescribed), applied on the face nodes and on the
 !! ghost nodes beyond the face. Inactive dimensions carry no motion.
-!! Nodes touched by a rigid material (`q(8) > 0`) take its velocity before the face conditions.
+!! Nodes touched by a rigid material (`q(8) > 0`) take its velocity before the face conditions
+!! (`&mpm rigid_contact = 'no_slip'`), or, with 'friction', keep the deformable material's velocity
+!! except where it approaches the rigid body: then the normal relative velocity is removed and the
+!! tangential one reduced by Coulomb friction mu |dv_n| (stick when smaller), the normal the rigid
+!! body's grad m / |grad m| (`rigid_contact_velocity`).
 !! Local (Cundall) damping: f <- f - alpha |f| sign(v) per component. Every allocated node is
 !! solved (ghost copies hold global values after the reverse halo), so no exchange follows.
 module mpm_nodal
@@ -15,7 +19,7 @@ module mpm_nodal
   implicit none
   private
 
-  public :: nodal_bc_t, nodal_solve, nodal_finish, bc_kind_from_name
+  public :: nodal_bc_t, nodal_solve, nodal_finish, bc_kind_from_name, rigid_contact_velocity
   public :: bc_fixed, bc_roller, bc_free, bc_velocity, bc_traction
 
   integer, parameter :: bc_fixed = 1     !< no motion
@@ -29,6 +33,9 @@ module mpm_nodal
     integer :: kind(6) = bc_fixed              !< condition per face
     real(wp) :: velocity(3, 6) = 0.0_wp        !< prescribed velocity per face [m/s]
     real(wp) :: traction(3, 6) = 0.0_wp        !< surface load per face [Pa]
+    logical :: friction_contact = .false.      !< frictional contact with rigid bodies (else
+                                               !! no-slip)
+    real(wp) :: friction = 0.0_wp              !< Coulomb coefficient mu of that contact [-]
   end type nodal_bc_t
 
 contains
@@ -83,8 +90,15 @@ contains
             v = 0.0_wp
             vl = 0.0_wp
           end if
-          ! a node touched by a rigid body moves with it (no-slip contact)
-          if (nodes%q(8, i, j, k) > min_mass) vl = nodes%q(9:11, i, j, k) / nodes%q(8, i, j, k) * on
+          ! a node touched by a rigid body moves with it (no-slip contact) or slides on it
+          if (nodes%q(8, i, j, k) > min_mass) then
+            if (bc%friction_contact .and. m > min_mass) then
+              vl = rigid_contact_velocity(vl, nodes%q(9:11, i, j, k) / nodes%q(8, i, j, k) * on, &
+                nodes%q(12:14, i, j, k) * on, bc%friction)
+            else
+              vl = nodes%q(9:11, i, j, k) / nodes%q(8, i, j, k) * on
+            end if
+          end if
           call apply_face_bc(grid, bc, [i, j, k], on, vl)
           nodes%vel(:, i, j, k) = v
           nodes%vel_l(:, i, j, k) = vl
@@ -148,6 +162,34 @@ contains
       f = f + bc%traction(:, face) * area * merge(1.0_wp, 0.0_wp, grid%active)
     end do
   end function face_load
+
+  !> Velocity [m/s] of a deformable node in frictional contact with a rigid body: trial velocity
+  !! `v`, rigid velocity `v_rigid`, rigid mass gradient `grad_m` = sum_p m_p grad S_i(x_p) (it
+  !! points out of the body: S_i grows toward its node), so the outward normal is
+  !! n = grad_m / |grad_m|; Coulomb coefficient `mu`. Approaching (dv . n < 0, dv = v - v_rigid):
+  !! dv_n is removed and the tangential part dv_t shrinks by mu |dv . n| (to zero: stick);
+  !! separating or without a normal: `v` unchanged.
+  pure function rigid_contact_velocity(v, v_rigid, grad_m, mu) result(vc)
+    real(wp), intent(in) :: v(3)        !< trial velocity of the deformable material [m/s]
+    real(wp), intent(in) :: v_rigid(3)  !< rigid body velocity [m/s]
+    real(wp), intent(in) :: grad_m(3)   !< rigid mass gradient [kg/m]
+    real(wp), intent(in) :: mu          !< friction coefficient [-]
+    real(wp) :: vc(3)
+    real(wp) :: n(3), dv(3), dvn, dvt(3), st
+    vc = v
+    if (norm2(grad_m) <= 0.0_wp) return
+    n = grad_m / norm2(grad_m)
+    dv = v - v_rigid
+    dvn = dot_product(dv, n)
+    if (dvn >= 0.0_wp) return
+    dvt = dv - dvn * n
+    st = norm2(dvt)
+    if (st <= mu * abs(dvn)) then
+      vc = v_rigid
+    else
+      vc = v_rigid + dvt * (1.0_wp - mu * abs(dvn) / st)
+    end if
+  end function rigid_contact_velocity
 
   !> The `&boundary solid` conditions of the domain faces node `idx` lies on, applied to `vl`.
   pure subroutine apply_face_bc(grid, bc, idx, on, vl)

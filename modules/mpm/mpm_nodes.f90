@@ -1,6 +1,6 @@
 !> Node fields of the solid materials on this block (allocated once, bounds lbn..ubn): the P2G
-!! scatter `q(11, ...)` = (mass, momentum x/y/z, force x/y/z of the deformable materials, mass and
-!! momentum x/y/z of the rigid ones) and the nodal solution (velocity v^n, velocity after the
+!! scatter `q(14, ...)` = (mass, momentum x/y/z, force x/y/z of the deformable materials, mass,
+!! momentum x/y/z and mass gradient x/y/z of the rigid ones) and the nodal solution (velocity v^n, velocity after the
 !! solve v^L, acceleration a).
 module mpm_nodes
   use mpmice_kinds, only: wp
@@ -10,11 +10,13 @@ module mpm_nodes
 
   public :: mpm_nodes_t, nodes_init, nodes_free, nq
 
-  integer, parameter :: nq = 11  !< scattered: mass, momentum(3), force(3), rigid mass, momentum(3)
+  !> scattered: mass, momentum(3), force(3); rigid mass, momentum(3), mass gradient(3)
+  integer, parameter :: nq = 14
 
   !> Node fields of one solid material.
   type :: mpm_nodes_t
-    real(wp), allocatable :: q(:, :, :, :)     !< (nq, i, j, k): [kg], [kg m/s], [N], [kg], [kg m/s]
+    real(wp), allocatable :: q(:, :, :, :)     !< (nq, i, j, k): [kg], [kg m/s], [N], [kg], [kg m/s],
+                                               !! [kg/m]
     real(wp), allocatable :: vel(:, :, :, :)   !< (3, i, j, k) velocity v^n [m/s]
     real(wp), allocatable :: vel_l(:, :, :, :) !< (3, i, j, k) velocity after the solve v^L [m/s]
     real(wp), allocatable :: acc(:, :, :, :)   !< (3, i, j, k) acceleration (eq. 69) [m/s^2]

@@ -79,7 +79,8 @@ contains
     end do
   end subroutine p2g_accumulate
 
-  !> Add the mass and momentum of the rigid particles `p` to components 8-11 of `q`.
+  !> Add the mass, momentum and mass gradient of the rigid particles `p` to components 8-14 of
+  !! `q`.
   subroutine p2g_accumulate_rigid(p, q, kind, grid)
     type(particles_t), intent(in) :: p           !< rigid particles (velocity set)
     type(grid_t), intent(in) :: grid             !< block geometry
@@ -99,6 +100,10 @@ contains
             s = w(a, 1) * w(b, 2) * w(c, 3) * m
             q(8, i, j, k) = q(8, i, j, k) + s
             q(9:11, i, j, k) = q(9:11, i, j, k) + s * p%v(:, ip)
+            ! mass gradient: the body's outward normal at the node is grad m / |grad m|
+            q(12, i, j, k) = q(12, i, j, k) + m * dw(a, 1) * w(b, 2) * w(c, 3)
+            q(13, i, j, k) = q(13, i, j, k) + m * w(a, 1) * dw(b, 2) * w(c, 3)
+            q(14, i, j, k) = q(14, i, j, k) + m * w(a, 1) * w(b, 2) * dw(c, 3)
           end do
         end do
       end do

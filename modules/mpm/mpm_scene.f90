@@ -126,6 +126,8 @@ contains
         self%bc%traction(:, face) = b%solid_traction
       end associate
     end do
+    self%bc%friction_contact = trim(cfg%mpm%rigid_contact) == 'friction'
+    self%bc%friction = cfg%mpm%contact_friction
     call nodes_init(self%nodes, grid)
     call halo_init(self%halo, dom, grid, nq)
     call migration_init(self%mig, dom, grid)
