@@ -22,6 +22,7 @@ module ice_exchange
   public :: ice_exchange_faces, ice_exchange_cells, exchange_solve, max_n
 
   integer, parameter :: max_n = 9  !< most materials: config_materials%max_fluids + the solid
+  real(wp), parameter :: ratio_max = 1.0e12_wp  !< cap of phi_up / phi_f in the face drag
 
   interface
     subroutine dgesv(n, nrhs, a, lda, ipiv, b, ldb, info)
@@ -97,7 +98,8 @@ contains
               if (rigid) then
                 call exchange_solve(nm, beta, rhs(:, 1:1), 1)
               else
-                w(1:nm) = phi(1:nm) / v(1:nm)
+                ! the masses per volume phi / v (a material absent at the face: v = 0, none)
+                w(1:nm) = merge(phi(1:nm) / max(v(1:nm), tiny(1.0_wp)), 0.0_wp, v(1:nm) > 0.0_wp)
                 call exchange_solve(nm, beta, rhs(:, 1:1), 1, w)
               end if
               call exchange_solve(nm, beta, rhs(:, 2:2), 1)
@@ -158,16 +160,20 @@ contains
         associate (f => state%fluid(m))
           fl = f%vfrac(i - o(1), j - o(2), k - o(3))
           fr = f%vfrac(i, j, k)
-          resistance = 0.0_wp
-          if (fl > 0.0_wp) resistance = resistance + 0.5_wp * pl * &
-            sp%drag(i - o(1), j - o(2), k - o(3), m) / fl
-          if (fr > 0.0_wp) resistance = resistance + 0.5_wp * pr * sp%drag(i, j, k, m) / fr
           if (f%uface(i, j, k, d) >= 0.0_wp) then
             up = fl
           else
             up = fr
           end if
-          c(m) = up * resistance / phi
+          ! up * R with R = sum_halves phi_s c / (2 phi_f); the ratios up / phi_f are capped
+          ! (ratio_max) so that a trace of a fluid (phi_f ~ 1e-300 next to its bulk) cannot
+          ! overflow: its exchange with the solid is then merely very stiff
+          resistance = 0.0_wp
+          if (fl > 0.0_wp) resistance = resistance + 0.5_wp * pl * &
+            sp%drag(i - o(1), j - o(2), k - o(3), m) * min(up / fl, ratio_max)
+          if (fr > 0.0_wp) resistance = resistance + 0.5_wp * pr * sp%drag(i, j, k, m) * &
+            min(up / fr, ratio_max)
+          c(m) = resistance / phi
         end associate
       end do
     end associate

@@ -1,0 +1,102 @@
+"""Underwater sand slide (Rzadkiewicz et al. 1997) with the coupled scene: free surface, slide
+front, slide shape and mass balance (namelists/mpmice_debris_flow_2d.nml, issue 7 scene 1).
+
+Usage:  python -m postproc.mpmice_debris_flow --dir output/mpmice_debris_flow_2d [--out DIR]
+
+Free-surface elevation eta(x) [m above the still level 1.6 m]: in every column of cells, from the
+top down, the height where the water's share of the fluid volume phi_w / (phi_w + phi_air)
+first reaches 0.5 (linear between cell centres). Slide front: the largest x of the sand
+particles. Mass of each fluid (sum rho_bar V) and of each solid (sum of particle masses) per
+dump. Prints a line per dump and writes debris_flow.png (eta(x) and the slide's particles per
+dump) in --out (default: the run directory).
+"""
+from __future__ import annotations
+
+import argparse
+import os
+
+import numpy as np
+
+from postproc.mpmice_io import cell_centres, list_dumps, read_dump
+
+NAME = "debris"
+STILL_LEVEL = 1.6            # m
+WATER, AIR, SAND = "water", "air", "sand"
+
+
+def free_surface(dump: dict) -> tuple[np.ndarray, np.ndarray]:
+    """(x of the column centres, eta) of a dump; eta is NaN where a column holds no interface."""
+    x, y, _ = cell_centres(dump)
+    w = dump["cell"][f"{WATER}/volume_fraction"][:, :, 0]
+    a = dump["cell"][f"{AIR}/volume_fraction"][:, :, 0]
+    share = np.where(w + a > 0.0, w / np.maximum(w + a, 1e-300), 0.0)
+    eta = np.full(len(x), np.nan)
+    for i in range(len(x)):
+        col = share[i, :]
+        for j in range(len(y) - 1, 0, -1):
+            if col[j] < 0.5 <= col[j - 1]:
+                f = (0.5 - col[j]) / (col[j - 1] - col[j])
+                eta[i] = y[j] + f * (y[j - 1] - y[j]) - STILL_LEVEL
+                break
+    return x, eta
+
+
+def masses(dump: dict) -> dict[str, float]:
+    """Mass [kg] of every fluid (cells) and solid (particles) of a dump."""
+    vol = float(np.prod(np.asarray(dump["attrs"]["dx"]).reshape(3)))
+    out = {}
+    for key, field in dump["cell"].items():
+        if key.endswith("/density"):
+            out[key.split("/")[0]] = float(np.sum(field)) * vol
+    for name, parts in dump.get("particles", {}).items():
+        out[name] = float(np.sum(parts["mass"]))
+    return out
+
+
+def slide_front(dump: dict) -> float:
+    """Largest x [m] of the sand particles."""
+    return float(np.max(dump["particles"][SAND]["x"]))
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--dir", required=True, help="output directory of a run")
+    parser.add_argument("--out", default=None)
+    args = parser.parse_args(argv)
+    dumps = [read_dump(p) for p in list_dumps(args.dir, NAME)]
+    if not dumps:
+        raise SystemExit(f"no dumps {NAME}_<step>.h5 in {args.dir}")
+    m0 = masses(dumps[0])
+    print("   t [s]   front [m]   max eta [m]   min eta [m]   largest relative mass change")
+    for d in dumps:
+        _, eta = free_surface(d)
+        m = masses(d)
+        change = max(abs(m[k] / m0[k] - 1.0) for k in m0 if m0[k] > 0.0)
+        print(f"{d['time']:8.3f} {slide_front(d):11.4f} {np.nanmax(eta):13.4f} "
+              f"{np.nanmin(eta):13.4f} {change:14.2e}")
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    for d in dumps[1:]:
+        x, eta = free_surface(d)
+        top.plot(x, eta * 100.0, label=f"t = {d['time']:.2f} s")
+        p = d["particles"][SAND]
+        bottom.plot(p["x"], p["y"], ".", ms=1)
+    top.set_ylabel("eta [cm]")
+    top.legend(fontsize=7)
+    bed_x, bed_y = [0.0, 0.0, 1.0, 2.5, 4.0], [0.0, 1.5, 1.5, 0.0, 0.0]
+    bottom.plot(bed_x, bed_y, "k-", lw=1)
+    bottom.set_xlabel("x [m]")
+    bottom.set_ylabel("y [m]")
+    bottom.set_aspect("equal")
+    fig.tight_layout()
+    path = os.path.join(args.out or args.dir, "debris_flow.png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    print(f"plot: {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
