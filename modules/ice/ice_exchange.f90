@@ -5,7 +5,8 @@
 !! phi_n the volume fraction, K [kg/m^3/s]), so the drag per unit volume is phi_m phi_n K du
 !! (Uintah's convention, implementation notes §3). The increments solve
 !!   (1 + sum_n beta_mn) du_m - sum_n beta_mn du_n = sum_n beta_mn (u_n - u_m),
-!! in closed form for two fluids and by LAPACK dgesv for more. At faces the same matrix applied
+!! in closed form for two materials, by elimination without pivoting for three (the matrix is
+!! strictly diagonally dominant) and by LAPACK dgesv for more. At faces the same matrix applied
 !! to the face specific volumes gives the exchange-modified v_f used by the pressure equation
 !! (Uintah's sp_vol_FC). In cells the velocities and, with H > 0, the temperatures
 !! (beta = dt H v_m phi_n / cv_m) are exchanged; the kinetic energy the drag removes is added to
@@ -380,7 +381,8 @@ contains
   !> Apply the exchange to `nrhs` columns of values x(1:n, :): x := x + dx with
   !! (I + diag(sum_n beta_mn) - beta) dx = sum_n beta_mn (x_n - x_m) for column 1 of a velocity-
   !! like quantity, i.e. x_new = A^-1 x_old for every column (A = I + diag(rowsum beta) - beta).
-  !! Closed form for n = 2, dgesv otherwise. `beta` has a zero diagonal.
+  !! Closed form for n = 2, elimination without pivoting for n = 3 (`solve_3`), LAPACK dgesv
+  !! otherwise. `beta` has a zero diagonal.
   subroutine exchange_solve(n, beta, x, nrhs, weight)
     integer, intent(in) :: n                      !< number of fluids
     real(wp), intent(in) :: beta(max_n, max_n)    !< beta_mn, zero diagonal
@@ -407,8 +409,16 @@ contains
       a(m, m) = 1.0_wp + sum(beta(m, 1:n))
     end do
     x_old(1:n, 1:nrhs) = x(1:n, 1:nrhs)
-    call dgesv(n, nrhs, a, max_n, ipiv, x, max_n, info)
-    if (info /= 0) call fatal('ice_exchange: singular exchange matrix')
+    if (n == 3) then
+      ! three materials (two fluids and the solid, the common coupled case): elimination
+      ! without pivoting, exact in exact arithmetic and stable here because A is strictly
+      ! diagonally dominant by rows; a dgesv call per face and cell cost more than the step's
+      ! face exchange itself
+      call solve_3(a, x, nrhs)
+    else
+      call dgesv(n, nrhs, a, max_n, ipiv, x, max_n, info)
+      if (info /= 0) call fatal('ice_exchange: singular exchange matrix')
+    end if
     if (present(weight)) then
       ! with weights w_m beta_mn symmetric, A conserves sum w x exactly; dgesv's round-off
       ! (condition ~ beta) does not: remove the defect by a uniform shift
@@ -420,4 +430,28 @@ contains
       end if
     end if
   end subroutine exchange_solve
+
+  !> Solve the 3 x 3 system a x = b in place (x holds b on entry, `nrhs` columns) by Gaussian
+  !! elimination without pivoting; `a` strictly diagonally dominant by rows (so no pivot
+  !! vanishes and the elimination is stable). `a` is overwritten.
+  pure subroutine solve_3(a, x, nrhs)
+    real(wp), intent(inout) :: a(max_n, max_n)  !< matrix (first 3 x 3)
+    real(wp), intent(inout) :: x(max_n, *)      !< right-hand sides in, solutions out
+    integer, intent(in) :: nrhs                 !< columns
+    real(wp) :: f21, f31, f32
+    integer :: c
+    f21 = a(2, 1) / a(1, 1)
+    f31 = a(3, 1) / a(1, 1)
+    a(2, 2:3) = a(2, 2:3) - f21 * a(1, 2:3)
+    a(3, 2:3) = a(3, 2:3) - f31 * a(1, 2:3)
+    f32 = a(3, 2) / a(2, 2)
+    a(3, 3) = a(3, 3) - f32 * a(2, 3)
+    do c = 1, nrhs
+      x(2, c) = x(2, c) - f21 * x(1, c)
+      x(3, c) = x(3, c) - f31 * x(1, c) - f32 * x(2, c)
+      x(3, c) = x(3, c) / a(3, 3)
+      x(2, c) = (x(2, c) - a(2, 3) * x(3, c)) / a(2, 2)
+      x(1, c) = (x(1, c) - a(1, 2) * x(2, c) - a(1, 3) * x(3, c)) / a(1, 1)
+    end do
+  end subroutine solve_3
 end module ice_exchange
