@@ -219,12 +219,10 @@ contains
           ! in cells holding solid the coupled step replaces the fluid's cell velocity by the
           ! mean of its face velocities (mpmice_solid_cells%fluid_face_blend): the explicit
           ! viscous update there cannot grow, only the free fluid limits the step
-          s = maxval(f%spvol(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), &
-            mask=f%rho(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) > rho_min .and. &
-            state%solid%vfrac(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) <= 0.0_wp)
-          if (s < 0.0_wp) s = 0.0_wp
           present_cells = present_cells .and. &
             state%solid%vfrac(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) <= 0.0_wp
+          s = max(0.0_wp, maxval(f%spvol(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), &
+            mask=present_cells))
         end if
         nu_max = 0.0_wp
         if (cs > 0.0_wp .and. any(present_cells)) then
