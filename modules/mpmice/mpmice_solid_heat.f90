@@ -50,10 +50,7 @@ contains
           do j = grid%lo(2), grid%hi(2)
             do i = grid%lo(1), grid%hi(1)
               if (sp%heat_cap(i, j, k) <= 0.0_wp) cycle
-              k_lo = face_mean(sp%conductance(i - o(1), j - o(2), k - o(3)), &
-                sp%conductance(i, j, k))
-              k_hi = face_mean(sp%conductance(i, j, k), &
-                sp%conductance(i + o(1), j + o(2), k + o(3)))
+              call face_conductances(grid, sp%conductance, [i, j, k], o, k_lo, k_hi)
               scratch(i, j, k) = scratch(i, j, k) + dt * area / grid%dx(d) * &
                 (k_hi * (sp%temp(i + o(1), j + o(2), k + o(3)) - sp%temp(i, j, k)) - &
                 k_lo * (sp%temp(i, j, k) - sp%temp(i - o(1), j - o(2), k - o(3))))
@@ -80,7 +77,7 @@ contains
     type(ice_state_t), intent(in) :: state  !< solid phase
     type(grid_t), intent(in) :: grid        !< block geometry
     real(wp) :: dt
-    real(wp) :: rate, rate_max
+    real(wp) :: rate, rate_max, k_lo, k_hi
     integer :: d, i, j, k, o(3)
     rate_max = 0.0_wp
     associate (sp => state%solid)
@@ -97,9 +94,8 @@ contains
               if (.not. grid%active(d)) cycle
               o = 0
               o(d) = 1
-              rate = rate + (face_mean(sp%conductance(i - o(1), j - o(2), k - o(3)), &
-                sp%conductance(i, j, k)) + face_mean(sp%conductance(i, j, k), &
-                sp%conductance(i + o(1), j + o(2), k + o(3)))) / grid%dx(d)**2
+              call face_conductances(grid, sp%conductance, [i, j, k], o, k_lo, k_hi)
+              rate = rate + (k_lo + k_hi) / grid%dx(d)**2
             end do
             rate_max = max(rate_max, rate / sp%heat_cap(i, j, k))
           end do
@@ -109,6 +105,21 @@ contains
     dt = huge(1.0_wp)
     if (rate_max > 0.0_wp) dt = 1.0_wp / rate_max
   end function solid_conduction_dt
+
+  !> Conductances [W/m/K] of the low and high faces of cell `c` along the unit offset `o`: the
+  !! harmonic means of phi_s k_s of the two cells (zero where either holds no solid).
+  pure subroutine face_conductances(grid, conductance, c, o, k_lo, k_hi)
+    type(grid_t), intent(in) :: grid              !< block geometry
+    real(wp), intent(in) :: conductance(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< phi_s k_s
+    integer, intent(in) :: c(3)                   !< cell
+    integer, intent(in) :: o(3)                   !< unit offset of the face direction
+    real(wp), intent(out) :: k_lo                 !< low face [W/m/K]
+    real(wp), intent(out) :: k_hi                 !< high face [W/m/K]
+    k_lo = face_mean(conductance(c(1) - o(1), c(2) - o(2), c(3) - o(3)), &
+      conductance(c(1), c(2), c(3)))
+    k_hi = face_mean(conductance(c(1), c(2), c(3)), &
+      conductance(c(1) + o(1), c(2) + o(2), c(3) + o(3)))
+  end subroutine face_conductances
 
   !> Add the cell temperature increments `dtemp` [K] to the particles with the weights of their
   !! deposit (positions and F as at the deposit: call before G2P). `dtemp` valid in the ghost
