@@ -293,9 +293,12 @@ contains
       call fluid_face_blend(st, grid)
       self%dtemp = st%solid%temp - self%temp_old
       call halo_exchange_cell(fl%halo, dom, grid, self%dtemp)
-      do s = 1, so%nsolids
-        call solid_heat_to_particles(so%parts(s), grid, self%dtemp)
-      end do
+      ! isothermal scenes: nothing to add, skip the per-particle overlap weights
+      if (any(self%dtemp /= 0.0_wp)) then
+        do s = 1, so%nsolids
+          call solid_heat_to_particles(so%parts(s), grid, self%dtemp)
+        end do
+      end if
       if (fl%theta /= 1.0_wp) st%pressure = st%p_eq + st%dp_total
       call timer_stop(timers, fl%t_lagrange)
 
