@@ -37,6 +37,9 @@ contains
     call add('checkpoint_interval', real_repr(cfg%run%checkpoint_interval))
     call add('max_steps', ints_repr([cfg%run%max_steps]))
     call add('wall_time_limit', real_repr(cfg%run%wall_time_limit))
+    call add('max_energy_growth', real_repr(cfg%run%max_energy_growth))
+    call add('max_particle_loss_fraction', real_repr(cfg%run%max_particle_loss_fraction))
+    call add('min_dt_ratio', real_repr(cfg%run%min_dt_ratio))
     call add('progress_interval', real_repr(cfg%run%progress_interval))
     call add('verbosity', ints_repr([cfg%run%verbosity]))
     text = text // '/' // nl // '&grid' // nl

@@ -45,6 +45,9 @@ module config_namelist
     variable_info_t('run', 'checkpoint_interval', 'r', 1, 0), &
     variable_info_t('run', 'max_steps', 'i', 1, 0), &
     variable_info_t('run', 'wall_time_limit', 'r', 1, 0), &
+    variable_info_t('run', 'max_energy_growth', 'r', 1, 0), &
+    variable_info_t('run', 'max_particle_loss_fraction', 'r', 1, 0), &
+    variable_info_t('run', 'min_dt_ratio', 'r', 1, 0), &
     variable_info_t('run', 'progress_interval', 'r', 1, 0), &
     variable_info_t('run', 'verbosity', 'i', 1, 0), &
     variable_info_t('grid', 'ncells', 'i', 3, 0), &
@@ -304,9 +307,11 @@ contains
     character(len=name_len) :: name, scene
     character(len=path_len) :: output_dir
     real(wp) :: end_time, output_interval, checkpoint_interval, wall_time_limit, progress_interval
+    real(wp) :: max_energy_growth, max_particle_loss_fraction, min_dt_ratio
     integer :: max_steps, verbosity
     namelist /run/ name, scene, output_dir, end_time, output_interval, checkpoint_interval, &
-      max_steps, wall_time_limit, progress_interval, verbosity
+      max_steps, wall_time_limit, progress_interval, verbosity, max_energy_growth, &
+      max_particle_loss_fraction, min_dt_ratio
     name = p%name
     scene = p%scene
     output_dir = p%output_dir
@@ -315,6 +320,9 @@ contains
     checkpoint_interval = p%checkpoint_interval
     max_steps = p%max_steps
     wall_time_limit = p%wall_time_limit
+    max_energy_growth = p%max_energy_growth
+    max_particle_loss_fraction = p%max_particle_loss_fraction
+    min_dt_ratio = p%min_dt_ratio
     progress_interval = p%progress_interval
     verbosity = p%verbosity
     read(text, nml=run, iostat=ios, iomsg=iomsg)
@@ -327,6 +335,9 @@ contains
     p%checkpoint_interval = checkpoint_interval
     p%max_steps = max_steps
     p%wall_time_limit = wall_time_limit
+    p%max_energy_growth = max_energy_growth
+    p%max_particle_loss_fraction = max_particle_loss_fraction
+    p%min_dt_ratio = min_dt_ratio
     p%progress_interval = progress_interval
     p%verbosity = verbosity
   end subroutine read_run

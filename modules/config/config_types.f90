@@ -49,6 +49,9 @@ module config_types
     real(wp) :: checkpoint_interval = 0.0_wp               !< checkpoint interval [s] (0: none)
     integer :: max_steps = 0                               !< step limit (0: unlimited)
     real(wp) :: wall_time_limit = 0.0_wp                   !< wall-clock budget [s] (0: none)
+    real(wp) :: max_energy_growth = 0.0_wp                 !< solid energy / reference stop (0: off)
+    real(wp) :: max_particle_loss_fraction = 1.0_wp        !< lost particles share stop (1: off)
+    real(wp) :: min_dt_ratio = 0.0_wp                      !< step-collapse stop (0: off)
     real(wp) :: progress_interval = 10.0_wp                !< progress line interval [s wall time]
     integer :: verbosity = 1                               !< 0 quiet, 1 normal, 2 debug
   end type run_params_t

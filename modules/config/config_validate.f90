@@ -79,6 +79,22 @@ contains
       call check_int(err, 'run', 'max_steps', p%max_steps, '>= 0 (0: unlimited)', min_value=0)
       call check_real(err, 'run', 'wall_time_limit', p%wall_time_limit, &
         '>= 0 [s] (0: no limit)', min_value=0.0_wp)
+      if (p%max_energy_growth /= 0.0_wp) call check_real(err, 'run', 'max_energy_growth', &
+        p%max_energy_growth, '0 (off) or > 1', min_value=1.0_wp, min_open=.true.)
+      call check_real(err, 'run', 'max_particle_loss_fraction', p%max_particle_loss_fraction, &
+        '0 <= f <= 1 (1: off)', min_value=0.0_wp, max_value=1.0_wp)
+      call check_real(err, 'run', 'min_dt_ratio', p%min_dt_ratio, '0 <= r < 1 (0: off)', &
+        min_value=0.0_wp, max_value=1.0_wp, max_open=.true.)
+      if (.not. err%found .and. trim(p%scene) /= 'mpm' .and. trim(p%scene) /= 'mpmice') then
+        if (p%max_energy_growth > 0.0_wp) then
+          call set_error(err, 'run', 'max_energy_growth', real_repr(p%max_energy_growth), &
+            '0 for scene ''' // trim(p%scene) // ''' (the stop watches solids: mpm, mpmice)')
+        else if (p%max_particle_loss_fraction < 1.0_wp) then
+          call set_error(err, 'run', 'max_particle_loss_fraction', &
+            real_repr(p%max_particle_loss_fraction), '1 for scene ''' // trim(p%scene) // &
+            ''' (the stop counts particles: mpm, mpmice)')
+        end if
+      end if
       call check_real(err, 'run', 'progress_interval', p%progress_interval, &
         '>= 0 [s of wall time]', min_value=0.0_wp)
       call check_int(err, 'run', 'verbosity', p%verbosity, '0, 1 or 2', min_value=0, max_value=2)

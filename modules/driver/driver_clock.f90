@@ -28,6 +28,9 @@ module driver_clock
     integer :: first_step = 0                 !< step number at the start of this invocation
     real(wp) :: dt_max = huge(1.0_wp)         !< largest step [s]
     real(wp) :: dt_growth = 1.1_wp            !< largest ratio of successive proposed steps
+    real(wp) :: energy_reference = -1.0_wp    !< solids' energy at t = 0 [J] (< 0: not yet set)
+    real(wp) :: load_work = 0.0_wp            !< work put in by gravity and loads so far [J]
+    real(wp) :: dt_reference = 0.0_wp         !< first step's stability limit [s] (0: not set)
     logical :: output_due = .false.           !< the last step landed on an output time
     logical :: checkpoint_due = .false.       !< the last step landed on a checkpoint time
   end type clock_t

@@ -1,6 +1,7 @@
 !> The generic time loop: clock, retries of rejected steps, dumps, checkpoints, failure detection
-!! (NaN/Inf: report, dump, stop), the wall-time stop, progress lines and the stage-timer summary.
-!! Every scene (`driver_scene`) runs through it.
+!! (NaN/Inf, and the optional stops of `driver_stops`: energy growth, particle loss, step
+!! collapse; each reports, dumps the state and stops), the wall-time stop, progress lines and the
+!! stage-timer summary. Every scene (`driver_scene`) runs through it.
 module driver_loop
   use mpi_f08, only: MPI_Bcast, MPI_LOGICAL
   use mpmice_kinds, only: wp, path_len
@@ -16,6 +17,7 @@ module driver_loop
   use driver_clock, only: clock_t, clock_init, clock_propose_dt, clock_advance, clock_finished
   use driver_output, only: write_dump, write_checkpoint, read_checkpoint
   use driver_scene, only: scene_t
+  use driver_stops, only: stops_watch_state, stops_start, stops_check_dt, stops_check_state
   use io_files, only: io_join_path
   implicit none
   private
@@ -46,9 +48,10 @@ contains
     type(clock_t) :: clock
     type(timer_set_t) :: timers
     type(progress_t) :: progress
-    real(wp) :: dt, dt_limit, slowest_step_s, step_start_s
+    real(wp) :: dt, dt_limit, slowest_step_s, step_start_s, load_power, energy_peak
     integer :: t_output, retries, rejected, signum
-    logical :: accepted, stop_for_wall_time, stopped_early
+    logical :: accepted, stop_for_wall_time, stopped_early, watch_state
+    character(len=path_len) :: stop_reason
 
     t_output = timer_register(timers, 'output and checkpoint')
     call signals_install()
@@ -69,6 +72,10 @@ contains
     end if
     call timer_stop(timers, t_output)
     progress%start_time = clock%time
+    watch_state = stops_watch_state(cfg)
+    load_power = 0.0_wp
+    energy_peak = 0.0_wp
+    if (watch_state) call stops_start(scene, dom, grid, clock, load_power)
 
     slowest_step_s = 0.0_wp
     stopped_early = .false.
@@ -76,6 +83,11 @@ contains
     do while (.not. clock_finished(clock))
       step_start_s = progress_elapsed(progress)
       dt_limit = scene%stable_dt(dom, grid)
+      stop_reason = stops_check_dt(cfg, clock, dt_limit)
+      if (len_trim(stop_reason) > 0) then
+        call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, stop_reason, status)
+        exit
+      end if
       dt = clock_propose_dt(clock, dt_limit)
       do retries = 0, max_step_retries
         if (dt < cfg%time%dt_min) exit
@@ -97,12 +109,18 @@ contains
       call clock_advance(clock, dt, dt_limit)
 
       if (global_any(dom, .not. scene%all_finite(grid))) then
-        call write_dump(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
-          namelist_text, cfg%output%xdmf, 'failed', status%reason)
-        status%reason = 'non-finite values at step ' // int_text(clock%step) // ', t = ' // &
-          real_short_text(clock%time) // ' s; state dumped to ' // trim(status%reason)
-        status%exit_code = 3
+        call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, 'non-finite values ' &
+          // 'at step ' // int_text(clock%step) // ', t = ' // real_short_text(clock%time) // &
+          ' s', status)
         exit
+      end if
+      if (watch_state) then
+        call stops_check_state(scene, cfg, dom, grid, clock, load_power, energy_peak, &
+          stop_reason)
+        if (len_trim(stop_reason) > 0) then
+          call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, stop_reason, status)
+          exit
+        end if
       end if
 
       call timer_start(timers, t_output)
@@ -160,10 +178,31 @@ contains
     if (dom%rank == 0) call write_status_file(cfg, clock, status)
     call progress_update(progress, clock%step, clock%time, clock%dt, force=.true.)
     if (rejected > 0) call log_info(int_text(rejected) // ' steps were rejected and retried')
+    if (cfg%run%max_energy_growth > 0.0_wp) call log_info('run stops: largest solid energy / ' &
+      // 'reference ' // real_short_text(energy_peak) // ' (&run max_energy_growth = ' // &
+      real_short_text(cfg%run%max_energy_growth) // ')')
     call scene%summary(dom, grid)
     call timer_summary(timers, dom%comm, progress_elapsed(progress))
     call scene%free()
   end subroutine run_scene
+
+  !> A failed run: dump the state to `<name>_failed_<step>.h5`, exit status 3, the reason with
+  !! the dump's path.
+  subroutine fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, reason, status)
+    class(scene_t), intent(inout) :: scene           !< the scene
+    type(config_t), intent(in) :: cfg                !< validated configuration
+    type(domain_t), intent(in) :: dom                !< decomposition
+    type(grid_t), intent(in) :: grid                 !< block geometry
+    type(clock_t), intent(in) :: clock               !< run clock
+    character(len=*), intent(in) :: namelist_text    !< resolved input
+    character(len=*), intent(in) :: reason           !< why the run failed
+    type(run_status_t), intent(inout) :: status      !< how the run ended
+    character(len=path_len) :: path
+    call write_dump(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, namelist_text, &
+      cfg%output%xdmf, 'failed', path)
+    status%reason = trim(reason) // '; state dumped to ' // trim(path)
+    status%exit_code = 3
+  end subroutine fail_with_dump
 
   !> Write `<output_dir>/<name>.status` for job scripts: `key = value` lines `state` (finished,
   !! stopped or failed), `step`, `time`, `checkpoint` (stopped runs) and `reason`.

@@ -14,7 +14,7 @@ module driver_output
   use grid_layout, only: grid_t
   use io_files, only: io_rename, io_join_path, io_dump_stem, io_file_exists
   use io_hdf5, only: h5_file_t, h5_create, h5_open, h5_close, h5_write_attribute, &
-    h5_read_attribute, h5_write_dump_header
+    h5_read_attribute, h5_write_dump_header, h5_attribute_exists
   use io_xdmf, only: xdmf_write_dump, xdmf_update_series, xdmf_particles_t
   use driver_clock, only: clock_t
   use driver_scene, only: scene_t
@@ -91,6 +91,9 @@ contains
     call h5_write_attribute(file, 'dt_next', clock%dt_next)
     call h5_write_attribute(file, 'output_index', clock%output_index)
     call h5_write_attribute(file, 'checkpoint_index', clock%checkpoint_index)
+    call h5_write_attribute(file, 'stop_energy_reference', clock%energy_reference)
+    call h5_write_attribute(file, 'stop_load_work', clock%load_work)
+    call h5_write_attribute(file, 'stop_dt_reference', clock%dt_reference)
     call scene%write_state(file, dom, grid, .true.)
     call h5_close(file)
     call MPI_Barrier(dom%comm)
@@ -125,6 +128,12 @@ contains
     call h5_read_attribute(file, 'dt_next', clock%dt_next)
     call h5_read_attribute(file, 'output_index', clock%output_index)
     call h5_read_attribute(file, 'checkpoint_index', clock%checkpoint_index)
+    ! references of the run-loop stops (checkpoints written before they existed: set anew)
+    if (h5_attribute_exists(file, 'stop_energy_reference')) then
+      call h5_read_attribute(file, 'stop_energy_reference', clock%energy_reference)
+      call h5_read_attribute(file, 'stop_load_work', clock%load_work)
+      call h5_read_attribute(file, 'stop_dt_reference', clock%dt_reference)
+    end if
     call scene%restore(file, dom, grid)
     call h5_close(file)
   end subroutine read_checkpoint

@@ -11,9 +11,12 @@
 !! * `write_state` writes its datasets into an open dump (`checkpoint = .false.`) or checkpoint
 !!   (`.true.`: everything needed for a bitwise-identical continuation, under `/checkpoint/`);
 !! * `output_layout` names the datasets of a dump for the XDMF file;
-!! * `all_finite` is the local (this rank's) check that no state value is NaN or infinite.
+!! * `all_finite` is the local (this rank's) check that no state value is NaN or infinite;
+!! * `health` (optional, collective) gives the run loop's stops (`driver_stops`) the solids'
+!!   energy, the power of the loads on them and the particle counts; scenes without solids keep
+!!   the default, which reports nothing (`has_solids = .false.`).
 module driver_scene
-  use mpmice_kinds, only: wp, name_len
+  use mpmice_kinds, only: wp, i8, name_len
   use mpmice_timers, only: timer_set_t
   use config_types, only: config_t
   use parallel_domain, only: domain_t
@@ -23,7 +26,16 @@ module driver_scene
   implicit none
   private
 
-  public :: scene_t
+  public :: scene_t, scene_health_t
+
+  !> What the run loop's stops read from a scene (global values, the same on every rank).
+  type :: scene_health_t
+    logical :: has_solids = .false.   !< the scene has deformable solids (the values below apply)
+    real(wp) :: energy = 0.0_wp       !< kinetic + elastic strain energy of the solids [J]
+    real(wp) :: load_power = 0.0_wp   !< power of gravity and surface loads on them [W]
+    integer(i8) :: particles = 0_i8   !< particles in the domain
+    integer(i8) :: lost = 0_i8        !< particles that left the domain since the run began
+  end type scene_health_t
 
   !> A scene of the time loop.
   type, abstract :: scene_t
@@ -37,6 +49,7 @@ module driver_scene
     procedure(scene_finite_i), deferred :: all_finite       !< local NaN/Inf check
     procedure(scene_summary_i), deferred :: summary         !< log end-of-run statistics
     procedure(scene_free_i), deferred :: free               !< release everything
+    procedure :: health => scene_no_health                  !< energy and particle counts
   end type scene_t
 
   abstract interface
@@ -122,4 +135,16 @@ module driver_scene
     end subroutine scene_free_i
   end interface
 
+contains
+
+  !> Default `health`: a scene without solids reports nothing.
+  subroutine scene_no_health(self, dom, grid, time, health)
+    class(scene_t), intent(inout) :: self          !< scene
+    type(domain_t), intent(in) :: dom              !< decomposition
+    type(grid_t), intent(in) :: grid               !< block geometry
+    real(wp), intent(in) :: time                   !< time of the state [s]
+    type(scene_health_t), intent(out) :: health    !< nothing (has_solids = .false.)
+    if (.false.) health%energy = time + real(dom%rank + grid%ng(1), wp) + &
+      merge(1.0_wp, 0.0_wp, same_type_as(self, self))
+  end subroutine scene_no_health
 end module driver_scene

@@ -11,7 +11,7 @@ module mpm_loads
   implicit none
   private
 
-  public :: surface_load_t, surface_load_init, surface_load_scatter
+  public :: surface_load_t, surface_load_init, surface_load_scatter, surface_load_power
 
   !> A traction on the particles of one solid inside a box.
   type :: surface_load_t
@@ -74,4 +74,22 @@ contains
       end do
     end do
   end subroutine surface_load_scatter
+
+  !> This rank's power of the load at time `time` [s] on the particles' velocities [W].
+  pure real(wp) function surface_load_power(load, p, time) result(power)
+    type(surface_load_t), intent(in) :: load     !< load
+    type(particles_t), intent(in) :: p           !< particles of the loaded solid
+    real(wp), intent(in) :: time                 !< time of the force [s]
+    integer :: ip
+    real(wp) :: ramp
+    power = 0.0_wp
+    if (.not. load%active) return
+    ramp = 1.0_wp
+    if (load%ramp_time > 0.0_wp) ramp = min(1.0_wp, time / load%ramp_time)
+    do ip = 1, p%np
+      if (any(p%x(:, ip) < load%lower) .or. any(p%x(:, ip) > load%upper)) cycle
+      power = power + ramp * p%volume(ip) / load%thickness * dot_product(load%traction, &
+        p%v(:, ip))
+    end do
+  end function surface_load_power
 end module mpm_loads

@@ -20,6 +20,7 @@ module mpm_nodal
   private
 
   public :: nodal_bc_t, nodal_solve, nodal_finish, bc_kind_from_name, rigid_contact_velocity
+  public :: face_load_power
   public :: bc_fixed, bc_roller, bc_free, bc_velocity, bc_traction
 
   integer, parameter :: bc_fixed = 1     !< no motion
@@ -132,6 +133,26 @@ contains
       end do
     end do
   end subroutine nodal_finish
+
+  !> This rank's power [W] of the domain-face surface loads (`&boundary solid = 'traction'`) on
+  !! the velocities v^L of the owned nodes (those of the last step).
+  pure real(wp) function face_load_power(nodes, grid, bc, min_mass) result(power)
+    type(mpm_nodes_t), intent(in) :: nodes     !< node fields
+    type(grid_t), intent(in) :: grid           !< block geometry
+    type(nodal_bc_t), intent(in) :: bc         !< boundary conditions
+    real(wp), intent(in) :: min_mass           !< nodes lighter than this are empty [kg]
+    integer :: i, j, k
+    power = 0.0_wp
+    if (.not. any(bc%kind == bc_traction)) return
+    do k = grid%nlo(3), grid%nhi(3)
+      do j = grid%nlo(2), grid%nhi(2)
+        do i = grid%nlo(1), grid%nhi(1)
+          if (nodes%q(1, i, j, k) <= min_mass) cycle
+          power = power + dot_product(face_load(grid, bc, [i, j, k]), nodes%vel_l(:, i, j, k))
+        end do
+      end do
+    end do
+  end function face_load_power
 
   !> External force [N] on node `idx` from the surface loads of the domain faces it lies on:
   !! traction times the node's share of the face area (halved at the face's edges).

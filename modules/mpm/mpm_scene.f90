@@ -21,13 +21,13 @@ module mpm_scene
   use io_hdf5, only: h5_file_t, h5_write_attribute, h5_read_attribute
   use io_files, only: io_join_path
   use io_xdmf, only: xdmf_particles_t
-  use driver_scene, only: scene_t
+  use driver_scene, only: scene_t, scene_health_t
   use mpm_particles, only: particles_t, particles_free
   use mpm_seeding, only: seed_solid
   use mpm_shape, only: shape_kind_from_name
   use mpm_nodes, only: mpm_nodes_t, nodes_init, nodes_free, nq
   use mpm_p2g, only: p2g_accumulate, p2g_accumulate_rigid, p2g_complete
-  use mpm_nodal, only: nodal_bc_t, nodal_solve, bc_kind_from_name
+  use mpm_nodal, only: nodal_bc_t, nodal_solve, bc_kind_from_name, face_load_power
   use mpm_g2p, only: g2p_update
   use mpm_constitutive, only: material_t, material_init, model_from_name, wave_speed, &
     model_rigid
@@ -38,7 +38,7 @@ module mpm_scene
   implicit none
   private
 
-  public :: mpm_scene_t, move_rigid, mpm_migrate_all
+  public :: mpm_scene_t, move_rigid, mpm_migrate_all, solid_energies
 
   !> Solid bodies on a background grid.
   type, extends(scene_t) :: mpm_scene_t
@@ -74,6 +74,7 @@ module mpm_scene
     procedure :: all_finite => mpm_all_finite
     procedure :: summary => mpm_summary
     procedure :: free => mpm_free
+    procedure :: health => mpm_health
   end type mpm_scene_t
 
 contains
@@ -239,17 +240,20 @@ contains
     end do
   end subroutine move_rigid
 
-  !> Append the energies and extents at `time` to the series file (rank 0 writes).
-  subroutine write_series(self, dom, time)
-    class(mpm_scene_t), intent(inout) :: self  !< scene
-    type(domain_t), intent(in) :: dom          !< decomposition
-    real(wp), intent(in) :: time               !< time [s]
-    real(wp) :: e(2), xmax(3), xmin(3), sig(6), en, nu, tr, ss
-    integer :: s, ip, d, unit
+  !> This rank's kinetic energy and elastic strain energy of the solids [J] (the strain energy
+  !! from the stress with the solid's elastic constants: sigma : C^-1 : sigma / 2 per volume).
+  function solid_energies(self, deformable_only) result(e)
+    class(mpm_scene_t), intent(in) :: self             !< scene
+    logical, intent(in), optional :: deformable_only   !< leave rigid solids out
+    real(wp) :: e(2)
+    real(wp) :: sig(6), en, nu, tr, ss
+    integer :: s, ip
+    logical :: skip_rigid
+    skip_rigid = .false.
+    if (present(deformable_only)) skip_rigid = deformable_only
     e = 0.0_wp
-    xmax = -huge(1.0_wp)
-    xmin = huge(1.0_wp)
     do s = 1, self%nsolids
+      if (skip_rigid .and. self%mats(s)%model == model_rigid) cycle
       associate (p => self%parts(s), mat => self%mats(s))
         en = mat%mu * (3.0_wp * mat%lambda + 2.0_wp * mat%mu) / max(mat%lambda + mat%mu, &
           tiny(1.0_wp))
@@ -261,6 +265,56 @@ contains
           ss = sum(sig(1:3)**2) + 2.0_wp * sum(sig(4:6)**2)
           if (en > 0.0_wp) e(2) = e(2) + p%volume(ip) * ((1.0_wp + nu) * ss - nu * tr * tr) &
             / (2.0_wp * en)
+        end do
+      end associate
+    end do
+  end function solid_energies
+
+  !> Energy (kinetic + strain) of the deformable solids, the power of gravity (ramped) and of the
+  !! domain-face tractions on them, the particle count and the particles lost (collective).
+  subroutine mpm_health(self, dom, grid, time, health)
+    class(mpm_scene_t), intent(inout) :: self        !< scene
+    type(domain_t), intent(in) :: dom                !< decomposition
+    type(grid_t), intent(in) :: grid                 !< block geometry
+    real(wp), intent(in) :: time                     !< time of the state [s]
+    type(scene_health_t), intent(out) :: health      !< energy, load power, particle counts
+    real(wp) :: e(3), g(3), ramp
+    integer :: s, ip
+    ramp = 1.0_wp
+    if (self%ramp_time > 0.0_wp) ramp = min(1.0_wp, time / self%ramp_time)
+    g = merge(ramp * self%gravity, 0.0_wp, grid%active)
+    e = 0.0_wp
+    do s = 1, self%nsolids
+      if (self%mats(s)%model == model_rigid) cycle
+      associate (p => self%parts(s))
+        do ip = 1, p%np
+          e(3) = e(3) + p%mass(ip) * dot_product(g, p%v(:, ip))
+        end do
+      end associate
+    end do
+    e(1:2) = solid_energies(self, deformable_only=.true.)
+    e(3) = e(3) + face_load_power(self%nodes, grid, self%bc, self%min_mass)
+    e = global_sum(dom, e)
+    health%has_solids = .true.
+    health%energy = e(1) + e(2)
+    health%load_power = e(3)
+    health%particles = sum(self%global_np)
+    health%lost = self%removed
+  end subroutine mpm_health
+
+  !> Append the energies and extents at `time` to the series file (rank 0 writes).
+  subroutine write_series(self, dom, time)
+    class(mpm_scene_t), intent(inout) :: self  !< scene
+    type(domain_t), intent(in) :: dom          !< decomposition
+    real(wp), intent(in) :: time               !< time [s]
+    real(wp) :: e(2), xmax(3), xmin(3)
+    integer :: s, ip, d, unit
+    e = solid_energies(self)
+    xmax = -huge(1.0_wp)
+    xmin = huge(1.0_wp)
+    do s = 1, self%nsolids
+      associate (p => self%parts(s))
+        do ip = 1, p%np
           do d = 1, 3
             xmax(d) = max(xmax(d), p%x(d, ip))
             xmin(d) = min(xmin(d), p%x(d, ip))

@@ -30,7 +30,7 @@ module mpmice_scene
   use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field, h5_write_node_field, &
     h5_read_node_field
   use io_xdmf, only: xdmf_particles_t
-  use driver_scene, only: scene_t
+  use driver_scene, only: scene_t, scene_health_t
   use ice_state, only: ice_state_t, ice_solid_alloc
   use ice_scene, only: ice_scene_t, exchange_primitives, exchange_lagrangian, &
     ice_pressure_iteration
@@ -47,7 +47,8 @@ module mpmice_scene
   use mpm_p2g, only: p2g_accumulate, p2g_accumulate_rigid, p2g_complete
   use mpm_nodal, only: nodal_solve, nodal_finish
   use mpm_g2p, only: g2p_update
-  use mpm_loads, only: surface_load_t, surface_load_init, surface_load_scatter
+  use mpm_loads, only: surface_load_t, surface_load_init, surface_load_scatter, &
+    surface_load_power
   use exchange_drag, only: drag_law_from_name
   use mpmice_solid_cells, only: solid_coupling_t, solid_deposit, solid_cell_fields, &
     solid_face_predictor, solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, &
@@ -85,6 +86,7 @@ module mpmice_scene
     procedure :: all_finite => mpmice_all_finite
     procedure :: summary => mpmice_summary
     procedure :: free => mpmice_free
+    procedure :: health => mpmice_health
   end type mpmice_scene_t
 
 contains
@@ -340,6 +342,25 @@ contains
     end associate
     accepted = .true.
   end subroutine mpmice_step
+
+  !> The solids' health (`mpm_health`) with the power of their surface loads added; the fluids'
+  !! forces on the solids (pressure gradient, drag) are not counted as loads.
+  subroutine mpmice_health(self, dom, grid, time, health)
+    class(mpmice_scene_t), intent(inout) :: self     !< scene
+    type(domain_t), intent(in) :: dom                !< decomposition
+    type(grid_t), intent(in) :: grid                 !< block geometry
+    real(wp), intent(in) :: time                     !< time of the state [s]
+    type(scene_health_t), intent(out) :: health      !< energy, load power, particle counts
+    real(wp) :: power
+    integer :: s
+    call self%so%health(dom, grid, time, health)
+    power = 0.0_wp
+    do s = 1, self%so%nsolids
+      if (self%so%mats(s)%model == model_rigid) cycle
+      power = power + surface_load_power(self%loads(s), self%so%parts(s), time)
+    end do
+    health%load_power = health%load_power + global_sum(dom, power)
+  end subroutine mpmice_health
 
   !> A fluid with a vanishing share of a cell's mass (below 1e-10 of it: e.g. air numerically
   !! left in water-filled pores) takes the mass-weighted temperature and velocity of the cell.
