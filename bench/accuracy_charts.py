@@ -38,16 +38,20 @@ Stability maps:
                       dt below &time dt_min = 0.75 dt: a rejected step or the CFL limit);
                       inaccurate = max |p - p_exact| / p0 below the top 5 cells > 5 %.
   mpm_cfl_map         elastic bar, &time cfl x E / E_ref (1 .. 1e-5 at fixed v0: the tip
-                      amplitude grows from 0.003 to 0.8 cells), linear vs GIMP. Failed = exit
-                      status 3, stopped at the step cap (4x the planned steps: the CFL step
-                      collapsed) or particles lost; unstable = total energy grows by > 5 % over
-                      10 periods; inaccurate = tip-history error > 10 %.
+                      amplitude grows from 0.003 to 0.8 cells), linear vs GIMP. The run loop's
+                      stops decide (docs/accuracy.md "Failure detection"): unstable = stopped
+                      by &run max_energy_growth = 1.05 (kinetic + strain energy > 1.05 E(0));
+                      failed = any other exit status 3 (non-finite state, a particle lost:
+                      max_particle_loss_fraction = 0, the CFL step collapsed: min_dt_ratio =
+                      0.25) or the step cap (10x the planned steps); inaccurate = tip-history
+                      error > 10 %.
   crossing_map        elastic column under self-weight (postproc.mpm_column), E = 1e7 .. 3e4 Pa
                       (top displacement 0.03 .. 11 cells), 25 and 50 cells, linear vs GIMP:
                       stress oscillation = max over particles of |s_i - (s_{i-1} + s_{i+1}) / 2|
                       / (rho g H) (sigma_yy sorted by height), and max |sigma_yy - exact| /
                       (rho g H) (exact: the weight above the particle, valid at any strain).
-                      Noisy = oscillation > 5 %; failed as for mpm_cfl_map.
+                      Noisy = oscillation > 5 %; failed = exit status 3 (non-finite, a particle
+                      lost, the step collapsed, as for mpm_cfl_map) or the step cap.
 """
 from __future__ import annotations
 
@@ -244,20 +248,46 @@ def chart_darcy(work: str, quick: bool) -> list[dict]:
     return rows
 
 
-#: Step cap of the MPM maps: STEP_CAP x the planned steps (&run max_steps); a run that reaches
-#: it has had its CFL step collapse (velocities blown up) and counts as failed.
-STEP_CAP = 4.0
+#: Step cap of the MPM maps: STEP_CAP x the planned steps (&run max_steps), a backstop only:
+#: the run loop's stops (MAP_STOPS) end a blown-up run long before.
+STEP_CAP = 10.0
+
+#: The run loop's stops the MPM maps use (driver_stops): a particle lost, the CFL step below a
+#: quarter of the first step's (|v| > 3 c: velocities blown up).
+MAP_STOPS = "&run max_particle_loss_fraction = 0.0, min_dt_ratio = 0.25 /"
+
+
+def stop_kind(run: dict) -> str:
+    """Which stop ended a failed run: 'energy growth', 'particle loss', 'time step collapsed',
+    'non-finite values', 'time step' (below dt_min); '' for a run that was not stopped."""
+    if run["exit_code"] == 0:
+        return ""
+    for kind in ("energy growth", "particle loss", "time step collapsed", "non-finite values",
+                 "time step"):
+        if run["reason"].startswith(kind):
+            return kind
+    return "?"
+
+
+def lost_particles(run: dict, p0: dict, p1: dict) -> int:
+    """Particles lost: from the particle-loss stop's reason ('particle loss: N of M ...'), else
+    the difference of the first and last dump."""
+    if stop_kind(run) == "particle loss":
+        return int(run["reason"].split(":")[1].split()[0])
+    return len(p0["id"]) - len(p1["id"])
 
 
 def run_failed(run: dict, particles_lost: int = 0) -> bool:
-    """Exit status 3, stopped before the end (step cap), or particles lost."""
+    """Exit status 3 (any stop of the run loop), stopped before the end (step cap), or
+    particles lost."""
     return run["exit_code"] != 0 or run["state"] != "finished" or particles_lost > 0
 
 
 def run_bar(work: str, cells: int, shape: str, nranks: int = 1, e_ratio: float = 1.0,
-            cfl: float | None = None, v0: float = mpm_bar.V0) -> dict:
+            cfl: float | None = None, v0: float = mpm_bar.V0, stops: bool = False) -> dict:
     """The elastic bar (postproc.mpm_bar) with E scaled by e_ratio (end time 10 periods);
-    returns the run and the error measures of mpm_bar.run_bar (NaN when it failed)."""
+    returns the run and the error measures of mpm_bar.run_bar (NaN when it failed). `stops`:
+    the map's run-loop stops (MAP_STOPS and &run max_energy_growth = 1 + ENERGY_LIMIT)."""
     c = mpm_bar.C * math.sqrt(e_ratio)
     period = 4.0 * mpm_bar.L / c
     omega = math.pi * c / (2.0 * mpm_bar.L)
@@ -273,6 +303,9 @@ def run_bar(work: str, cells: int, shape: str, nranks: int = 1, e_ratio: float =
     planned = 10.0 * period / (cfl_used * mpm_bar.L / cells / c)
     args += ["--set", f"&time cfl = {cfl_used!r} /",
              "--set", f"&run max_steps = {int(STEP_CAP * planned) + 100} /"]
+    if stops:
+        args += ["--set", MAP_STOPS,
+                 "--set", f"&run max_energy_growth = {1.0 + ENERGY_LIMIT!r} /"]
     run = timed_run(args, out, "bar1d", nranks, work)
     res = {"run": run, "history_error": math.nan, "period_error": math.nan,
            "energy_drift": math.nan, "amplitude": math.nan}
@@ -281,7 +314,7 @@ def run_bar(work: str, cells: int, shape: str, nranks: int = 1, e_ratio: float =
     paths = dump_paths(out, "bar1d")
     _, p0 = particles(paths[0], "bar")
     _, p1 = particles(paths[-1], "bar")
-    res["particles_lost"] = len(p0["id"]) - len(p1["id"])
+    res["particles_lost"] = lost_particles(run, p0, p1)
     x_tip = float(np.max(p0["x"]))
     s = series(out, "bar1d")
     t = np.concatenate([[0.0], s["time"]])
@@ -292,8 +325,9 @@ def run_bar(work: str, cells: int, shape: str, nranks: int = 1, e_ratio: float =
         finite = np.all(np.isfinite(u)) and np.all(np.isfinite(energy))
         res["amplitude"] = amplitude
         if finite and len(energy) > 1:
-            res["energy_drift"] = float((energy[-1] - energy[0]) / energy[0])
             res["energy_growth"] = float((np.max(energy) - energy[0]) / energy[0])
+        if finite and len(energy) > 1 and run["exit_code"] == 0:
+            res["energy_drift"] = float((energy[-1] - energy[0]) / energy[0])
             res["history_error"] = float(np.max(np.abs(u - amplitude * np.sin(omega * t)))
                                          / amplitude)
             crossings = mpm_bar.upward_crossings(t[1:], u[1:])
@@ -438,12 +472,14 @@ def map_mpm_cfl(work: str, quick: bool) -> list[dict]:
     for shape in ("linear", "gimp"):
         for ratio in ratios:
             for cfl in cfls:
-                r = run_bar(work, MPM_CELLS, shape, e_ratio=ratio, cfl=cfl)
+                r = run_bar(work, MPM_CELLS, shape, e_ratio=ratio, cfl=cfl, stops=True)
                 growth = r.get("energy_growth", math.nan)
-                if run_failed(r["run"], r.get("particles_lost", 0)) or \
+                if stop_kind(r["run"]) == "energy growth":
+                    verdict = "unstable"
+                elif run_failed(r["run"], r.get("particles_lost", 0)) or \
                         not math.isfinite(r["history_error"]):
                     verdict = "failed"
-                elif growth > ENERGY_LIMIT:
+                elif growth > ENERGY_LIMIT:    # not reached: the stop fires first
                     verdict = "unstable"
                 elif r["history_error"] > BAR_ERROR_LIMIT:
                     verdict = "inaccurate"
@@ -455,6 +491,7 @@ def map_mpm_cfl(work: str, quick: bool) -> list[dict]:
                     "energy_growth": growth, "energy_drift": r["energy_drift"],
                     "history_error": r["history_error"], "period_error": r["period_error"],
                     "particles_lost": r.get("particles_lost", 0),
+                    "stop": stop_kind(r["run"]),
                     "steps": r["run"]["steps"], "run_s": r["run"]["run_s"],
                     "reason": r["run"]["reason"][:90]})
     return rows
@@ -479,14 +516,15 @@ def run_column(work: str, cells: int, shape: str, youngs: float) -> dict:
                      "--set", f"&time dt_max = {period!r} /",
                      "--set", f"&run output_dir = '{out}', end_time = {20 * period!r}, "
                               f"output_interval = 0.0, "
-                              f"max_steps = {int(STEP_CAP * 20 * 4 * cells / 0.4) + 100} /"],
+                              f"max_steps = {int(STEP_CAP * 20 * 4 * cells / 0.4) + 100} /",
+                     "--set", MAP_STOPS],
                     out, "column1d", 1, work)
     res = {"run": run, "u_top_cells": rho * g * height**2 / (2.0 * m) * cells / height,
            "oscillation": math.nan, "stress_error": math.nan}
     paths = dump_paths(out, "column1d")
     _, p0 = particles(paths[0], "soil")
     _, p1 = particles(paths[-1], "soil")
-    res["particles_lost"] = len(p0["id"]) - len(p1["id"])
+    res["particles_lost"] = lost_particles(run, p0, p1)
     if not run_failed(run, res["particles_lost"]):
         order = np.argsort(p0["y"])
         y0 = p0["y"][order]
@@ -513,6 +551,7 @@ def map_crossing(work: str, quick: bool) -> list[dict]:
                              "u_top_cells": r["u_top_cells"], "verdict": verdict,
                              "oscillation": osc, "stress_error": r["stress_error"],
                              "particles_lost": r["particles_lost"],
+                             "stop": stop_kind(r["run"]),
                              "steps": r["run"]["steps"], "run_s": r["run"]["run_s"],
                              "reason": r["run"]["reason"][:90]})
     return rows
@@ -649,9 +688,11 @@ def plot_mpm_cfl(rows: list[dict], path: str) -> None:
         ax.set_xlim(0.15, 1.15)
         _legend_verdicts(ax, sorted({r["verdict"] for r in rows}, key=list(VERDICT_STYLE).index))
     axes[0].set_ylabel("tip amplitude [cells] (E / E_ref = 1 .. 1e-5 at v0 = 0.01 m/s)")
-    fig.suptitle(f"Elastic bar, {MPM_CELLS} cells, 10 periods. failed: exit status 3; unstable: "
-                 f"total energy grows > {ENERGY_LIMIT:.0%}; inaccurate: tip-history error > "
-                 f"{BAR_ERROR_LIMIT:.0%}\n(labels: energy growth, tip-history error)", fontsize=9)
+    fig.suptitle(f"Elastic bar, {MPM_CELLS} cells, 10 periods. unstable: stopped by &run "
+                 f"max_energy_growth = {1 + ENERGY_LIMIT:g} (energy > {1 + ENERGY_LIMIT:g} E(0)); "
+                 f"failed: other exit status 3; inaccurate: tip-history error > "
+                 f"{BAR_ERROR_LIMIT:.0%}\n(labels: energy growth reached, tip-history error)",
+                 fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -684,7 +725,7 @@ def plot_crossing(rows: list[dict], path: str) -> None:
         ax.legend(fontsize=8)
     fig.suptitle("Elastic column under self-weight (1D MPM), gravity ramped over 10 periods, "
                  f"end 20 periods; noisy: oscillation > {NOISE_LIMIT:.0%} (dotted line); "
-                 "red x: failed (exit status 3)", fontsize=9)
+                 "red x: failed (exit status 3: particle lost or step collapsed)", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -85,7 +85,8 @@ def test_quick_sod_chart(mpmice_exe, tmp_path, monkeypatch):
 def test_bar_failure_classification(mpmice_exe, tmp_path, monkeypatch):
     """The elastic bar at cfl 0.5 is stable (energy within 5 %, history error < 10 %); at
     cfl 1.0 (linear shape functions, 2 particles per cell) it blows up: the energy grows by
-    orders of magnitude or the run stops with status 3."""
+    orders of magnitude or the run stops with status 3; with the map's stops the energy stop
+    ends it early, and the stable run is the same with and without them."""
     monkeypatch.setenv("MPMICE_EXE", str(mpmice_exe))
     ok = ac.run_bar(str(tmp_path), 40, "linear", cfl=0.5)
     assert ok["run"]["state"] == "finished" and not ac.run_failed(ok["run"])
@@ -93,3 +94,12 @@ def test_bar_failure_classification(mpmice_exe, tmp_path, monkeypatch):
     bad = ac.run_bar(str(tmp_path), 40, "linear", cfl=1.0)
     assert ac.run_failed(bad["run"], bad.get("particles_lost", 0)) \
         or not (bad.get("energy_growth", math.inf) < ac.ENERGY_LIMIT)
+    # the map's run-loop stops: the energy stop ends the unstable run within 100 steps (the
+    # full run takes ~2,100), the stable one is untouched
+    (tmp_path / "stops").mkdir()
+    stopped = ac.run_bar(str(tmp_path / "stops"), 40, "linear", cfl=1.0, stops=True)
+    assert ac.stop_kind(stopped["run"]) == "energy growth" and stopped["run"]["steps"] < 100
+    assert ac.ENERGY_LIMIT < stopped["energy_growth"] < 1.0
+    watched = ac.run_bar(str(tmp_path / "stops"), 40, "linear", cfl=0.5, stops=True)
+    assert watched["run"]["exit_code"] == 0 and ac.stop_kind(watched["run"]) == ""
+    assert watched["history_error"] == ok["history_error"]

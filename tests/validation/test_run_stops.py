@@ -5,7 +5,7 @@ value, with state `failed`, exit status 3, the reason in `<name>.status` and the
 
 Cases (each a second or less):
 * the linear elastic bar (namelists/mpm_bar_1d.nml, 40 cells) at `&time cfl = 1` is unstable but
-  stays finite to the end (energy up 3.6x, state `finished`); `max_energy_growth = 2` stops it
+  stays finite to the end (energy up 7.5e6x, state `finished`); `max_energy_growth = 2` stops it
   in the first 1-2 % of its steps;
 * the same bar free at both ends, drifting at 2 m/s out through x+, loses 7 of 80 particles
   and finishes; `max_particle_loss_fraction = 0.05` stops it at the 5th;
