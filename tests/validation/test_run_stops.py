@@ -148,3 +148,29 @@ def test_stops_leave_a_sound_run_unchanged(run_mpmice, tmp_case_dir):
     with h5py.File(paths[0]) as a, h5py.File(paths[1]) as b:
         for key in ("x", "velocity_x", "stress_xx"):
             assert np.array_equal(a[f"particles/bar/{key}"][...], b[f"particles/bar/{key}"][...])
+
+
+def test_stop_references_travel_in_checkpoints(run_mpmice, tmp_case_dir):
+    """A checkpoint of a watched run holds the stops' references (E(0) of the bar's first mode,
+    no load work without gravity, the first step's stability limit cfl dx / (c + |v|max) = 0.2 x
+    0.025 / 100.01 s); a restart from it finishes bitwise like the uninterrupted run."""
+    watch = "&run max_energy_growth = 1.05, min_dt_ratio = 0.5 /"
+    result, status = run_case(run_mpmice, tmp_case_dir, "whole", BAR,
+                              [watch, "&run checkpoint_interval = 0.2 /"])
+    assert result.returncode == 0 and status["state"] == "finished"
+    checkpoint = sorted((tmp_case_dir / "whole").glob("bar1d_checkpoint_*.h5"))[0]
+    with h5py.File(checkpoint) as f:
+        assert abs(f.attrs["stop_energy_reference"] / (0.5 * 1000.0 * 0.01**2 * 0.5) - 1) < 0.02
+        assert f.attrs["stop_load_work"] == 0.0
+        v_max = 0.01 * math.sin(0.5 * math.pi * 0.99375)       # the outermost particle
+        assert abs(f.attrs["stop_dt_reference"] / (0.2 * 0.025 / (100.0 + v_max)) - 1) < 1e-12
+    final = sorted((tmp_case_dir / "whole").glob("bar1d_0*.h5"))[-1]
+    with h5py.File(final) as f:
+        expected = f["particles/bar/x"][...], f["particles/bar/stress_xx"][...]
+    final.unlink()          # the restart must write it again, at the same step
+    restart = run_mpmice(["--restart", str(checkpoint)], cwd=tmp_case_dir, timeout=120)
+    assert restart.returncode == 0, restart.stdout + restart.stderr
+    with h5py.File(final) as f:
+        assert np.array_equal(f["particles/bar/x"][...], expected[0])
+        assert np.array_equal(f["particles/bar/stress_xx"][...], expected[1])
+    assert "largest solid energy / reference" in restart.stdout
