@@ -41,15 +41,32 @@ contains
     integer, intent(in) :: order               !< 1 first order, 2 limited second order
     integer, intent(out) :: negative           !< owned cells with negative new mass
     real(wp), intent(in), optional :: gravity(3) !< gravitational acceleration [m/s^2]
-    integer :: d, m, n, i, j, k, o(3), r(2, 3), up(3)
-    real(wp) :: area, u, sweep, dist, rho_f, mflux, q_f, vol, g(3)
+    integer :: d, m, n, i, j, k, o(3), r(2, 3), i1, i2
+    real(wp) :: area, u, vol, g(3), pot_lo, pot_hi
     logical :: total
+    ! one row of faces along x (automatic arrays, no heap allocation): upwind side, centroid
+    ! offset of the swept volume, mass flux, reconstructed face value and velocities
+    logical :: pos(grid%lbc(1):grid%ubc(1))
+    real(wp) :: dist(grid%lbc(1):grid%ubc(1)), mflux(grid%lbc(1):grid%ubc(1))
+    real(wp) :: qf(grid%lbc(1):grid%ubc(1)), vf(grid%lbc(1):grid%ubc(1), 3)
+    ! cell-centre coordinates per axis (the potential -g.x of a cell)
+    real(wp) :: xc(grid%lbc(1):grid%ubc(1)), yc(grid%lbc(2):grid%ubc(2))
+    real(wp) :: zc(grid%lbc(3):grid%ubc(3))
 
     vol = grid%cell_volume
     negative = 0
     total = .not. state%solid%present
     g = 0.0_wp
     if (present(gravity) .and. total) g = potential_gravity(grid, gravity)
+    do i = grid%lbc(1), grid%ubc(1)
+      xc(i) = cell_centre(grid, 1, i)
+    end do
+    do j = grid%lbc(2), grid%ubc(2)
+      yc(j) = cell_centre(grid, 2, j)
+    end do
+    do k = grid%lbc(3), grid%ubc(3)
+      zc(k) = cell_centre(grid, 3, k)
+    end do
     do m = 1, state%nfluids
       associate (f => state%fluid(m), c => state%cons)
         do k = grid%lo(3), grid%hi(3)
@@ -69,39 +86,42 @@ contains
           o = 0
           o(d) = 1
           r = face_range(grid, d)
+          i1 = r(1, 1)
+          i2 = r(2, 1)
           area = vol / grid%dx(d)
           do k = r(1, 3), r(2, 3)
             do j = r(1, 2), r(2, 2)
-              do i = r(1, 1), r(2, 1)
+              ! the swept volume u dt A leaves the upwind cell (face - o for u > 0); its
+              ! centroid lies dist from that cell's centre
+              do i = i1, i2
                 u = f%uface(i, j, k, d)
-                if (u == 0.0_wp) cycle
-                sweep = u * dt * area
-                ! centroid of the swept volume relative to the upwind cell centre
-                if (u > 0.0_wp) then
-                  up = [i, j, k] - o
-                  dist = 0.5_wp * (grid%dx(d) - u * dt)
-                else
-                  up = [i, j, k]
-                  dist = -0.5_wp * (grid%dx(d) + u * dt)
+                pos(i) = u > 0.0_wp
+                dist(i) = merge(0.5_wp * (grid%dx(d) - u * dt), -0.5_wp * (grid%dx(d) + u * dt), &
+                  pos(i))
+              end do
+              call row_face_values(f%rho, grid%lbc, i1, i2, j, k, o, order, pos, dist, &
+                grid%dx(d), qf)
+              do i = i1, i2
+                u = f%uface(i, j, k, d)
+                mflux(i) = merge(qf(i) * (u * dt * area), 0.0_wp, u /= 0.0_wp)
+              end do
+              call row_update(c(:, :, :, 1), grid%lbc, i1, i2, j, k, o, mflux)
+              do n = 1, 5
+                call row_face_values(f%lag(:, :, :, n), grid%lbc, i1, i2, j, k, o, order, pos, &
+                  dist, grid%dx(d), qf)
+                if (n <= 3) vf(i1:i2, n) = qf(i1:i2)
+                if (n == 4 .and. total) then
+                  ! specific total energy: + |u_f|^2/2 (the reconstructed velocities) and the
+                  ! potential at the swept volume's centroid
+                  do i = i1, i2
+                    pot_lo = -(g(1) * xc(i - o(1)) + g(2) * yc(j - o(2)) + g(3) * zc(k - o(3)))
+                    pot_hi = -(g(1) * xc(i) + g(2) * yc(j) + g(3) * zc(k))
+                    qf(i) = qf(i) + 0.5_wp * (vf(i, 1)**2 + vf(i, 2)**2 + vf(i, 3)**2) + &
+                      merge(pot_lo, pot_hi, pos(i)) - merge(dist(i), 0.0_wp, order > 1) * g(d)
+                  end do
                 end if
-                rho_f = f%rho(up(1), up(2), up(3))
-                if (order > 1) rho_f = rho_f + dist * limited_slope(f%rho(up(1) - o(1), &
-                  up(2) - o(2), up(3) - o(3)), f%rho(up(1), up(2), up(3)), &
-                  f%rho(up(1) + o(1), up(2) + o(2), up(3) + o(3)), grid%dx(d))
-                mflux = rho_f * sweep
-                c(i - o(1), j - o(2), k - o(3), 1) = c(i - o(1), j - o(2), k - o(3), 1) - mflux
-                c(i, j, k, 1) = c(i, j, k, 1) + mflux
-                do n = 1, 5
-                  q_f = f%lag(up(1), up(2), up(3), n)
-                  if (order > 1) q_f = q_f + dist * limited_slope(f%lag(up(1) - o(1), &
-                    up(2) - o(2), up(3) - o(3), n), q_f, &
-                    f%lag(up(1) + o(1), up(2) + o(2), up(3) + o(3), n), grid%dx(d))
-                  if (n == 4 .and. total) q_f = q_f + 0.5_wp * ke_face(up, o, dist) + &
-                    potential(up(1), up(2), up(3)) - merge(dist, 0.0_wp, order > 1) * g(d)
-                  c(i - o(1), j - o(2), k - o(3), 1 + n) = &
-                    c(i - o(1), j - o(2), k - o(3), 1 + n) - mflux * q_f
-                  c(i, j, k, 1 + n) = c(i, j, k, 1 + n) + mflux * q_f
-                end do
+                qf(i1:i2) = mflux(i1:i2) * qf(i1:i2)
+                call row_update(c(:, :, :, 1 + n), grid%lbc, i1, i2, j, k, o, qf)
               end do
             end do
           end do
@@ -139,27 +159,54 @@ contains
       integer, intent(in) :: ci  !< cell index along x
       integer, intent(in) :: cj  !< cell index along y
       integer, intent(in) :: ck  !< cell index along z
-      potential = -(g(1) * cell_centre(grid, 1, ci) + g(2) * cell_centre(grid, 2, cj) + &
-        g(3) * cell_centre(grid, 3, ck))
+      potential = -(g(1) * xc(ci) + g(2) * yc(cj) + g(3) * zc(ck))
     end function potential
-
-    !> |u|^2 carried through a face: the squares of the reconstructed velocity components.
-    real(wp) function ke_face(cell, off, distance)
-      integer, intent(in) :: cell(3)      !< upwind cell
-      integer, intent(in) :: off(3)       !< unit offset along the face normal
-      real(wp), intent(in) :: distance    !< centroid offset [m]
-      integer :: q
-      real(wp) :: w
-      ke_face = 0.0_wp
-      do q = 1, 3
-        w = state%fluid(m)%lag(cell(1), cell(2), cell(3), q)
-        if (order > 1) w = w + distance * limited_slope(state%fluid(m)%lag(cell(1) - off(1), &
-          cell(2) - off(2), cell(3) - off(3), q), w, state%fluid(m)%lag(cell(1) + off(1), &
-          cell(2) + off(2), cell(3) + off(3), q), grid%dx(d))
-        ke_face = ke_face + w**2
-      end do
-    end function ke_face
   end subroutine ice_advect
+
+  !> Upwind face values of `q` on the faces (i1..i2, j, k) of direction o (unit offset): the
+  !! upwind cell's value (face - o where `pos`, else the face's own cell) plus `dist` times its
+  !! MC-limited slope (`order` > 1). Branch-free over the row, so that it vectorises.
+  pure subroutine row_face_values(q, lbc, i1, i2, j, k, o, order, pos, dist, dx, qf)
+    integer, intent(in) :: lbc(3)                       !< lower bounds of q
+    real(wp), intent(in) :: q(lbc(1):, lbc(2):, lbc(3):) !< cell field
+    integer, intent(in) :: i1, i2, j, k                 !< faces of the row
+    integer, intent(in) :: o(3)                         !< unit offset along the face normal
+    integer, intent(in) :: order                        !< 1 first order, 2 limited second order
+    logical, intent(in) :: pos(lbc(1):)                 !< upwind cell is face - o
+    real(wp), intent(in) :: dist(lbc(1):)               !< centroid offset [m]
+    real(wp), intent(in) :: dx                         !< cell size along the normal [m]
+    real(wp), intent(inout) :: qf(lbc(1):)              !< face values (i1..i2 written)
+    integer :: i
+    real(wp) :: qm, q0, qp
+    if (order > 1) then
+      do i = i1, i2
+        qm = merge(q(i - 2 * o(1), j - 2 * o(2), k - 2 * o(3)), q(i - o(1), j - o(2), k - o(3)), &
+          pos(i))
+        q0 = merge(q(i - o(1), j - o(2), k - o(3)), q(i, j, k), pos(i))
+        qp = merge(q(i, j, k), q(i + o(1), j + o(2), k + o(3)), pos(i))
+        qf(i) = q0 + dist(i) * limited_slope(qm, q0, qp, dx)
+      end do
+    else
+      do i = i1, i2
+        qf(i) = merge(q(i - o(1), j - o(2), k - o(3)), q(i, j, k), pos(i))
+      end do
+    end if
+  end subroutine row_face_values
+
+  !> Conservative update of one row of faces: the flux leaves the low cell (face - o) and enters
+  !! the high cell (the face's own), face by face in order.
+  pure subroutine row_update(c, lbc, i1, i2, j, k, o, flux)
+    integer, intent(in) :: lbc(3)                          !< lower bounds of c
+    real(wp), intent(inout) :: c(lbc(1):, lbc(2):, lbc(3):) !< conserved quantity
+    integer, intent(in) :: i1, i2, j, k                    !< faces of the row
+    integer, intent(in) :: o(3)                            !< unit offset along the face normal
+    real(wp), intent(in) :: flux(lbc(1):)                  !< flux of each face
+    integer :: i
+    do i = i1, i2
+      c(i - o(1), j - o(2), k - o(3)) = c(i - o(1), j - o(2), k - o(3)) - flux(i)
+      c(i, j, k) = c(i, j, k) + flux(i)
+    end do
+  end subroutine row_update
 
   !> The gravity components carried as potential energy by the advection (module header): those
   !! along active, non-periodic axes (a potential is not single-valued along a periodic one);
