@@ -181,18 +181,32 @@ contains
       if (.not. grid%active(d)) cycle
       o = 0
       o(d) = 1
+      ! the closed domain faces (whole planes) keep their velocities
       r = face_range(grid, d)
+      if (.not. grid%periodic(d)) then
+        if (state%closed(2 * d - 1) .and. r(1, d) == 1) r(1, d) = 2
+        if (state%closed(2 * d) .and. r(2, d) == grid%ncells(d) + 1) r(2, d) = grid%ncells(d)
+      end if
+      do m = 1, state%nfluids
+        associate (f => state%fluid(m))
+          do k = r(1, 3), r(2, 3)
+            do j = r(1, 2), r(2, 2)
+              do i = r(1, 1), r(2, 1)
+                g = theta * (state%dp(i, j, k) - state%dp(i - o(1), j - o(2), k - o(3))) / &
+                  grid%dx(d)
+                f%uface(i, j, k, d) = f%uface(i, j, k, d) - dt * f%vface(i, j, k, d) * g
+              end do
+            end do
+          end do
+        end associate
+      end do
+      if (.not. state%solid%present) cycle
       do k = r(1, 3), r(2, 3)
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
-            if (closed_face(state, grid, d, [i, j, k])) cycle
             g = theta * (state%dp(i, j, k) - state%dp(i - o(1), j - o(2), k - o(3))) / grid%dx(d)
-            do m = 1, state%nfluids
-              state%fluid(m)%uface(i, j, k, d) = state%fluid(m)%uface(i, j, k, d) - &
-                dt * state%fluid(m)%vface(i, j, k, d) * g
-            end do
-            if (state%solid%present) state%solid%uface(i, j, k, d) = &
-              state%solid%uface(i, j, k, d) - dt * state%solid%vface(i, j, k, d) * g
+            state%solid%uface(i, j, k, d) = state%solid%uface(i, j, k, d) - &
+              dt * state%solid%vface(i, j, k, d) * g
           end do
         end do
       end do
