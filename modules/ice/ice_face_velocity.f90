@@ -39,8 +39,8 @@ contains
     real(wp), intent(in) :: gravity(3)          !< gravitational acceleration [m/s^2]
     type(ice_bc_t), intent(in), optional :: bc  !< conditions of the domain faces
     logical, intent(in), optional :: advect     !< add the advective change (see above)
-    integer :: d, m, i, j, k, o(3), r(2, 3), fb, e, oe(3)
-    real(wp) :: rl, rr, vl, vr, vhat, convect
+    integer :: d, m, i, j, k, o(3), r(2, 3), fb, e, oe(3), plane_lo(3), plane_hi(3), face_kind
+    real(wp) :: rl, rr, vl, vr, vhat, convect, u_closed
     logical :: with_advection
 
     with_advection = .false.
@@ -69,19 +69,6 @@ contains
                   vhat = 2.0_wp * vl * vr / (vl + vr)
                 end if
                 f%vface(i, j, k, d) = vhat
-                if (closed_face(state, grid, d, [i, j, k])) then
-                  fb = 0
-                  if (present(bc)) fb = bc%fluid(face_index(d, [i, j, k]))
-                  if (fb == bc_inflow) then
-                    ! prescribed, the same for every fluid; the pressure does not correct it
-                    f%uface(i, j, k, d) = bc%u_in(d, face_index(d, [i, j, k]))
-                    cycle
-                  else if (fb /= bc_outflow) then
-                    f%uface(i, j, k, d) = 0.0_wp
-                    cycle
-                  end if
-                  ! outflow: like an inner face, with the (even) ghost state
-                end if
                 if (rl + rr > 0.0_wp) then
                   f%uface(i, j, k, d) = (rl * f%vel(i - o(1), j - o(2), k - o(3), d) + &
                     rr * f%vel(i, j, k, d)) / (rl + rr)
@@ -110,6 +97,25 @@ contains
                   - state%pressure(i - o(1), j - o(2), k - o(3))) / grid%dx(d) + gravity(d))
               end do
             end do
+          end do
+          ! closed domain faces (whole planes, computed like inner faces above): 'inflow' takes
+          ! the prescribed velocity, the same for every fluid (the pressure does not correct
+          ! it); 'outflow' stays an inner face with the (even) ghost state; any other is 0
+          do e = 1, 2
+            fb = 2 * d - 2 + e
+            if (grid%periodic(d) .or. .not. state%closed(fb)) cycle
+            plane_lo = r(1, :)
+            plane_hi = r(2, :)
+            plane_lo(d) = merge(1, grid%ncells(d) + 1, e == 1)
+            plane_hi(d) = plane_lo(d)
+            if (plane_lo(d) < r(1, d) .or. plane_lo(d) > r(2, d)) cycle
+            face_kind = 0
+            if (present(bc)) face_kind = bc%fluid(fb)
+            if (face_kind == bc_outflow) cycle
+            u_closed = 0.0_wp
+            if (face_kind == bc_inflow) u_closed = bc%u_in(d, fb)
+            f%uface(plane_lo(1):plane_hi(1), plane_lo(2):plane_hi(2), &
+              plane_lo(3):plane_hi(3), d) = u_closed
           end do
         end associate
       end do
