@@ -28,7 +28,6 @@ module ice_lagrangian
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
-  use ice_face_velocity, only: upwind
   use ice_advection, only: potential_gravity
   implicit none
   private
@@ -79,10 +78,11 @@ contains
                   o(d) = 1
                   uh = f%uface(i + o(1), j + o(2), k + o(3), d)
                   ul = f%uface(i, j, k, d)
+                  ! (upwind fractions inline: merge is the `upwind` of ice_face_velocity)
                   work = work - dt * vol / grid%dx(d) * &
-                    (state%pface(i + o(1), j + o(2), k + o(3), d) * uh * upwind(uh, phi, &
-                    f%vfrac(i + o(1), j + o(2), k + o(3))) - state%pface(i, j, k, d) * ul * &
-                    upwind(ul, f%vfrac(i - o(1), j - o(2), k - o(3)), phi))
+                    (state%pface(i + o(1), j + o(2), k + o(3), d) * uh * merge(phi, &
+                    f%vfrac(i + o(1), j + o(2), k + o(3)), uh >= 0.0_wp) - state%pface(i, j, k, d) &
+                    * ul * merge(f%vfrac(i - o(1), j - o(2), k - o(3)), phi, ul >= 0.0_wp))
                 end do
               end if
               if (mass <= 0.0_wp) then
