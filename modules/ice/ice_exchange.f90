@@ -49,6 +49,10 @@ contains
 
     nf = state%nfluids
     if ((nf < 2 .or. k_exchange <= 0.0_wp) .and. .not. state%solid%present) return
+    if (nf == 2 .and. .not. state%solid%present) then
+      call exchange_faces_two(state, grid, dt, k_exchange)
+      return
+    end if
     do d = 1, 3
       if (.not. grid%active(d)) cycle
       o = 0
@@ -120,6 +124,50 @@ contains
       end do
     end do
   end subroutine ice_exchange_faces
+
+  !> `ice_exchange_faces` for two fluids without a solid phase: the closed-form 2 x 2 solve of
+  !! `exchange_solve` (the same arithmetic) as one branch-free sweep per direction over the
+  !! open faces (closed domain faces are whole planes, left out of the range).
+  subroutine exchange_faces_two(state, grid, dt, k_exchange)
+    type(ice_state_t), intent(inout) :: state  !< two fluids (uface, vface updated)
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: dt                 !< time step [s]
+    real(wp), intent(in) :: k_exchange         !< K [kg/m^3/s]
+    integer :: d, i, j, k, o(3), r(2, 3)
+    real(wp) :: phi1, phi2, v1, v2, b12, b21, det, x1, x2
+
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      o = 0
+      o(d) = 1
+      r = face_range(grid, d)
+      if (.not. grid%periodic(d)) then
+        if (state%closed(2 * d - 1) .and. r(1, d) == 1) r(1, d) = 2
+        if (state%closed(2 * d) .and. r(2, d) == grid%ncells(d) + 1) r(2, d) = grid%ncells(d)
+      end if
+      associate (f1 => state%fluid(1), f2 => state%fluid(2))
+        do k = r(1, 3), r(2, 3)
+          do j = r(1, 2), r(2, 2)
+            do i = r(1, 1), r(2, 1)
+              phi1 = 0.5_wp * (f1%vfrac(i - o(1), j - o(2), k - o(3)) + f1%vfrac(i, j, k))
+              phi2 = 0.5_wp * (f2%vfrac(i - o(1), j - o(2), k - o(3)) + f2%vfrac(i, j, k))
+              v1 = f1%vface(i, j, k, d)
+              v2 = f2%vface(i, j, k, d)
+              b12 = dt * v1 * phi2 * k_exchange
+              b21 = dt * v2 * phi1 * k_exchange
+              det = 1.0_wp + b12 + b21
+              x1 = f1%uface(i, j, k, d)
+              x2 = f2%uface(i, j, k, d)
+              f1%uface(i, j, k, d) = ((1.0_wp + b21) * x1 + b12 * x2) / det
+              f2%uface(i, j, k, d) = (b21 * x1 + (1.0_wp + b12) * x2) / det
+              f1%vface(i, j, k, d) = ((1.0_wp + b21) * v1 + b12 * v2) / det
+              f2%vface(i, j, k, d) = (b21 * v1 + (1.0_wp + b12) * v2) / det
+            end do
+          end do
+        end do
+      end associate
+    end do
+  end subroutine exchange_faces_two
 
   !> The solid phase at the low face of cell (i,j,k) in direction d: mean volume fraction,
   !! grain specific volume, whether its velocity is prescribed there, and per fluid m the
