@@ -12,7 +12,7 @@ module ice_pressure
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
-  use ice_face_velocity, only: boundary_face, closed_face, face_index, face_range, upwind
+  use ice_face_velocity, only: face_range
   implicit none
   private
 
@@ -223,45 +223,50 @@ contains
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
-    integer :: d, m, i, j, k, o(3), r(2, 3)
-    real(wp) :: rl, rr, pl, pr
+    integer :: d, i, j, k, o(3), r(2, 3), inner(2, 3), side, idx
+    real(wp) :: rl, rr
 
     do d = 1, 3
       if (.not. grid%active(d)) cycle
       o = 0
       o(d) = 1
       r = face_range(grid, d)
-      do k = r(1, 3), r(2, 3)
-        do j = r(1, 2), r(2, 2)
-          do i = r(1, 1), r(2, 1)
-            pl = state%pressure(i - o(1), j - o(2), k - o(3))
-            pr = state%pressure(i, j, k)
-            rl = 0.0_wp
-            rr = 0.0_wp
-            do m = 1, state%nfluids
-              rl = rl + state%fluid(m)%rho(i - o(1), j - o(2), k - o(3))
-              rr = rr + state%fluid(m)%rho(i, j, k)
-            end do
-            if (state%solid%present) then
-              ! the fluids' mass per pore volume: the pore pressure at rest carries the weight
-              ! of the fluid alone, rho_f g (the skeleton's weight is borne by its stress)
-              rl = rl / max(1.0_wp - state%solid%vfrac(i - o(1), j - o(2), k - o(3)), pore_min)
-              rr = rr / max(1.0_wp - state%solid%vfrac(i, j, k), pore_min)
-            end if
-            if (boundary_face(grid, d, [i, j, k]) .and. .not. &
-              closed_face(state, grid, d, [i, j, k])) then
-              state%pface(i, j, k, d) = state%p_boundary(face_index(d, [i, j, k]))
-              cycle
-            end if
-            if (boundary_face(grid, d, [i, j, k])) then
-              if (i * o(1) + j * o(2) + k * o(3) == 1) then
-                state%pface(i, j, k, d) = pr - 0.5_wp * rr * gravity(d) * grid%dx(d)
+      ! inner faces: the faces on a non-periodic domain boundary are done below
+      inner = r
+      if (.not. grid%periodic(d)) then
+        inner(1, d) = max(r(1, d), 2)
+        inner(2, d) = min(r(2, d), grid%ncells(d))
+      end if
+      do k = inner(1, 3), inner(2, 3)
+        do j = inner(1, 2), inner(2, 2)
+          do i = inner(1, 1), inner(2, 1)
+            call face_densities(state, i, j, k, o, rl, rr)
+            state%pface(i, j, k, d) = (state%pressure(i - o(1), j - o(2), k - o(3)) * rr + &
+              state%pressure(i, j, k) * rl) / (rl + rr)
+          end do
+        end do
+      end do
+      if (grid%periodic(d)) cycle
+      do side = 1, 2
+        idx = merge(1, grid%ncells(d) + 1, side == 1)
+        if (idx < r(1, d) .or. idx > r(2, d)) cycle
+        inner = r
+        inner(:, d) = idx
+        do k = inner(1, 3), inner(2, 3)
+          do j = inner(1, 2), inner(2, 2)
+            do i = inner(1, 1), inner(2, 1)
+              if (.not. state%closed(2 * d - 2 + side)) then
+                state%pface(i, j, k, d) = state%p_boundary(2 * d - 2 + side)
+              else if (side == 1) then
+                call face_densities(state, i, j, k, o, rl, rr)
+                state%pface(i, j, k, d) = state%pressure(i, j, k) - 0.5_wp * rr * gravity(d) * &
+                  grid%dx(d)
               else
-                state%pface(i, j, k, d) = pl + 0.5_wp * rl * gravity(d) * grid%dx(d)
+                call face_densities(state, i, j, k, o, rl, rr)
+                state%pface(i, j, k, d) = state%pressure(i - o(1), j - o(2), k - o(3)) + &
+                  0.5_wp * rl * gravity(d) * grid%dx(d)
               end if
-              cycle
-            end if
-            state%pface(i, j, k, d) = (pl * rr + pr * rl) / (rl + rr)
+            end do
           end do
         end do
       end do
@@ -285,6 +290,28 @@ contains
       phi = state%solid%face_fraction_hi(i, j, k, d)
     end if
   end function solid_face_fraction
+  !> Weights of the face pressure of eq. 37 at the low face of cell (i,j,k) in direction o: the
+  !! fluids' total bulk density of the low (`rl`) and high (`rr`) cell, per pore volume where a
+  !! solid phase is present (the pore pressure at rest carries the weight of the fluid alone,
+  !! rho_f g; the skeleton's weight is borne by its stress).
+  pure subroutine face_densities(state, i, j, k, o, rl, rr)
+    type(ice_state_t), intent(in) :: state  !< fluids and solid phase
+    integer, intent(in) :: i, j, k          !< face index (low face of cell i,j,k)
+    integer, intent(in) :: o(3)             !< unit offset along the face normal
+    real(wp), intent(out) :: rl, rr         !< low and high cell weights [kg/m^3]
+    integer :: m
+    rl = 0.0_wp
+    rr = 0.0_wp
+    do m = 1, state%nfluids
+      rl = rl + state%fluid(m)%rho(i - o(1), j - o(2), k - o(3))
+      rr = rr + state%fluid(m)%rho(i, j, k)
+    end do
+    if (state%solid%present) then
+      rl = rl / max(1.0_wp - state%solid%vfrac(i - o(1), j - o(2), k - o(3)), pore_min)
+      rr = rr / max(1.0_wp - state%solid%vfrac(i, j, k), pore_min)
+    end if
+  end subroutine face_densities
+
   !> True when face `idx` (global index along d) lies on a non-periodic domain boundary
   !! (`boundary_face` for one index, without the index vector).
   pure logical function on_boundary(grid, d, idx)
