@@ -165,7 +165,7 @@ contains
 
   !> Upwind face values of `q` on the faces (i1..i2, j, k) of direction o (unit offset): the
   !! upwind cell's value (face - o where `pos`, else the face's own cell) plus `dist` times its
-  !! MC-limited slope (`order` > 1). Branch-free over the row, so that it vectorises.
+  !! MC-limited slope (`order` > 1). Branch-free over the row.
   pure subroutine row_face_values(q, lbc, i1, i2, j, k, o, order, pos, dist, dx, qf)
     integer, intent(in) :: lbc(3)                       !< lower bounds of q
     real(wp), intent(in) :: q(lbc(1):, lbc(2):, lbc(3):) !< cell field

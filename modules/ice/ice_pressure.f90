@@ -26,8 +26,8 @@ contains
   !> Operator of eq. 35: low-face coefficients `state%coef` and diagonal `state%diag`
   !! (hypre's convention of `solver_pressure`); boundary faces do not couple (walls: zero
   !! normal velocity and a homogeneous Neumann condition on dp). Written as one sweep per
-  !! direction and material over the faces (branch-free, vectorisable) with the sums in the same
-  !! order as a per-face loop over the materials.
+  !! direction and material over the faces (branch-free, no calls per face) with the sums in
+  !! the same order as a per-face loop over the materials.
   subroutine ice_pressure_assemble(state, grid, dt, theta)
     type(ice_state_t), intent(inout) :: state  !< fluids (uface, vface, vfrac read)
     type(grid_t), intent(in) :: grid           !< block geometry
@@ -95,7 +95,7 @@ contains
 
   !> Right-hand side of eq. 35 with the current face velocities and dp_total; returns this
   !! rank's max |rhs|/V (the volume-fraction constraint residual). One sweep per direction and
-  !! material (vectorisable), each cell's sum in the order of a per-cell loop over the
+  !! material (no calls per face), each cell's sum in the order of a per-cell loop over the
   !! directions and materials.
   function ice_pressure_rhs(state, grid, dt) result(residual)
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
