@@ -92,10 +92,6 @@ contains
       call check_choice(err, 'mpm', 'rigid_contact', p%rigid_contact, rigid_contact_names)
       call check_real(err, 'mpm', 'contact_friction', p%contact_friction, '>= 0', &
         min_value=0.0_wp)
-      if (.not. err%found .and. trim(p%rigid_contact) == 'friction' .and. &
-        trim(cfg%run%scene) == 'mpmice') call set_error(err, 'mpm', 'rigid_contact', &
-        quoted(p%rigid_contact), '''no_slip'' in scene ''mpmice'' (frictional contact with ' // &
-        'rigid bodies is available in scene ''mpm'' only)')
     end associate
     associate (p => cfg%coupling)
       call check_choice(err, 'coupling', 'drag_scheme', p%drag_scheme, drag_scheme_names)

@@ -237,18 +237,44 @@ contains
     real(wp) :: pl, pr, wl, wr, fl, fr, resistance, up
     integer :: m
     associate (sp => state%solid)
-      pl = sp%vfrac(i - o(1), j - o(2), k - o(3))
-      pr = sp%vfrac(i, j, k)
-      if (ghost_side == 1) pl = 0.0_wp
-      if (ghost_side == 2) pr = 0.0_wp
-      phi = 0.5_wp * (pl + pr)
-      if (ghost_side /= 0) phi = 2.0_wp * phi
       rigid = sp%rigid_face(i, j, k, d) > 0.5_wp
-      wl = merge(1.0_wp, 0.0_wp, pl > 0.0_wp)
-      wr = merge(1.0_wp, 0.0_wp, pr > 0.0_wp)
+      if (sp%sliding) then
+        ! the partner's fraction per cell (drag is per it); a face next to a cell with rigid and
+        ! no deformable solid moves with the rigid body (rigid), any other the deformable solid
+        ! alone
+        pl = sp%xfrac(i - o(1), j - o(2), k - o(3))
+        pr = sp%xfrac(i, j, k)
+        if (ghost_side == 1) pl = 0.0_wp
+        if (ghost_side == 2) pr = 0.0_wp
+        if (rigid) then
+          phi = 0.5_wp * (pl + pr)
+          wl = merge(1.0_wp, 0.0_wp, pl > 0.0_wp)
+          wr = merge(1.0_wp, 0.0_wp, pr > 0.0_wp)
+        else
+          fl = sp%frac_def(i - o(1), j - o(2), k - o(3))
+          fr = sp%frac_def(i, j, k)
+          if (ghost_side == 1) fl = 0.0_wp
+          if (ghost_side == 2) fr = 0.0_wp
+          phi = 0.5_wp * (fl + fr)
+          wl = merge(1.0_wp, 0.0_wp, fl > 0.0_wp)
+          wr = merge(1.0_wp, 0.0_wp, fr > 0.0_wp)
+        end if
+      else
+        pl = sp%vfrac(i - o(1), j - o(2), k - o(3))
+        pr = sp%vfrac(i, j, k)
+        if (ghost_side == 1) pl = 0.0_wp
+        if (ghost_side == 2) pr = 0.0_wp
+        phi = 0.5_wp * (pl + pr)
+        wl = merge(1.0_wp, 0.0_wp, pl > 0.0_wp)
+        wr = merge(1.0_wp, 0.0_wp, pr > 0.0_wp)
+      end if
+      if (ghost_side /= 0) phi = 2.0_wp * phi
       c = 0.0_wp
       v = 0.0_wp
-      if (wl + wr <= 0.0_wp) return
+      if (wl + wr <= 0.0_wp .or. phi <= 0.0_wp) then
+        phi = 0.0_wp
+        return
+      end if
       v = (wl * sp%spvol(i - o(1), j - o(2), k - o(3)) + wr * sp%spvol(i, j, k)) / (wl + wr)
       do m = 1, state%nfluids
         associate (f => state%fluid(m))
@@ -346,6 +372,9 @@ contains
             if (state%solid%vfrac(i, j, k) > 0.0_wp) then
               nm = nf + 1
               phi(nm) = state%solid%vfrac(i, j, k)
+              ! sliding rigid bodies: the fluids' partner is the deformable solid where the cell
+              ! holds any, the rigid body elsewhere (`drag` is per the partner's fraction)
+              if (state%solid%sliding) phi(nm) = state%solid%xfrac(i, j, k)
               v(nm) = state%solid%spvol(i, j, k)
               mass(nm) = state%solid%rho(i, j, k)
               c(1:nf) = state%solid%drag(i, j, k, 1:nf)

@@ -140,7 +140,9 @@ contains
               state%rhs(i, j, k) = state%rhs(i, j, k) - dt * area * ( &
                 solid_face_fraction(state, d, o, i + o(1), j + o(2), k + o(3)) * &
                 state%solid%uface(i + o(1), j + o(2), k + o(3), d) - &
-                solid_face_fraction(state, d, o, i, j, k) * state%solid%uface(i, j, k, d))
+                solid_face_fraction(state, d, o, i, j, k) * state%solid%uface(i, j, k, d) + &
+                state%solid%rigid_flux(i + o(1), j + o(2), k + o(3), d) - &
+                state%solid%rigid_flux(i, j, k, d))
             end do
           end do
         end do

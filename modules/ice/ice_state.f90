@@ -60,6 +60,20 @@ module ice_state
                                                 !! deposit, then the Lagrangian value
     real(wp) :: h_exchange = 0.0_wp             !< fluid-solid heat exchange H [W/m^3/K]: heat per
                                                 !! volume H phi_f phi_s (T_s - T_f)
+    ! Sliding contact with rigid bodies (`&mpm rigid_contact = 'friction'`): the deformable solids
+    ! and the rigid bodies keep their own velocities; the fluids exchange momentum with the
+    ! deformable solids where a cell holds any (their partner), with the rigid bodies elsewhere.
+    ! Without sliding the fields below stay zero and `face_fraction` holds every solid.
+    logical :: sliding = .false.                !< rigid bodies slide past the deformable solids
+    real(wp), allocatable :: frac_def(:, :, :)  !< the deformable solids' fraction (particles) [-]
+    real(wp), allocatable :: frac_rigid(:, :, :) !< the rigid bodies' fraction (particles) [-]
+    real(wp), allocatable :: xfrac(:, :, :)     !< the fluids' exchange partner's fraction [-]
+                                                !! (`drag` is per this fraction)
+    real(wp), allocatable :: rigid_flux(:, :, :, :) !< rigid bodies' volume flux per face area
+                                                    !! phi_r,f u_r,f [m/s] (prescribed)
+    real(wp), allocatable :: rigid_fraction(:, :, :, :)    !< rigid fraction on the low side of
+                                                           !! the face plane [-]
+    real(wp), allocatable :: rigid_fraction_hi(:, :, :, :) !< the same on its high side [-]
   end type ice_solid_phase_t
 
   !> All fluids of a block and their shared fields.
@@ -148,6 +162,14 @@ contains
         mold=s%uface)
       s%face_fraction = 0.0_wp
       s%face_fraction_hi = 0.0_wp
+      allocate(s%rigid_flux, s%rigid_fraction, s%rigid_fraction_hi, mold=s%uface)
+      s%rigid_flux = 0.0_wp
+      s%rigid_fraction = 0.0_wp
+      s%rigid_fraction_hi = 0.0_wp
+      allocate(s%frac_def, s%xfrac, s%frac_rigid, mold=s%vfrac)
+      s%frac_def = 0.0_wp
+      s%frac_rigid = 0.0_wp
+      s%xfrac = 0.0_wp
       s%uface0 = 0.0_wp
       s%vface = 0.0_wp
       s%rigid_face = 0.0_wp
@@ -172,7 +194,9 @@ contains
       state%solid%rho, state%solid%spvol, state%solid%kappa, state%solid%vel, state%solid%drag, &
       state%solid%uface, state%solid%uface0, state%solid%vface, &
       state%solid%rigid_face, state%solid%face_fraction, state%solid%face_fraction_hi, &
-      state%solid%heat_cap, state%solid%conductance, state%solid%temp)
+      state%solid%heat_cap, state%solid%conductance, state%solid%temp, state%solid%rigid_flux, &
+      state%solid%rigid_fraction, state%solid%rigid_fraction_hi, state%solid%frac_def, &
+      state%solid%xfrac, state%solid%frac_rigid)
     state%solid%present = .false.
     state%nfluids = 0
   end subroutine ice_state_free

@@ -58,8 +58,15 @@ contains
     end select
   end function bc_kind_from_name
 
-  !> Solve every allocated node: `nodes%q` (after P2G) gives `vel`, `vel_l`, `acc`.
-  pure subroutine nodal_solve(nodes, grid, gravity, damping, dt, bc, min_mass)
+  !> Solve every allocated node: `nodes%q` (after P2G) gives `vel`, `vel_l`, `acc`. With
+  !! `contact_dv` (the coupled scene, frictional contact) a contact node only loses the normal
+  !! velocity with which it approaches the rigid body here, and `contact_dv` records what was
+  !! removed: the friction follows in `nodal_finish` once the fluid's forces are known. With
+  !! `contact_accel` (the acceleration the fluid's pressure is expected to add) the approach is
+  !! judged on v + dt a, so that the face velocities the pressure equation sees already obey
+  !! the contact (a buoyant soil resting on the bed neither lifts nor sinks there).
+  pure subroutine nodal_solve(nodes, grid, gravity, damping, dt, bc, min_mass, contact_dv, &
+    contact_accel)
     type(mpm_nodes_t), intent(inout) :: nodes  !< node fields
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: gravity(3)         !< body acceleration at this step [m/s^2]
@@ -67,9 +74,18 @@ contains
     real(wp), intent(in) :: dt                 !< step [s]
     type(nodal_bc_t), intent(in) :: bc         !< boundary conditions
     real(wp), intent(in) :: min_mass           !< nodes lighter than this are empty [kg]
+    real(wp), intent(inout), optional :: contact_dv(:, grid%lbn(1):, grid%lbn(2):, &
+      grid%lbn(3):)                            !< velocity removed by the contact [m/s]
+    real(wp), intent(in), optional :: contact_accel(:, grid%lbn(1):, grid%lbn(2):, &
+      grid%lbn(3):)                            !< expected fluid acceleration [m/s^2]
     integer :: i, j, k
-    real(wp) :: m, v(3), f(3), vl(3), on(3)
+    real(wp) :: m, v(3), f(3), vl(3), on(3), mu, vt(3)
     on = merge(1.0_wp, 0.0_wp, grid%active)
+    mu = bc%friction
+    if (present(contact_dv)) then
+      contact_dv = 0.0_wp
+      mu = 0.0_wp
+    end if
     do k = grid%lbn(3), grid%ubn(3)
       do j = grid%lbn(2), grid%ubn(2)
         do i = grid%lbn(1), grid%ubn(1)
@@ -94,8 +110,12 @@ contains
           ! a node touched by a rigid body moves with it (no-slip contact) or slides on it
           if (nodes%q(8, i, j, k) > min_mass) then
             if (bc%friction_contact .and. m > min_mass) then
-              vl = rigid_contact_velocity(vl, nodes%q(9:11, i, j, k) / nodes%q(8, i, j, k) * on, &
-                nodes%q(12:14, i, j, k) * on, bc%friction)
+              f = 0.0_wp
+              if (present(contact_accel)) f = dt * contact_accel(:, i, j, k) * on
+              vt = vl
+              vl = rigid_contact_velocity(vl + f, nodes%q(9:11, i, j, k) / nodes%q(8, i, j, k) * &
+                on, nodes%q(12:14, i, j, k) * on, mu) - f
+              if (present(contact_dv)) contact_dv(:, i, j, k) = vt - vl
             else
               vl = nodes%q(9:11, i, j, k) / nodes%q(8, i, j, k) * on
             end if
@@ -111,21 +131,35 @@ contains
 
   !> After velocity increments were added to v^L (the coupled scene's pressure and drag,
   !! eqs. 66-67 with E5): the face conditions again and eq. 69 a = (v^L - v^n)/dt, on every
-  !! node that holds deformable mass and no rigid mass.
-  pure subroutine nodal_finish(nodes, grid, dt, bc, min_mass)
+  !! node that holds deformable mass and no rigid mass. With `contact_dv` (frictional contact,
+  !! `nodal_solve`) the contact nodes too: the velocity the first pass removed is added back and
+  !! the contact applied once to the velocity with every force, so that the friction sees the
+  !! full normal load (the buoyant weight under water: the fluid's pressure force lifts).
+  pure subroutine nodal_finish(nodes, grid, dt, bc, min_mass, contact_dv)
     type(mpm_nodes_t), intent(inout) :: nodes  !< node fields
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< step [s]
     type(nodal_bc_t), intent(in) :: bc         !< boundary conditions
     real(wp), intent(in) :: min_mass           !< nodes lighter than this are empty [kg]
+    real(wp), intent(in), optional :: contact_dv(:, grid%lbn(1):, grid%lbn(2):, &
+      grid%lbn(3):)                            !< velocity removed by `nodal_solve` [m/s]
     integer :: i, j, k
     real(wp) :: on(3), vl(3)
+    logical :: contact
     on = merge(1.0_wp, 0.0_wp, grid%active)
+    contact = present(contact_dv) .and. bc%friction_contact
     do k = grid%lbn(3), grid%ubn(3)
       do j = grid%lbn(2), grid%ubn(2)
         do i = grid%lbn(1), grid%ubn(1)
-          if (nodes%q(1, i, j, k) <= min_mass .or. nodes%q(8, i, j, k) > min_mass) cycle
-          vl = nodes%vel_l(:, i, j, k) * on
+          if (nodes%q(1, i, j, k) <= min_mass) cycle
+          if (nodes%q(8, i, j, k) > min_mass) then
+            if (.not. contact) cycle
+            vl = rigid_contact_velocity((nodes%vel_l(:, i, j, k) + contact_dv(:, i, j, k)) * on, &
+              nodes%q(9:11, i, j, k) / nodes%q(8, i, j, k) * on, nodes%q(12:14, i, j, k) * on, &
+              bc%friction)
+          else
+            vl = nodes%vel_l(:, i, j, k) * on
+          end if
           call apply_face_bc(grid, bc, [i, j, k], on, vl)
           nodes%vel_l(:, i, j, k) = vl
           nodes%acc(:, i, j, k) = (vl - nodes%vel(:, i, j, k)) / dt

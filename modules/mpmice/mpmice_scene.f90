@@ -52,7 +52,8 @@ module mpmice_scene
   use exchange_drag, only: drag_law_from_name
   use mpmice_solid_cells, only: solid_coupling_t, solid_deposit, solid_cell_fields, &
     solid_face_predictor, solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, &
-    solid_pore_pressure, fluid_face_blend, fluid_face_predictor_porous, deposit_size
+    solid_pore_pressure, fluid_face_blend, fluid_face_predictor_porous, deposit_size, &
+    wall_fraction, contact_pressure_accel
   use mpmice_solid_heat, only: solid_conduction, solid_conduction_dt, solid_heat_to_particles
   implicit none
   private
@@ -68,7 +69,12 @@ module mpmice_scene
     type(halo_t) :: halo                                  !< buffers for the cell deposits
     real(wp), allocatable :: dep(:, :, :, :)              !< particle deposits (comp, cells)
     real(wp), allocatable :: phi_p(:, :, :)               !< particles' solid fraction
-    real(wp), allocatable :: du(:, :, :, :)               !< face increments (3, cells)
+    real(wp), allocatable :: du(:, :, :, :)               !< face increments, rigid-face flags
+                                                          !! (6, nodes)
+    real(wp), allocatable :: contact_dv(:, :, :, :)       !< velocity the contact's first pass
+                                                          !! removed (3, nodes; sliding only)
+    real(wp), allocatable :: contact_acc(:, :, :, :)      !< expected pressure acceleration at
+                                                          !! contact nodes (3, nodes)
     real(wp) :: max_fraction = 0.999_wp                   !< cap of the solid fraction
     real(wp) :: relaxation = 0.1_wp                       !< solid-fraction relaxation per step
     real(wp), allocatable :: uprev(:, :, :, :, :)          !< last final face velocities
@@ -122,17 +128,25 @@ contains
         self%coupling(s)%grain_density = c%density
         self%coupling(s)%heat_capacity = c%heat_capacity
         self%coupling(s)%conductivity = c%conductivity
+        self%coupling(s)%rigid = trim(c%model) == 'rigid'
         self%loads(s) = surface_load_init(c%traction, c%traction_lower, c%traction_upper, &
           c%traction_ramp_time, grid)
       end associate
     end do
     call ice_solid_alloc(self%fl%state, grid)
+    ! frictional contact with rigid bodies: they keep their own velocity (docs/mpmice.md)
+    self%fl%state%solid%sliding = self%so%bc%friction_contact .and. &
+      any(self%so%mats(:)%model == model_rigid)
     self%fl%state%solid%explicit_drag = trim(cfg%coupling%drag_scheme) == 'explicit'
     self%fl%state%solid%h_exchange = cfg%coupling%heat_exchange_coefficient
     allocate(self%dep(deposit_size(ns), grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
-    allocate(self%du(3, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
+    allocate(self%du(6, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
       grid%lbn(3):grid%ubn(3)), source=0.0_wp)
+    allocate(self%contact_dv(3, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
+      grid%lbn(3):grid%ubn(3)), source=0.0_wp)
+    allocate(self%contact_acc, mold=self%contact_dv)
+    self%contact_acc = 0.0_wp
     allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
     call halo_init(self%halo, dom, grid, deposit_size(ns))
@@ -175,7 +189,8 @@ contains
     ns = size(self%coupling)
     self%dep = 0.0_wp
     do s = 1, ns
-      call solid_deposit(self%so%parts(s), s, ns, self%coupling(s), grid, self%dep)
+      call solid_deposit(self%so%parts(s), s, ns, self%coupling(s), grid, self%dep, &
+        self%fl%state%solid%sliding, self%fl%state%solid%frac_rigid)
     end do
     call halo_reverse_cell_vec(self%halo, dom, grid, self%dep)
     call solid_cell_fields(self%fl%state, grid, self%dep, self%coupling, self%max_fraction, &
@@ -228,13 +243,22 @@ contains
       call timer_start(timers, so%t_nodal)
       ramp = 1.0_wp
       if (so%ramp_time > 0.0_wp) ramp = min(1.0_wp, (time + dt) / so%ramp_time)
-      call nodal_solve(so%nodes, grid, ramp * so%gravity, so%damping, dt, so%bc, so%min_mass)
+      if (st%solid%sliding) then
+        call contact_pressure_accel(st, grid, so%nodes, so%min_mass, self%contact_acc)
+        call nodal_solve(so%nodes, grid, ramp * so%gravity, so%damping, dt, so%bc, so%min_mass, &
+          self%contact_dv, self%contact_acc)
+      else
+        call nodal_solve(so%nodes, grid, ramp * so%gravity, so%damping, dt, so%bc, so%min_mass)
+      end if
       call timer_stop(timers, so%t_nodal)
 
       ! solid phase on the grid; the particles' fraction beyond the tracked one is a source
       call timer_start(timers, self%t_cells)
       call deposit_solids(self, dom, grid)
       st%solid%source = self%relaxation * (self%phi_p - st%solid%vfrac)
+      ! sliding rigid bodies: the wall cells keep their tracked fraction (a soil's overlap with
+      ! them is not seen, mpmice_solid_cells%partner_fields)
+      if (st%solid%sliding) where (st%solid%frac_rigid >= wall_fraction) st%solid%source = 0.0_wp
       call timer_stop(timers, self%t_cells)
 
       call timer_start(timers, fl%t_equil)
@@ -281,7 +305,11 @@ contains
       ! the solid's pressure force and drag, from the faces back to the nodes
       call timer_start(timers, self%t_nodes)
       call solid_face_to_nodes(st, grid, dom, self%halo, so%nodes, self%du, so%min_mass)
-      call nodal_finish(so%nodes, grid, dt, so%bc, so%min_mass)
+      if (st%solid%sliding) then
+        call nodal_finish(so%nodes, grid, dt, so%bc, so%min_mass, self%contact_dv)
+      else
+        call nodal_finish(so%nodes, grid, dt, so%bc, so%min_mass)
+      end if
       call timer_stop(timers, self%t_nodes)
 
       ! the fluids' drag toward the solid's final velocity (eqs. 50-51)
@@ -548,7 +576,7 @@ contains
     call self%so%free()
     call halo_free(self%halo)
     if (allocated(self%dep)) deallocate(self%dep, self%du, self%phi_p, self%uprev, self%nbuf, &
-      self%temp_old, self%dtemp)
+      self%temp_old, self%dtemp, self%contact_dv, self%contact_acc)
     if (allocated(self%coupling)) deallocate(self%coupling, self%loads)
   end subroutine mpmice_free
 end module mpmice_scene

@@ -29,7 +29,7 @@ module mpmice_solid_cells
   use parallel_halo, only: halo_t, halo_reverse_cell_vec, halo_exchange_node_vec
   use mpm_particles, only: particles_t
   use mpm_nodes, only: mpm_nodes_t
-  use ice_state, only: ice_state_t
+  use ice_state, only: ice_state_t, ice_solid_phase_t
   use ice_face_velocity, only: face_range, closed_face, upwind
   use ice_pressure, only: solid_face_fraction
   use exchange_drag, only: drag_reduced_coefficient
@@ -40,7 +40,7 @@ module mpmice_solid_cells
   public :: solid_coupling_t, solid_deposit, solid_cell_fields, solid_face_predictor, &
     solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, solid_pore_pressure, &
     fluid_face_blend, fluid_face_predictor_porous, overlap_weights, deformed_half_widths
-  public :: deposit_size
+  public :: deposit_size, wall_fraction, contact_pressure_accel
 
   !> Coupling parameters of one solid material.
   type :: solid_coupling_t
@@ -51,11 +51,16 @@ module mpmice_solid_cells
     real(wp) :: grain_density = 2650.0_wp   !< rho_s of the grains [kg/m^3]
     real(wp) :: heat_capacity = 800.0_wp    !< c_s [J/kg/K]
     real(wp) :: conductivity = 0.4_wp       !< k_s of the grains [W/m/K]
+    logical :: rigid = .false.              !< a rigid (prescribed-motion) body
   end type solid_coupling_t
 
   !> Deposit components beyond the 8 + nsolids of the mechanics and the face planes: heat
-  !! capacity, energy and grain conductance (3), the cell's own side of its high planes (3).
-  integer, parameter :: extra_components = 6
+  !! capacity, energy and grain conductance (3), the cell's own side of its high planes (3), the
+  !! rigid bodies' low / high side of the low planes when they slide (6).
+  integer, parameter :: extra_components = 12
+  !> Sliding rigid bodies: a cell the rigid solid fills to at least this fraction is part of the
+  !! wall the fluids see (`partner_fields`).
+  real(wp), parameter :: wall_fraction = 0.5_wp
   !> unit_offset(:, d): the index offset of one cell along dimension d.
   integer, parameter :: unit_offset(3, 3) = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
 
@@ -70,16 +75,35 @@ contains
   !! (m_p / rho_s) k_s [W m^2/K]; 11 + nsolids + d the grain fraction on the cell's own (low) side
   !! of its high face plane in direction d (the value 1 + nsolids + 2 d holds in the next cell,
   !! kept here too so that every cell carries its own planes: out-of-domain ghost cells beyond
-  !! a wall are not exchanged between blocks). `deposit_size` components in all.
-  subroutine solid_deposit(p, s, nsolids, solid, grid, dep)
+  !! a wall are not exchanged between blocks). With `sliding` (rigid bodies slide past the
+  !! deformable solids) a rigid body's plane fractions go to 13 + nsolids + 2 d (low side) and
+  !! 14 + nsolids + 2 d (high side) instead (the own-side component is not kept for them), and
+  !! a deformable particle's cell share over a wall cell (`wall_frac` >= `wall_fraction`, the
+  !! rigid fraction of the previous deposit) goes to the particle's own cell when that is not a
+  !! wall cell: sliding along a staircase bed, a particle's domain reaches into the wall's cells,
+  !! where the cap of the fraction would hide its grains from the fluids (the tracked solid volume
+  !! of a block sliding 1.5 cm on a 45 deg slope fell by 0.05 cell volumes, which a closed box of
+  !! water turned into -230 kPa). `deposit_size` components in all.
+  subroutine solid_deposit(p, s, nsolids, solid, grid, dep, sliding, wall_frac)
     type(particles_t), intent(in) :: p          !< particles of solid s
     integer, intent(in) :: s                    !< solid index
     integer, intent(in) :: nsolids              !< number of solids
     type(solid_coupling_t), intent(in) :: solid !< its grain density and thermal parameters
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(inout) :: dep(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< deposits
-    integer :: ip, d, k, a, b, c, first(3), nc(3), nf(3), ff(3), e, nbase, cb(3)
+    logical, intent(in), optional :: sliding    !< rigid bodies slide (own plane components)
+    real(wp), intent(in), optional :: wall_frac(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !<
+                                                !! rigid fraction of the cells (previous deposit)
+    integer :: ip, d, k, a, b, c, first(3), nc(3), nf(3), ff(3), e, nbase, cb(3), own(3)
     real(wp) :: w(2, 3), wt, vg, l(3), lo, hi, wf, mc
+    logical :: own_planes, redirect
+    own_planes = .false.
+    if (present(sliding)) own_planes = sliding .and. solid%rigid
+    redirect = .false.
+    if (present(sliding) .and. present(wall_frac)) redirect = sliding .and. .not. solid%rigid
+    own = 1
+    nbase = 2 + nsolids
+    if (own_planes) nbase = 14 + nsolids
     do ip = 1, p%np
       vg = p%mass(ip) / solid%grain_density
       mc = p%mass(ip) * solid%heat_capacity
@@ -91,7 +115,6 @@ contains
       ! [lo, hi] (in cells) reaches, on the plane's low side (lo < k <= hi) and on its high side
       ! (lo <= k < hi), shared tangentially like the cell deposit: particles that tile the
       ! column exactly give both sides, a free surface on the plane only one
-      nbase = 2 + nsolids
       do d = 1, 3
         if (.not. grid%active(d)) cycle
         ! domain ends within round-off of a plane are on it (particles seeded to tile the cells
@@ -116,7 +139,7 @@ contains
                   if (lo < real(k, wp)) q(nbase + 2 * d - 1) = q(nbase + 2 * d - 1) + wt
                   if (real(k, wp) < hi) q(nbase + 2 * d) = q(nbase + 2 * d) + wt
                 end associate
-                if (lo < real(k, wp)) then
+                if (lo < real(k, wp) .and. .not. own_planes) then
                   ! the cell below the plane keeps its own side too
                   cb = [ff(1) + a - 1, ff(2) + b - 1, ff(3) + c - 1] - unit_offset(:, d)
                   dep(11 + nsolids + d, cb(1), cb(2), cb(3)) = &
@@ -127,11 +150,24 @@ contains
           end do
         end do
       end do
+      if (redirect) then
+        do d = 1, 3
+          own(d) = first(d)
+          if (grid%active(d)) own(d) = min(max(floor((p%x(d, ip) - grid%lower(d)) / &
+            grid%dx(d)) + 1, first(d)), first(d) + nc(d) - 1)
+        end do
+      end if
       do c = 1, nc(3)
         do b = 1, nc(2)
           do a = 1, nc(1)
             wt = w(a, 1) * w(b, 2) * w(c, 3)
-            associate (q => dep(:, first(1) + a - 1, first(2) + b - 1, first(3) + c - 1))
+            cb = [first(1) + a - 1, first(2) + b - 1, first(3) + c - 1]
+            ! the share over a wall cell of a rigid body stays in the particle's own cell
+            if (redirect) then
+              if (wall_frac(cb(1), cb(2), cb(3)) >= wall_fraction .and. &
+                wall_frac(own(1), own(2), own(3)) < wall_fraction) cb = own
+            end if
+            associate (q => dep(:, cb(1), cb(2), cb(3)))
               q(1) = q(1) + wt * p%mass(ip)
               q(2) = q(2) + wt * vg
               q(2 + s) = q(2 + s) + wt * vg
@@ -237,6 +273,11 @@ contains
           do i = grid%lbc(1), grid%ubc(1)
             sp%face_fraction(i, j, k, :) = min(dep(3 + ns:7 + ns:2, i, j, k), max_fraction)
             sp%face_fraction_hi(i, j, k, :) = min(dep(4 + ns:8 + ns:2, i, j, k), max_fraction)
+            if (sp%sliding) then
+              sp%rigid_fraction(i, j, k, :) = min(dep(15 + ns:19 + ns:2, i, j, k), max_fraction)
+              sp%rigid_fraction_hi(i, j, k, :) = min(dep(16 + ns:20 + ns:2, i, j, k), &
+                max_fraction)
+            end if
           end do
         end do
       end do
@@ -250,12 +291,23 @@ contains
             sp%spvol(i, j, k) = 0.0_wp
             sp%kappa(i, j, k) = 0.0_wp
             sp%drag(i, j, k, :) = 0.0_wp
+            sp%frac_def(i, j, k) = 0.0_wp
+            sp%frac_rigid(i, j, k) = 0.0_wp
+            sp%xfrac(i, j, k) = 0.0_wp
             sp%heat_cap(i, j, k) = dep(9 + ns, i, j, k) / grid%cell_volume
             sp%conductance(i, j, k) = dep(11 + ns, i, j, k) / grid%cell_volume
             sp%temp(i, j, k) = 0.0_wp
             if (dep(9 + ns, i, j, k) > 0.0_wp) sp%temp(i, j, k) = dep(10 + ns, i, j, k) / &
               dep(9 + ns, i, j, k)
             if (vol <= 0.0_wp .or. dep(1, i, j, k) <= 0.0_wp) cycle
+            do s = 1, ns
+              sp%kappa(i, j, k) = sp%kappa(i, j, k) + dep(2 + s, i, j, k) / vol * &
+                solids(s)%grain_kappa
+            end do
+            if (sp%sliding) then
+              call partner_fields(state, grid, dep, solids, max_fraction, [i, j, k])
+              cycle
+            end if
             sp%spvol(i, j, k) = vol / dep(1, i, j, k)
             ! a cell crossed by the soil's surface: the drag of the body's fraction over the
             ! share phi / phi_body of the cell the body fills (series resistance, below)
@@ -277,15 +329,98 @@ contains
                 sp%drag(i, j, k, m) = cs / wsum
               end associate
             end do
-            do s = 1, ns
-              sp%kappa(i, j, k) = sp%kappa(i, j, k) + dep(2 + s, i, j, k) / vol * &
-                solids(s)%grain_kappa
-            end do
           end do
         end do
       end do
     end associate
   end subroutine solid_cell_fields
+
+  !> Sliding rigid bodies (`ice_solid_phase_t%sliding`): the fields of the fluids' exchange
+  !! partner in cell c. Where the cell holds deformable solid, the partner is that solid alone:
+  !! its fraction phi_d, grain specific volume and drag; the rigid body's fraction phi_r only
+  !! takes volume from the pores, so the deformable solid's own region (1 - phi_r) V has the
+  !! fraction phi_k = phi_d / (1 - phi_r) and c = c(phi_k) / (1 - phi_r) per phi_d (the same
+  !! pressure drop per length as the region: phi_d c = phi_k c(phi_k)); without rigid body in the
+  !! cell, phi_k is the surface body fraction as without sliding. Where the rigid body fills at
+  !! least half of the cell (`wall_fraction`, a wall cell) the partner is the rigid body
+  !! (impermeable: the fluid moves with it) and deformable solid there is not seen by the
+  !! fluids (frac_def = 0): a soil sliding along a staircase bed reaches into the bed's cells by
+  !! a fraction of a particle, and the trace of pore volume there (1 - max_fraction) would turn
+  !! that overlap into GPa of pressure. A cell with less rigid solid and no deformable one has no
+  !! partner (xfrac = 0): the body's edge only takes pore volume. Dragged to the body, the water
+  !! of those cells was frozen and sealed the corner a sliding block leaves behind (the pore
+  !! water was sucked backwards through the block, which then slid at 55 % of its acceleration).
+  subroutine partner_fields(state, grid, dep, solids, max_fraction, c)
+    type(ice_state_t), intent(inout) :: state   !< solid phase (spvol, drag, frac_def, xfrac)
+    type(grid_t), intent(in) :: grid            !< block geometry
+    real(wp), intent(in) :: dep(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< deposits
+    type(solid_coupling_t), intent(in) :: solids(:) !< coupling parameters per solid
+    real(wp), intent(in) :: max_fraction        !< largest solid fraction [-]
+    integer, intent(in) :: c(3)                 !< cell
+    integer :: s, m, ns
+    real(wp) :: vol_d, vol_r, mass_d, mass_r, phi_d, phi_r, phi_k, scale, rho_f, slip, cs, wsum
+    logical :: deformable
+    ns = size(solids)
+    vol_d = 0.0_wp
+    vol_r = 0.0_wp
+    mass_d = 0.0_wp
+    mass_r = 0.0_wp
+    do s = 1, ns
+      if (solids(s)%rigid) then
+        vol_r = vol_r + dep(2 + s, c(1), c(2), c(3))
+        mass_r = mass_r + dep(2 + s, c(1), c(2), c(3)) * solids(s)%grain_density
+      else
+        vol_d = vol_d + dep(2 + s, c(1), c(2), c(3))
+        mass_d = mass_d + dep(2 + s, c(1), c(2), c(3)) * solids(s)%grain_density
+      end if
+    end do
+    phi_d = min(vol_d / grid%cell_volume, max_fraction)
+    phi_r = min(vol_r / grid%cell_volume, max_fraction)
+    deformable = vol_d > 0.0_wp .and. phi_r < wall_fraction
+    if (.not. deformable) phi_d = 0.0_wp
+    associate (sp => state%solid)
+      sp%frac_def(c(1), c(2), c(3)) = phi_d
+      sp%frac_rigid(c(1), c(2), c(3)) = phi_r
+      if (deformable) then
+        sp%xfrac(c(1), c(2), c(3)) = phi_d
+        sp%spvol(c(1), c(2), c(3)) = vol_d / mass_d
+        if (phi_r > 0.0_wp) then
+          phi_k = min(phi_d / (1.0_wp - phi_r), max_fraction)
+          scale = 1.0_wp / (1.0_wp - phi_r)
+        else
+          phi_k = surface_body_fraction(grid, dep, ns, c, phi_d, max_fraction)
+          scale = (1.0_wp - phi_d) / (1.0_wp - phi_k)
+        end if
+      else if (phi_r >= wall_fraction) then
+        sp%xfrac(c(1), c(2), c(3)) = phi_r
+        sp%spvol(c(1), c(2), c(3)) = vol_r / max(mass_r, tiny(1.0_wp))
+        phi_k = phi_r
+        scale = 1.0_wp
+      else
+        ! a rigid body's edge without deformable solid: only volume, no partner
+        sp%spvol(c(1), c(2), c(3)) = vol_r / max(mass_r, tiny(1.0_wp))
+        return
+      end if
+      do m = 1, state%nfluids
+        associate (f => state%fluid(m))
+          rho_f = 1.0_wp / max(f%spvol(c(1), c(2), c(3)), tiny(1.0_wp))
+          slip = norm2(sp%vel(c(1), c(2), c(3), :) - f%vel(c(1), c(2), c(3), :))
+          cs = 0.0_wp
+          wsum = 0.0_wp
+          do s = 1, ns
+            if (solids(s)%rigid .eqv. deformable) cycle
+            if (dep(2 + s, c(1), c(2), c(3)) <= 0.0_wp) cycle
+            cs = cs + dep(2 + s, c(1), c(2), c(3)) * scale * drag_reduced_coefficient( &
+              solids(s)%drag_law, phi_k, solids(s)%grain_size, f%viscosity, rho_f, slip, &
+              solids(s)%drag_coefficient)
+            wsum = wsum + dep(2 + s, c(1), c(2), c(3))
+          end do
+          sp%drag(c(1), c(2), c(3), m) = 0.0_wp
+          if (wsum > 0.0_wp) sp%drag(c(1), c(2), c(3), m) = cs / wsum
+        end associate
+      end do
+    end associate
+  end subroutine partner_fields
 
   !> Solid fraction of the body in cell c: where one of the cell's face planes carries no grains
   !! on the cell's side and another carries more than the cell average `phi` (a free surface of
@@ -340,7 +475,23 @@ contains
             do e = 0, top(3)
               do b = 0, top(2)
                 do a = 0, top(1)
-                  mi = nodes%q(1, i + a, j + b, k + e) + nodes%q(8, i + a, j + b, k + e)
+                  associate (q => nodes%q(:, i + a, j + b, k + e))
+                    if (sp%sliding) then
+                      ! the partner: the deformable solid where the cell holds any (its velocity
+                      ! at contact nodes), else the rigid body's momentum
+                      if (sp%frac_def(i, j, k) > 0.0_wp) then
+                        if (q(1) <= min_mass) cycle
+                        m = m + q(1)
+                        mv = mv + q(1) * nodes%vel_l(:, i + a, j + b, k + e)
+                      else
+                        if (q(8) <= min_mass) cycle
+                        m = m + q(8)
+                        mv = mv + q(9:11)
+                      end if
+                      cycle
+                    end if
+                    mi = q(1) + q(8)
+                  end associate
                   if (mi <= min_mass) cycle
                   m = m + mi
                   mv = mv + mi * nodes%vel_l(:, i + a, j + b, k + e)
@@ -357,7 +508,13 @@ contains
 
   !> Nodal face velocity u_s,f0 (mass-weighted mean of the face nodes' v^{L-}), the predictor
   !! u_s,f = u_s,f0 - dt v_s (p_R - p_L)/dx (eq. 33, pressure part) on faces where the solid
-  !! moves freely, and the rigid-face flags. Faces of the owned cells.
+  !! moves freely, and the rigid-face flags. Faces of the owned cells. With sliding rigid bodies
+  !! (`ice_solid_phase_t%sliding`) a face next to a wall cell (`wall_cell`), or with solid but
+  !! none of it deformable, is a wall that moves with the rigid body (prescribed: the fluids
+  !! cannot enter the body, whose cells have almost no pore volume); any other face carries the
+  !! deformable solid (its mass-weighted nodal velocity);
+  !! the rigid bodies' volume flux phi_r,f u_r,f (upwind plane fraction, rigid momentum over
+  !! mass at the face's nodes) is kept apart in `rigid_flux`.
   subroutine solid_face_predictor(state, grid, nodes, dt, min_mass)
     type(ice_state_t), intent(inout) :: state   !< solid phase face fields written
     type(grid_t), intent(in) :: grid            !< block geometry
@@ -365,7 +522,7 @@ contains
     real(wp), intent(in) :: dt                  !< time step [s]
     real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
     integer :: d, i, j, k, o(3), r(2, 3), span(3), a, b, e, n(3)
-    real(wp) :: m, mv, mi, vl, vr, v
+    real(wp) :: m, mv, mi, vl, vr, v, mr, mvr, ur
     logical :: rigid
     associate (sp => state%solid)
       do d = 1, 3
@@ -380,13 +537,23 @@ contains
             do i = r(1, 1), r(2, 1)
               m = 0.0_wp
               mv = 0.0_wp
+              mr = 0.0_wp
+              mvr = 0.0_wp
               rigid = .false.
               do e = 0, span(3)
                 do b = 0, span(2)
                   do a = 0, span(1)
                     n = [i + a, j + b, k + e]
                     if (nodes%q(8, n(1), n(2), n(3)) > min_mass) rigid = .true.
-                    mi = nodes%q(1, n(1), n(2), n(3)) + nodes%q(8, n(1), n(2), n(3))
+                    if (sp%sliding) then
+                      if (nodes%q(8, n(1), n(2), n(3)) > min_mass) then
+                        mr = mr + nodes%q(8, n(1), n(2), n(3))
+                        mvr = mvr + nodes%q(8 + d, n(1), n(2), n(3))
+                      end if
+                      mi = nodes%q(1, n(1), n(2), n(3))
+                    else
+                      mi = nodes%q(1, n(1), n(2), n(3)) + nodes%q(8, n(1), n(2), n(3))
+                    end if
                     if (mi <= min_mass) cycle
                     m = m + mi
                     mv = mv + mi * nodes%vel_l(d, n(1), n(2), n(3))
@@ -395,12 +562,32 @@ contains
               end do
               sp%uface0(i, j, k, d) = 0.0_wp
               if (m > 0.0_wp) sp%uface0(i, j, k, d) = mv / m
+              if (sp%sliding) then
+                ur = 0.0_wp
+                if (mr > 0.0_wp) ur = mvr / mr
+                ! a face next to a wall cell, or with solid but no deformable solid on either
+                ! side, moves with the rigid body
+                rigid = wall_cell(sp, [i, j, k] - o) .or. wall_cell(sp, [i, j, k]) .or. &
+                  (sp%frac_def(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
+                  sp%frac_def(i, j, k) <= 0.0_wp .and. (sp%xfrac(i - o(1), j - o(2), k - o(3)) &
+                  > 0.0_wp .or. sp%xfrac(i, j, k) > 0.0_wp))
+                if (rigid) sp%uface0(i, j, k, d) = ur
+                sp%rigid_flux(i, j, k, d) = 0.0_wp
+                if (.not. closed_face(state, grid, d, [i, j, k])) sp%rigid_flux(i, j, k, d) = &
+                  ur * merge(sp%rigid_fraction(i, j, k, d), sp%rigid_fraction_hi(i, j, k, d), &
+                  ur >= 0.0_wp)
+              end if
               sp%uface(i, j, k, d) = sp%uface0(i, j, k, d)
               sp%rigid_face(i, j, k, d) = merge(1.0_wp, 0.0_wp, rigid)
               sp%vface(i, j, k, d) = 0.0_wp
               if (rigid .or. closed_face(state, grid, d, [i, j, k])) cycle
               vl = sp%spvol(i - o(1), j - o(2), k - o(3))
               vr = sp%spvol(i, j, k)
+              if (sp%sliding) then
+                ! the deformable solid's grains only
+                if (sp%frac_def(i - o(1), j - o(2), k - o(3)) <= 0.0_wp) vl = 0.0_wp
+                if (sp%frac_def(i, j, k) <= 0.0_wp) vr = 0.0_wp
+              end if
               if (vl > 0.0_wp .and. vr > 0.0_wp) then
                 v = 0.5_wp * (vl + vr)
               else
@@ -417,11 +604,72 @@ contains
     end associate
   end subroutine solid_face_predictor
 
+  !> Sliding rigid bodies: the acceleration -v_s grad p [m/s^2] the fluid's pressure is expected
+  !! to give the deformable solid at every node with deformable and rigid mass (a contact node),
+  !! zero elsewhere: grad p the mean of the cell differences around the node, v_s the mean grain
+  !! specific volume of the surrounding cells with deformable solid. `nodal_solve` judges the
+  !! contact on v + dt a, so that the face velocities of the pressure equation obey it.
+  subroutine contact_pressure_accel(state, grid, nodes, min_mass, accel)
+    type(ice_state_t), intent(in) :: state      !< pressure (ghosts filled) and solid phase
+    type(grid_t), intent(in) :: grid            !< block geometry
+    type(mpm_nodes_t), intent(in) :: nodes      !< node fields (after P2G)
+    real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
+    real(wp), intent(out) :: accel(:, grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< [m/s^2]
+    integer :: i, j, k, a, b, e, d, top(3), c(3), lo(3)
+    real(wp) :: g(3), vs, wsum, w
+    top = merge(1, 0, grid%active)
+    accel = 0.0_wp
+    associate (sp => state%solid)
+      do k = grid%lbn(3) + top(3), grid%ubn(3) - top(3)
+        do j = grid%lbn(2) + top(2), grid%ubn(2) - top(2)
+          do i = grid%lbn(1) + top(1), grid%ubn(1) - top(1)
+            if (nodes%q(1, i, j, k) <= min_mass .or. nodes%q(8, i, j, k) <= min_mass) cycle
+            g = 0.0_wp
+            vs = 0.0_wp
+            wsum = 0.0_wp
+            lo = [i, j, k] - top
+            do e = 0, top(3)
+              do b = 0, top(2)
+                do a = 0, top(1)
+                  c = lo + [a, b, e]
+                  ! the cell's pressure enters each difference with +- its offset
+                  do d = 1, 3
+                    if (.not. grid%active(d)) cycle
+                    w = merge(1.0_wp, -1.0_wp, c(d) > lo(d))
+                    g(d) = g(d) + w * state%pressure(c(1), c(2), c(3)) / grid%dx(d)
+                  end do
+                  if (sp%frac_def(c(1), c(2), c(3)) > 0.0_wp) then
+                    vs = vs + sp%spvol(c(1), c(2), c(3))
+                    wsum = wsum + 1.0_wp
+                  end if
+                end do
+              end do
+            end do
+            if (wsum <= 0.0_wp) cycle
+            ! each difference was summed over the 2^(ndim-1) cell pairs across it
+            g = g / real(product(top + 1) / 2, wp)
+            accel(:, i, j, k) = -vs / wsum * g
+          end do
+        end do
+      end do
+    end associate
+  end subroutine contact_pressure_accel
+
+  !> True when cell c belongs to the wall of a sliding rigid body: the body fills at least
+  !! `wall_fraction` of it.
+  pure logical function wall_cell(sp, c)
+    type(ice_solid_phase_t), intent(in) :: sp  !< solid phase
+    integer, intent(in) :: c(3)                !< cell
+    wall_cell = sp%frac_rigid(c(1), c(2), c(3)) >= wall_fraction
+  end function wall_cell
+
   !> Eqs. 52, 66-67 (E5) through the faces: every node with solid mass adds the mean of the
   !! increments u_s,f - u_s,f0 of the faces it belongs to. `du` is node-shaped scratch
   !! (3, lbn..ubn): the face of direction d with index i along d and cell indices across sits at
   !! node index (i, j, k), so the node halo exchange fills it everywhere in the domain, domain
-  !! faces included. The caller applies the boundary conditions and eq. 69 afterwards.
+  !! faces included. The caller applies the boundary conditions and eq. 69 afterwards. With
+  !! sliding rigid bodies the nodes touching one (contact nodes) take the increments too, and
+  !! faces that carry the rigid body (prescribed, flag in du(3 + d)) do not count in the mean.
   subroutine solid_face_to_nodes(state, grid, dom, halo, nodes, du, min_mass)
     type(ice_state_t), intent(in) :: state      !< solid phase face velocities
     type(grid_t), intent(in) :: grid            !< block geometry
@@ -429,9 +677,12 @@ contains
     type(halo_t), intent(inout) :: halo         !< halo buffers (>= 3 components)
     type(mpm_nodes_t), intent(inout) :: nodes   !< vel_l updated
     real(wp), intent(inout) :: du(:, grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< scratch
+                                                !! (6 components)
     real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
     integer :: d, i, j, k, r(2, 3), span(3), a, b, e, c(3), cnt
     real(wp) :: s
+    logical :: sliding
+    sliding = state%solid%sliding
     du = 0.0_wp
     do d = 1, 3
       if (.not. grid%active(d)) cycle
@@ -440,6 +691,7 @@ contains
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
             du(d, i, j, k) = state%solid%uface(i, j, k, d) - state%solid%uface0(i, j, k, d)
+            du(3 + d, i, j, k) = state%solid%rigid_face(i, j, k, d)
           end do
         end do
       end do
@@ -452,7 +704,8 @@ contains
       do k = grid%lbn(3), grid%ubn(3)
         do j = grid%lbn(2), grid%ubn(2)
           do i = grid%lbn(1), grid%ubn(1)
-            if (nodes%q(1, i, j, k) <= min_mass .or. nodes%q(8, i, j, k) > min_mass) cycle
+            if (nodes%q(1, i, j, k) <= min_mass) cycle
+            if (nodes%q(8, i, j, k) > min_mass .and. .not. sliding) cycle
             s = 0.0_wp
             cnt = 0
             do e = 0, span(3)
@@ -460,6 +713,7 @@ contains
                 do a = 0, span(1)
                   c = [i - a, j - b, k - e]
                   if (.not. face_exists(grid, d, c)) cycle
+                  if (sliding .and. du(3 + d, c(1), c(2), c(3)) > 0.5_wp) cycle
                   s = s + du(d, c(1), c(2), c(3))
                   cnt = cnt + 1
                 end do
@@ -514,7 +768,8 @@ contains
               phi_r = solid_face_fraction(state, d, o, i + o(1), j + o(2), k + o(3))
               phi_l = solid_face_fraction(state, d, o, i, j, k)
               flux = flux + area * (phi_r * sp%uface(i + o(1), j + o(2), k + o(3), d) - &
-                phi_l * sp%uface(i, j, k, d))
+                phi_l * sp%uface(i, j, k, d) + sp%rigid_flux(i + o(1), j + o(2), k + o(3), d) - &
+                sp%rigid_flux(i, j, k, d))
             end do
             sp%source(i, j, k) = sp%vfrac(i, j, k) + sp%source(i, j, k) - dt * flux / &
               grid%cell_volume - sp%vfrac(i, j, k) * sp%kappa(i, j, k) * state%dp_total(i, j, k)
