@@ -3,7 +3,10 @@
 rigid block: a = g (1 - rho_w / rho_sat) (sin 45 - mu cos 45), reduced by the water's added
 mass (the same factor for every mu, so a(mu) / a(0) = 1 - mu cot 45 holds without it).
 
-Usage:  python -m postproc.mpmice_slide_block [--mu 0 0.2 0.4] [--out DIR]
+Usage:  python -m postproc.mpmice_slide_block [--mu 0 0.2 0.4] [--fluid water|air] [--out DIR]
+
+With --fluid air (namelists/mpmice_slide_block_air_2d.nml) the dry block slides in air: no
+buoyancy, no added mass, a = g (sin 45 - mu cos 45).
 
 The block's displacement along the slope is its mass-weighted mean particle position projected
 on t = (1, -1) / sqrt 2; the acceleration is the least-squares fit of s = a t^2 / 2 over the
@@ -20,7 +23,8 @@ import numpy as np
 from postproc.mpmice_io import list_dumps, read_dump
 from postproc.run_case import ROOT, run_mpmice
 
-NAMELIST = os.path.join(ROOT, "namelists", "mpmice_slide_block_2d.nml")
+NAMELISTS = {"water": os.path.join(ROOT, "namelists", "mpmice_slide_block_2d.nml"),
+             "air": os.path.join(ROOT, "namelists", "mpmice_slide_block_air_2d.nml")}
 NAME = "slide"
 G = 9.81
 THETA = np.radians(45.0)
@@ -29,15 +33,18 @@ RHO_SAT = 0.6 * 2650.0 + 0.4 * RHO_W
 TANGENT = np.array([1.0, -1.0]) / np.sqrt(2.0)
 
 
-def drained_acceleration(mu: float) -> float:
-    """a [m/s^2] of a drained rigid block of saturated density in still water (no added mass)."""
-    return max(0.0, G * (1.0 - RHO_W / RHO_SAT) * (np.sin(THETA) - mu * np.cos(THETA)))
+def drained_acceleration(mu: float, fluid: str = "water") -> float:
+    """a [m/s^2] of a drained rigid block of saturated density in still water (no added mass);
+    in air, the rigid block's g (sin - mu cos)."""
+    buoyancy = 1.0 - RHO_W / RHO_SAT if fluid == "water" else 1.0
+    return max(0.0, G * buoyancy * (np.sin(THETA) - mu * np.cos(THETA)))
 
 
 def masses(dump: dict) -> dict[str, float]:
-    """Total mass [kg] of the water (cells) and of the block and bed (particles)."""
+    """Total mass [kg] of the fluid (cells) and of the block and bed (particles)."""
     dv = float(np.prod(dump["attrs"]["dx"]))
-    out = {"water": float(dump["cell"]["water/density"].sum() * dv)}
+    out = {key.split("/")[0]: float(field.sum() * dv) for key, field in dump["cell"].items()
+           if key.endswith("/density")}
     for name in ("block", "bed"):
         out[name] = float(dump["particles"][name]["mass"].sum())
     return out
@@ -64,30 +71,35 @@ def fitted_acceleration(t: np.ndarray, s: np.ndarray) -> float:
     return float(np.dot(q, s) / np.dot(q, q))
 
 
-def run(workdir: str, mu: float, extra=()) -> tuple:
+def run(workdir: str, mu: float, extra=(), fluid: str = "water", nranks: int = 1) -> tuple:
     """history of one run with friction coefficient mu."""
-    out = os.path.join(workdir, f"slide_{mu:g}")
-    run_mpmice([NAMELIST, "--set", f"&run output_dir = '{out}' /",
-                "--set", f"&mpm contact_friction = {mu} /", *extra], cwd=workdir, timeout=900)
+    out = os.path.join(workdir, f"slide_{fluid}_{mu:g}_{nranks}")
+    run_mpmice([NAMELISTS[fluid], "--set", f"&run output_dir = '{out}' /",
+                "--set", f"&mpm contact_friction = {mu} /", *extra], nranks=nranks, cwd=workdir,
+               timeout=900)
     return history(out)
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--mu", type=float, nargs="+", default=[0.0, 0.2, 0.4])
+    parser.add_argument("--fluid", default="water", choices=sorted(NAMELISTS))
+    parser.add_argument("--end", type=float, default=None, help="end time [s]")
     parser.add_argument("--out", default=None, help="keep the runs here")
     args = parser.parse_args(argv)
     work = args.out or tempfile.mkdtemp(prefix="slide_")
     a0 = None
     for mu in args.mu:
-        t, s, dumps = run(work, mu)
+        extra = ["--set", f"&run end_time = {args.end} /"] if args.end else []
+        t, s, dumps = run(work, mu, extra, args.fluid)
         a = fitted_acceleration(t, s)
         m0, m1 = masses(dumps[0]), masses(dumps[-1])
         dm = max(abs(m1[k] / m0[k] - 1.0) for k in m0)
         a0 = a if mu == 0.0 else a0
         ratio = f", a/a(0) = {a / a0:.4f} (exact {1 - mu / np.tan(THETA):.4f})" if a0 else ""
-        print(f"mu = {mu:g}: a = {a:.4f} m/s^2, drained block {drained_acceleration(mu):.4f} "
-              f"({a / drained_acceleration(mu):.4f}){ratio}; s(t_end) = {s[-1]:.5f} m; "
+        ref = drained_acceleration(mu, args.fluid)
+        print(f"mu = {mu:g}: a = {a:.4f} m/s^2, drained block {ref:.4f} "
+              f"({a / ref:.4f}){ratio}; s(t_end) = {s[-1]:.5f} m; "
               f"max mass change {dm:.1e}")
     return 0
 

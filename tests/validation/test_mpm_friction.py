@@ -1,13 +1,11 @@
 """Frictional contact of a deformable solid with a rigid body (`&mpm rigid_contact =
 'friction'`): an elastic block on a 30 deg rigid slope against the rigid-block solution
 (postproc/mpm_friction.py, docs/validation/mpm_friction.md)."""
-import os
 
 import numpy as np
 import pytest
 
 from postproc import mpm_friction
-from postproc.run_case import ROOT, run_mpmice
 
 
 @pytest.fixture(autouse=True)
@@ -45,15 +43,3 @@ def test_block_sticks_above_the_friction_angle(tmp_path):
     assert x[-1] < 5e-3
     late = t >= t[-1] - 0.1 - 1e-12
     assert np.ptp(x[late]) < 3e-4
-
-
-def test_friction_contact_refused_in_coupled_scene(tmp_path):
-    """The coupled scene does not support it yet: one clear error line, non-zero exit."""
-    nml = os.path.join(ROOT, "namelists", "mpmice_darcy_1d.nml")
-    result = run_mpmice([nml, "--set", f"&run output_dir = '{tmp_path / 'o'}' /",
-                         "--set", "&mpm rigid_contact = 'friction' /"], cwd=str(tmp_path),
-                        check=False)
-    assert result.returncode != 0
-    text = result.stdout + result.stderr
-    assert "&mpm" in text and "rigid_contact" in text and "'friction'" in text
-    assert not os.path.exists(tmp_path / "o" / "darcy_000000.h5")
