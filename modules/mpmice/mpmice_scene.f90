@@ -158,8 +158,10 @@ contains
     self%temp_old = 0.0_wp
     self%dtemp = 0.0_wp
 
-    ! the initial solid fraction; the fluids fill the pores (their fractions scaled by n)
+    ! the initial solid fraction; the fluids fill the pores (their fractions scaled by n); with
+    ! sliding rigid bodies a second deposit knows their wall cells (solid_deposit)
     call deposit_solids(self, dom, grid)
+    if (self%fl%state%solid%sliding) call deposit_solids(self, dom, grid)
     self%fl%state%solid%vfrac = self%phi_p
     ! ghosts beyond a domain face mirror the inner cell, like the fluids' bulk densities
     call ice_bc_fill(grid, self%fl%bc, self%fl%state%solid%vfrac, bc_scalar)

@@ -79,11 +79,12 @@ contains
   !! deformable solids) a rigid body's plane fractions go to 13 + nsolids + 2 d (low side) and
   !! 14 + nsolids + 2 d (high side) instead (the own-side component is not kept for them), and
   !! a deformable particle's cell share over a wall cell (`wall_frac` >= `wall_fraction`, the
-  !! rigid fraction of the previous deposit) goes to the particle's own cell when that is not a
-  !! wall cell: sliding along a staircase bed, a particle's domain reaches into the wall's cells,
-  !! where the cap of the fraction would hide its grains from the fluids (the tracked solid volume
-  !! of a block sliding 1.5 cm on a 45 deg slope fell by 0.05 cell volumes, which a closed box of
-  !! water turned into -230 kPa). `deposit_size` components in all.
+  !! rigid fraction of the previous deposit) goes to that cell's face neighbours outside the wall,
+  !! by inverse distance from the particle (`wall_neighbours`): sliding along a staircase bed, a
+  !! particle's domain reaches into the wall's cells, where the cap of the fraction would hide its
+  !! grains from the fluids (the tracked solid volume of a block sliding 1.5 cm on a 45 deg slope
+  !! fell by 0.05 cell volumes, which a closed box of water turned into -230 kPa), and the soil's
+  !! lowest particles pass through them. `deposit_size` components in all.
   subroutine solid_deposit(p, s, nsolids, solid, grid, dep, sliding, wall_frac)
     type(particles_t), intent(in) :: p          !< particles of solid s
     integer, intent(in) :: s                    !< solid index
@@ -94,14 +95,13 @@ contains
     logical, intent(in), optional :: sliding    !< rigid bodies slide (own plane components)
     real(wp), intent(in), optional :: wall_frac(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !<
                                                 !! rigid fraction of the cells (previous deposit)
-    integer :: ip, d, k, a, b, c, first(3), nc(3), nf(3), ff(3), e, nbase, cb(3), own(3)
-    real(wp) :: w(2, 3), wt, vg, l(3), lo, hi, wf, mc
+    integer :: ip, d, k, a, b, c, first(3), nc(3), nf(3), ff(3), e, nbase, cb(3), nt, tgt(3, 6)
+    real(wp) :: w(2, 3), wt, vg, l(3), lo, hi, wf, mc, tw(6)
     logical :: own_planes, redirect
     own_planes = .false.
     if (present(sliding)) own_planes = sliding .and. solid%rigid
     redirect = .false.
     if (present(sliding) .and. present(wall_frac)) redirect = sliding .and. .not. solid%rigid
-    own = 1
     nbase = 2 + nsolids
     if (own_planes) nbase = 14 + nsolids
     do ip = 1, p%np
@@ -150,36 +150,77 @@ contains
           end do
         end do
       end do
-      if (redirect) then
-        do d = 1, 3
-          own(d) = first(d)
-          if (grid%active(d)) own(d) = min(max(floor((p%x(d, ip) - grid%lower(d)) / &
-            grid%dx(d)) + 1, first(d)), first(d) + nc(d) - 1)
-        end do
-      end if
       do c = 1, nc(3)
         do b = 1, nc(2)
           do a = 1, nc(1)
             wt = w(a, 1) * w(b, 2) * w(c, 3)
             cb = [first(1) + a - 1, first(2) + b - 1, first(3) + c - 1]
-            ! the share over a wall cell of a rigid body stays in the particle's own cell
+            nt = 1
+            tgt(:, 1) = cb
+            tw(1) = 1.0_wp
+            ! the share over a wall cell of a rigid body goes to its face neighbours outside
+            ! the wall, by inverse distance from the particle (continuous as it moves)
             if (redirect) then
-              if (wall_frac(cb(1), cb(2), cb(3)) >= wall_fraction .and. &
-                wall_frac(own(1), own(2), own(3)) < wall_fraction) cb = own
+              if (wall_frac(cb(1), cb(2), cb(3)) >= wall_fraction) call wall_neighbours(grid, &
+                wall_frac, cb, p%x(:, ip), nt, tgt, tw)
             end if
-            associate (q => dep(:, cb(1), cb(2), cb(3)))
-              q(1) = q(1) + wt * p%mass(ip)
-              q(2) = q(2) + wt * vg
-              q(2 + s) = q(2 + s) + wt * vg
-              q(9 + nsolids) = q(9 + nsolids) + wt * mc
-              q(10 + nsolids) = q(10 + nsolids) + wt * mc * p%temperature(ip)
-              q(11 + nsolids) = q(11 + nsolids) + wt * vg * solid%conductivity
-            end associate
+            do e = 1, nt
+              associate (q => dep(:, tgt(1, e), tgt(2, e), tgt(3, e)))
+                q(1) = q(1) + tw(e) * wt * p%mass(ip)
+                q(2) = q(2) + tw(e) * wt * vg
+                q(2 + s) = q(2 + s) + tw(e) * wt * vg
+                q(9 + nsolids) = q(9 + nsolids) + tw(e) * wt * mc
+                q(10 + nsolids) = q(10 + nsolids) + tw(e) * wt * mc * p%temperature(ip)
+                q(11 + nsolids) = q(11 + nsolids) + tw(e) * wt * vg * solid%conductivity
+              end associate
+            end do
           end do
         end do
       end do
     end do
   end subroutine solid_deposit
+
+  !> The face neighbours of wall cell `c` that lie in the domain and outside the wall, with
+  !! weights proportional to 1 / (distance from `x` to their centres) summing to 1; `c` itself
+  !! (weight 1) when there is none.
+  pure subroutine wall_neighbours(grid, wall_frac, c, x, n, tgt, tw)
+    type(grid_t), intent(in) :: grid            !< block geometry
+    real(wp), intent(in) :: wall_frac(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< rigid fraction
+    integer, intent(in) :: c(3)                 !< wall cell
+    real(wp), intent(in) :: x(3)                !< particle position [m]
+    integer, intent(out) :: n                   !< number of targets
+    integer, intent(out) :: tgt(3, 6)           !< target cells
+    real(wp), intent(out) :: tw(6)              !< their weights
+    integer :: d, side, nb(3), e
+    real(wp) :: dist, centre
+    n = 0
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      do side = -1, 1, 2
+        nb = c
+        nb(d) = c(d) + side
+        if (nb(d) < grid%lbc(d) .or. nb(d) > grid%ubc(d)) cycle
+        if (.not. grid%periodic(d) .and. (nb(d) < 1 .or. nb(d) > grid%ncells(d))) cycle
+        if (wall_frac(nb(1), nb(2), nb(3)) >= wall_fraction) cycle
+        dist = 0.0_wp
+        do e = 1, 3
+          if (.not. grid%active(e)) cycle
+          centre = grid%lower(e) + (real(nb(e), wp) - 0.5_wp) * grid%dx(e)
+          dist = dist + (x(e) - centre)**2
+        end do
+        n = n + 1
+        tgt(:, n) = nb
+        tw(n) = 1.0_wp / max(sqrt(dist), 1.0e-12_wp * grid%dx(d))
+      end do
+    end do
+    if (n == 0) then
+      n = 1
+      tgt(:, 1) = c
+      tw(1) = 1.0_wp
+    else
+      tw(1:n) = tw(1:n) / sum(tw(1:n))
+    end if
+  end subroutine wall_neighbours
 
   !> Number of deposit components of `nsolids` solids (`solid_deposit`).
   pure integer function deposit_size(nsolids)
