@@ -135,7 +135,9 @@ contains
   !! `nodal_solve`) the contact nodes too: the velocity the first pass removed is added back and
   !! the contact applied once to the velocity with every force, so that the friction sees the
   !! full normal load (the buoyant weight under water: the fluid's pressure force lifts).
-  pure subroutine nodal_finish(nodes, grid, dt, bc, min_mass, contact_dv)
+  !! `contact_force` gets the force the deformable material exerts on the rigid bodies there,
+  !! m (v - v_contact) / dt (zero elsewhere).
+  pure subroutine nodal_finish(nodes, grid, dt, bc, min_mass, contact_dv, contact_force)
     type(mpm_nodes_t), intent(inout) :: nodes  !< node fields
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< step [s]
@@ -143,20 +145,25 @@ contains
     real(wp), intent(in) :: min_mass           !< nodes lighter than this are empty [kg]
     real(wp), intent(in), optional :: contact_dv(:, grid%lbn(1):, grid%lbn(2):, &
       grid%lbn(3):)                            !< velocity removed by `nodal_solve` [m/s]
+    real(wp), intent(out), optional :: contact_force(:, grid%lbn(1):, grid%lbn(2):, &
+      grid%lbn(3):)                            !< force on the rigid bodies per node [N]
     integer :: i, j, k
-    real(wp) :: on(3), vl(3)
+    real(wp) :: on(3), vl(3), vt(3)
     logical :: contact
     on = merge(1.0_wp, 0.0_wp, grid%active)
     contact = present(contact_dv) .and. bc%friction_contact
+    if (present(contact_force)) contact_force = 0.0_wp
     do k = grid%lbn(3), grid%ubn(3)
       do j = grid%lbn(2), grid%ubn(2)
         do i = grid%lbn(1), grid%ubn(1)
           if (nodes%q(1, i, j, k) <= min_mass) cycle
           if (nodes%q(8, i, j, k) > min_mass) then
             if (.not. contact) cycle
-            vl = rigid_contact_velocity((nodes%vel_l(:, i, j, k) + contact_dv(:, i, j, k)) * on, &
-              nodes%q(9:11, i, j, k) / nodes%q(8, i, j, k) * on, nodes%q(12:14, i, j, k) * on, &
-              bc%friction)
+            vt = (nodes%vel_l(:, i, j, k) + contact_dv(:, i, j, k)) * on
+            vl = rigid_contact_velocity(vt, nodes%q(9:11, i, j, k) / nodes%q(8, i, j, k) * on, &
+              nodes%q(12:14, i, j, k) * on, bc%friction)
+            if (present(contact_force)) contact_force(:, i, j, k) = nodes%q(1, i, j, k) * &
+              (vt - vl) / dt
           else
             vl = nodes%vel_l(:, i, j, k) * on
           end if

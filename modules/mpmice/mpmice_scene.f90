@@ -17,7 +17,7 @@
 !! of the pore space. See docs/mpmice.md.
 module mpmice_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-  use mpmice_kinds, only: wp, name_len
+  use mpmice_kinds, only: wp, name_len, path_len
   use mpmice_errors, only: fatal, int_text, real_short_text
   use mpmice_log, only: log_info, log_warning
   use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
@@ -30,6 +30,7 @@ module mpmice_scene
   use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field, h5_write_node_field, &
     h5_read_node_field
   use io_xdmf, only: xdmf_particles_t
+  use io_files, only: io_join_path
   use driver_scene, only: scene_t, scene_health_t
   use ice_state, only: ice_state_t, ice_solid_alloc
   use ice_scene, only: ice_scene_t, exchange_primitives, exchange_lagrangian, &
@@ -75,6 +76,13 @@ module mpmice_scene
                                                           !! removed (3, nodes; sliding only)
     real(wp), allocatable :: contact_acc(:, :, :, :)      !< expected pressure acceleration at
                                                           !! contact nodes (3, nodes)
+    real(wp), allocatable :: contact_f(:, :, :, :)        !< contact force on the rigid bodies
+                                                          !! per node (3, nodes) [N]
+    real(wp), allocatable :: qscr(:, :, :, :)             !< one rigid body's P2G (nodes)
+    real(wp), allocatable :: owner_m(:, :, :)             !< mass of a node's main rigid body
+    integer, allocatable :: owner(:, :, :)                !< that body (solid index)
+    character(len=path_len) :: force_path = ''            !< contact-force series file
+    logical :: force_started = .false.                    !< series opened this run
     real(wp) :: max_fraction = 0.999_wp                   !< cap of the solid fraction
     real(wp) :: relaxation = 0.1_wp                       !< solid-fraction relaxation per step
     real(wp), allocatable :: uprev(:, :, :, :, :)          !< last final face velocities
@@ -145,8 +153,18 @@ contains
       grid%lbn(3):grid%ubn(3)), source=0.0_wp)
     allocate(self%contact_dv(3, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
       grid%lbn(3):grid%ubn(3)), source=0.0_wp)
-    allocate(self%contact_acc, mold=self%contact_dv)
+    allocate(self%contact_acc, self%contact_f, mold=self%contact_dv)
     self%contact_acc = 0.0_wp
+    self%contact_f = 0.0_wp
+    if (self%fl%state%solid%sliding) then
+      allocate(self%qscr, mold=self%so%nodes%q)
+      allocate(self%owner_m(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
+        grid%lbn(3):grid%ubn(3)), source=0.0_wp)
+      allocate(self%owner(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
+        grid%lbn(3):grid%ubn(3)), source=0)
+      self%force_path = io_join_path(trim(cfg%run%output_dir), trim(cfg%run%name) // &
+        '_contact_force.csv')
+    end if
     allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
     call halo_init(self%halo, dom, grid, deposit_size(ns))
@@ -308,7 +326,8 @@ contains
       call timer_start(timers, self%t_nodes)
       call solid_face_to_nodes(st, grid, dom, self%halo, so%nodes, self%du, so%min_mass)
       if (st%solid%sliding) then
-        call nodal_finish(so%nodes, grid, dt, so%bc, so%min_mass, self%contact_dv)
+        call nodal_finish(so%nodes, grid, dt, so%bc, so%min_mass, self%contact_dv, &
+          self%contact_f)
       else
         call nodal_finish(so%nodes, grid, dt, so%bc, so%min_mass)
       end if
@@ -369,6 +388,7 @@ contains
       call mpm_migrate_all(so, dom, grid, time + dt)
       call timer_stop(timers, so%t_migrate)
       fl%steps = fl%steps + 1
+      if (st%solid%sliding) call write_contact_force(self, dom, grid, time + dt)
     end associate
     accepted = .true.
   end subroutine mpmice_step
@@ -391,6 +411,74 @@ contains
     end do
     health%load_power = health%load_power + global_sum(dom, power)
   end subroutine mpmice_health
+
+  !> Sliding rigid bodies: append the force the soil exerts on each rigid body through the
+  !! contact (sum over its contact nodes of m (v - v_contact) / dt at the end of the step, each
+  !! node counted for the rigid body with the most mass there) to
+  !! `<output_dir>/<name>_contact_force.csv` (rank 0 writes): time, then fx, fy, fz [N] per rigid
+  !! solid (per the grid's depth in an inactive dimension). The fluid's pressure on the body is
+  !! not included.
+  subroutine write_contact_force(self, dom, grid, time)
+    class(mpmice_scene_t), intent(inout) :: self  !< scene
+    type(domain_t), intent(in) :: dom             !< decomposition
+    type(grid_t), intent(in) :: grid              !< block geometry
+    real(wp), intent(in) :: time                  !< time [s]
+    real(wp) :: force(3, size(self%coupling))
+    integer :: s, i, j, k, unit
+    character(len=:), allocatable :: header
+    associate (so => self%so)
+      self%owner = 0
+      self%owner_m = 0.0_wp
+      do s = 1, so%nsolids
+        if (so%mats(s)%model /= model_rigid) cycle
+        self%qscr = 0.0_wp
+        call p2g_accumulate_rigid(so%parts(s), self%qscr, so%shape_kind, grid)
+        where (self%qscr(8, :, :, :) > self%owner_m)
+          self%owner = s
+          self%owner_m = self%qscr(8, :, :, :)
+        end where
+      end do
+      force = 0.0_wp
+      do k = grid%nlo(3), grid%nhi(3)
+        do j = grid%nlo(2), grid%nhi(2)
+          do i = grid%nlo(1), grid%nhi(1)
+            if (self%owner(i, j, k) > 0) force(:, self%owner(i, j, k)) = &
+              force(:, self%owner(i, j, k)) + self%contact_f(:, i, j, k)
+          end do
+        end do
+      end do
+      do s = 1, so%nsolids
+        force(:, s) = global_sum(dom, force(:, s))
+      end do
+      if (dom%rank /= 0) return
+      if (.not. self%force_started) then
+        if (so%restored) then
+          open(newunit=unit, file=trim(self%force_path), status='unknown', &
+            position='append', action='write')
+        else
+          open(newunit=unit, file=trim(self%force_path), status='replace', action='write')
+          header = 'time'
+          do s = 1, so%nsolids
+            if (so%mats(s)%model /= model_rigid) cycle
+            header = header // ',' // trim(so%names(s)) // '_fx,' // trim(so%names(s)) // &
+              '_fy,' // trim(so%names(s)) // '_fz'
+          end do
+          write(unit, '(a)') header
+        end if
+        self%force_started = .true.
+      else
+        open(newunit=unit, file=trim(self%force_path), status='old', position='append', &
+          action='write')
+      end if
+      write(unit, '(es24.16e3)', advance='no') time
+      do s = 1, so%nsolids
+        if (so%mats(s)%model /= model_rigid) cycle
+        write(unit, '(3(",", es24.16e3))', advance='no') force(:, s)
+      end do
+      write(unit, '(a)') ''
+      close(unit)
+    end associate
+  end subroutine write_contact_force
 
   !> A fluid with a vanishing share of a cell's mass (below 1e-10 of it: e.g. air numerically
   !! left in water-filled pores) takes the mass-weighted temperature and velocity of the cell.
@@ -578,7 +666,8 @@ contains
     call self%so%free()
     call halo_free(self%halo)
     if (allocated(self%dep)) deallocate(self%dep, self%du, self%phi_p, self%uprev, self%nbuf, &
-      self%temp_old, self%dtemp, self%contact_dv, self%contact_acc)
+      self%temp_old, self%dtemp, self%contact_dv, self%contact_acc, self%contact_f)
+    if (allocated(self%qscr)) deallocate(self%qscr, self%owner_m, self%owner)
     if (allocated(self%coupling)) deallocate(self%coupling, self%loads)
   end subroutine mpmice_free
 end module mpmice_scene
