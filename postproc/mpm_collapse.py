@@ -32,13 +32,15 @@ def scaling(a: float) -> tuple[float, float]:
     return runout, height
 
 
-def run_collapse(workdir: str, a: float, nranks: int = 1, cell: float = 0.01) -> dict:
-    """Run the collapse of aspect ratio a with cells of `cell` m; return the deposit measures."""
+def run_collapse(workdir: str, a: float, nranks: int = 1, cell: float = 0.01, extra=(),
+                 timeout: float = 3600) -> dict:
+    """Run the collapse of aspect ratio a with cells of `cell` m (further `--set` arguments in
+    `extra`); return the deposit measures."""
     out = os.path.join(workdir, f"collapse_a{a}_c{cell}")
     grid = f"&grid ncells = {int(round(1.2 / cell))}, {int(round(0.5 / cell))}, 1 /"
     run_mpmice([NAMELIST, "--set", f"&solid name = 'sand', upper = {L0}, {a * L0!r}, 1.0 /",
-                "--set", grid, "--set", f"&run output_dir = '{out}' /"], nranks=nranks,
-               cwd=workdir)
+                "--set", grid, "--set", f"&run output_dir = '{out}' /", *extra], nranks=nranks,
+               cwd=workdir, timeout=timeout)
     paths = dump_paths(out, "collapse2d")
     _, p0 = particles(paths[0], "sand")
     time, p1 = particles(paths[-1], "sand")
@@ -50,7 +52,9 @@ def run_collapse(workdir: str, a: float, nranks: int = 1, cell: float = 0.01) ->
     return {"a": a, "time": time, "x0": p0["x"], "y0": p0["y"], "x": p1["x"], "y": p1["y"],
             "runout": runout, "height": height, "runout_expected": expected[0],
             "height_expected": expected[1], "kinetic_ratio": float(s["kinetic_energy"][-1])
-            / potential, "particles": len(p1["x"])}
+            / potential, "particles": len(p1["x"]), "potential": potential,
+            "kinetic_max": float(np.max(s["kinetic_energy"])),
+            "strain_energy_min": float(np.min(s["strain_energy"])), "end_time": float(s["time"][-1])}
 
 
 def main(argv=None) -> int:

@@ -5,7 +5,7 @@
 !! stress already in that frame (eq. 13), so after the update sigma = R sigma* R^T (eq. 15).
 module mpm_constitutive
   use mpmice_kinds, only: wp
-  use mpm_tensor, only: polar_rotation, rotate_to, rotate_from, mat_to_sym
+  use mpm_tensor, only: polar_rotation, rotate_to, rotate_from, mat_to_sym, det3
   use mpm_elastic, only: elastic_increment, lame_from_young
   use mpm_neo_hookean, only: neo_hookean_stress
   use mpm_mohr_coulomb, only: mc_params_t, mc_return
@@ -73,14 +73,31 @@ contains
     mat%mc%tensile_strength = tensile_strength
   end function material_init
 
-  !> Dilatational (P) wave speed sqrt((lambda + 2 mu) / rho) [m/s]; 0 for a rigid material.
-  pure real(wp) function wave_speed(mat) result(c)
+  !> Dilatational (P) wave speed [m/s] of a particle with deformation gradient `f` (0 for a
+  !! rigid material), for the explicit step limit: the stiffness that resists a compression wave
+  !! against the current density rho0 / J (J = det F).
+  !! * rate models (linear elastic, Mohr-Coulomb): the stress rate is lambda tr(D) I + 2 mu D
+  !!   whatever J, so c^2 = (lambda + 2 mu) J / rho0: a dilated particle (J > 1) keeps its
+  !!   stiffness with less mass per volume and is faster (floored at J = 1, the initial speed);
+  !! * Neo-Hookean (eq. 16, E2): the spatial tangent plus the initial-stress term along a unit
+  !!   direction n gives c^2 = (lambda (1 - ln J) + mu (1 + n.b.n)) / rho0, b = F F^T; n.b.n is
+  !!   bounded by the largest row sum of |b| (equal to it at F = I, where c^2 = (lambda + 2 mu)
+  !!   / rho0), the lambda term floored at 0.
+  pure real(wp) function wave_speed(mat, f) result(c)
     type(material_t), intent(in) :: mat  !< material
-    if (mat%model == model_rigid) then
+    real(wp), intent(in) :: f(3, 3)      !< deformation gradient F [-]
+    real(wp) :: jac, b(3, 3)
+    jac = det3(f)
+    select case (mat%model)
+    case (model_rigid)
       c = 0.0_wp
-    else
-      c = sqrt((mat%lambda + 2.0_wp * mat%mu) / mat%density)
-    end if
+    case (model_neo_hookean)
+      b = matmul(f, transpose(f))
+      c = sqrt((mat%lambda * max(1.0_wp - log(max(jac, tiny(1.0_wp))), 0.0_wp) + &
+        mat%mu * (1.0_wp + maxval(sum(abs(b), dim=2)))) / mat%density)
+    case default
+      c = sqrt((mat%lambda + 2.0_wp * mat%mu) * max(jac, 1.0_wp) / mat%density)
+    end select
   end function wave_speed
 
   !> Stress update of one particle over a step: `f` is F^{n+1}, `l` the velocity gradient L

@@ -9,6 +9,7 @@
 !! energy, elastic strain energy, largest particle coordinate per dimension, smallest ditto.
 module mpm_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use, intrinsic :: iso_fortran_env, only: error_unit
   use mpmice_kinds, only: wp, i8, name_len, path_len
   use mpmice_errors, only: int_text, real_short_text, fatal
   use mpmice_log, only: log_info, log_warning
@@ -136,23 +137,27 @@ contains
       '_mpm_series.csv')
   end subroutine mpm_init
 
-  !> dt = cfl min_p dx_min / (c_p + |v_p|) over all particles (global).
+  !> dt = cfl min_p dx_min / (c_p + |v_p|) over all particles (global), c_p the wave speed of
+  !! the particle's current deformation F (`wave_speed`: a dilated particle of a rate model is
+  !! faster, c_p^2 = (lambda + 2 mu) J / rho0).
   function mpm_stable_dt(self, dom, grid) result(dt)
     class(mpm_scene_t), intent(inout) :: self  !< scene
     type(domain_t), intent(in) :: dom          !< decomposition
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp) :: dt
-    real(wp) :: h, c, vmax
+    real(wp) :: h, speed
     integer :: s, ip
     h = minval(grid%dx, mask=grid%active)
     dt = huge(1.0_wp)
     do s = 1, self%nsolids
-      c = wave_speed(self%mats(s))
-      vmax = 0.0_wp
-      do ip = 1, self%parts(s)%np
-        vmax = max(vmax, norm2(self%parts(s)%v(:, ip)))
-      end do
-      if (c + vmax > 0.0_wp) dt = min(dt, self%cfl * h / (c + vmax))
+      associate (p => self%parts(s))
+        speed = 0.0_wp
+        do ip = 1, p%np
+          speed = max(speed, wave_speed(self%mats(s), reshape(p%f(:, ip), [3, 3])) + &
+            norm2(p%v(:, ip)))
+        end do
+        if (speed > 0.0_wp) dt = min(dt, self%cfl * h / speed)
+      end associate
     end do
     dt = global_min(dom, dt)
   end function mpm_stable_dt
@@ -397,18 +402,28 @@ contains
     end do
   end subroutine mpm_output_layout
 
-  !> True when every particle position, velocity and stress is finite.
+  !> True when every particle position, velocity and stress is finite and every particle volume
+  !! positive. An inverted particle (det F <= 0, V = det F V0 <= 0) reverses its internal force
+  !! (eq. 27 scales with V), so it ends the run like a non-finite value, with a warning line.
   function mpm_all_finite(self, grid) result(finite)
     class(mpm_scene_t), intent(in) :: self  !< scene
     type(grid_t), intent(in) :: grid        !< block geometry
     logical :: finite
-    integer :: s, n
+    integer :: s, n, inverted
     finite = .true.
     do s = 1, self%nsolids
       n = self%parts(s)%np
       finite = finite .and. all(ieee_is_finite(self%parts(s)%x(:, 1:n))) .and. &
         all(ieee_is_finite(self%parts(s)%v(:, 1:n))) .and. &
         all(ieee_is_finite(self%parts(s)%stress(:, 1:n)))
+      inverted = count(.not. (self%parts(s)%volume(1:n) > 0.0_wp))
+      if (inverted > 0) then
+        finite = .false.
+        ! any rank may hold them (log_warning prints on rank 0 only)
+        write(error_unit, '(a)') 'mpmice: warning: mpm: ' // int_text(inverted) // &
+          ' particles of ' // trim(self%names(s)) // ' inverted (det F <= 0)'
+        flush(error_unit)
+      end if
     end do
   end function mpm_all_finite
 
