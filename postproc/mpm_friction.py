@@ -1,7 +1,7 @@
 """An elastic block sliding on a rigid bed with Coulomb friction (MPM, `&mpm rigid_contact =
 'friction'`), against the rigid-block solution.
 
-Usage:  python -m postproc.mpm_friction [--out docs/validation] [--mu 0 0.2 0.4 0.7] [--ramp 0.05]
+Usage:  python -m postproc.mpm_friction [--out docs/validation] [--mu 0 0.2 0.4 0.5 0.7] [--ramp 0.05]
 
 Scene namelists/mpm_friction_block_2d.nml: the bed is a horizontal rigid strip, gravity is
 tilted by theta = 30 deg, so the bed stands for a 30 deg slope. With gravity applied at once
@@ -70,7 +70,7 @@ def run(workdir: str, mu: float, ramp: float = 0.0, extra=()) -> tuple:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
-    parser.add_argument("--mu", type=float, nargs="+", default=[0.0, 0.2, 0.4, 0.7])
+    parser.add_argument("--mu", type=float, nargs="+", default=[0.0, 0.2, 0.4, 0.5, 0.7])
     parser.add_argument("--ramp", type=float, default=0.05)
     args = parser.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
