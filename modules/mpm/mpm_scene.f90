@@ -9,7 +9,6 @@
 !! energy, elastic strain energy, largest particle coordinate per dimension, smallest ditto.
 module mpm_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-  use, intrinsic :: iso_fortran_env, only: error_unit
   use mpmice_kinds, only: wp, i8, name_len, path_len
   use mpmice_errors, only: int_text, real_short_text, fatal
   use mpmice_log, only: log_info, log_warning
@@ -402,28 +401,18 @@ contains
     end do
   end subroutine mpm_output_layout
 
-  !> True when every particle position, velocity and stress is finite and every particle volume
-  !! positive. An inverted particle (det F <= 0, V = det F V0 <= 0) reverses its internal force
-  !! (eq. 27 scales with V), so it ends the run like a non-finite value, with a warning line.
+  !> True when every particle position, velocity and stress is finite.
   function mpm_all_finite(self, grid) result(finite)
     class(mpm_scene_t), intent(in) :: self  !< scene
     type(grid_t), intent(in) :: grid        !< block geometry
     logical :: finite
-    integer :: s, n, inverted
+    integer :: s, n
     finite = .true.
     do s = 1, self%nsolids
       n = self%parts(s)%np
       finite = finite .and. all(ieee_is_finite(self%parts(s)%x(:, 1:n))) .and. &
         all(ieee_is_finite(self%parts(s)%v(:, 1:n))) .and. &
         all(ieee_is_finite(self%parts(s)%stress(:, 1:n)))
-      inverted = count(.not. (self%parts(s)%volume(1:n) > 0.0_wp))
-      if (inverted > 0) then
-        finite = .false.
-        ! any rank may hold them (log_warning prints on rank 0 only)
-        write(error_unit, '(a)') 'mpmice: warning: mpm: ' // int_text(inverted) // &
-          ' particles of ' // trim(self%names(s)) // ' inverted (det F <= 0)'
-        flush(error_unit)
-      end if
     end do
   end function mpm_all_finite
 
