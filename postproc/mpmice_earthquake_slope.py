@@ -1,0 +1,214 @@
+"""Earthquake-induced submarine landslide with the coupled scene: base motion, slope displacement,
+excess pore pressure, plastic strain and the surface wave (namelists/mpmice_earthquake_slope_2d.nml,
+issue 7 scene 3, docs/applications.md).
+
+Usage:  python -m postproc.mpmice_earthquake_slope --dir output/mpmice_earthquake_slope_2d [--out DIR]
+
+Per dump it prints: the base's displacement (mean over its particles, unwrapped across the
+periodic x faces) and the prescribed one x(t) = A/w (t - sin(w t)/w); the sediment's largest
+displacement relative to the base; the largest accumulated plastic strain; the excess pore
+pressure of the sediment (the particle's pore pressure, i.e. the pressure of the cell holding it,
+minus the hydrostatic pressure p_atm + rho_w g (h - y) at that cell's centre: min / max and the
+mean at three monitoring points, crest, left and right mid-flank); the free-surface elevation
+eta (water share 0.5 contour, m above the still level) max / min; the largest relative mass
+change of each material. Writes earthquake_slope.png (snapshots: relative displacement, plastic
+strain and excess pore pressure of the particles, with the free surface) and
+earthquake_slope_history.png (base motion, monitored excess pore pressure, eta extremes).
+The dumps open in ParaView through <name>.xmf.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+
+import numpy as np
+
+from postproc.mpmice_io import cell_centres, list_dumps, read_dump
+
+NAME = "quake"
+STILL_LEVEL = 3.5            # m
+P_ATM = 101325.0             # Pa
+RHO_W = 999.8                # kg/m^3
+G = 9.81                     # m/s^2
+AMPLITUDE = 9.81             # m/s^2 (1 g)
+FREQUENCY = 2.0              # Hz
+WATER, AIR, SEDIMENT, BASE = "water", "air", "sediment", "base"
+# monitoring points (initial positions): crest centre at mid-height, left and right mid-flank
+MONITORS = {"crest": (5.789, 1.5), "left flank": (3.1, 1.0), "right flank": (8.5, 1.0)}
+
+
+def prescribed_displacement(t: float, a: float = AMPLITUDE, f: float = FREQUENCY) -> float:
+    """x(t) - x(0) [m] of a base with a(t) = a sin(2 pi f t) starting from rest."""
+    w = 2.0 * math.pi * f
+    return a / w * (t - math.sin(w * t) / w)
+
+
+def domain_length(dump: dict) -> float:
+    """Length [m] of the domain in x."""
+    x, _, _ = cell_centres(dump)
+    dx = x[1] - x[0]
+    return float(x[-1] - x[0] + dx)
+
+
+def by_id(parts: dict) -> dict:
+    """The particle arrays of a solid sorted by particle id."""
+    order = np.argsort(parts["id"])
+    return {k: np.asarray(v)[order] for k, v in parts.items()}
+
+
+def unwrapped(dx: np.ndarray, length: float) -> np.ndarray:
+    """Displacements across the periodic x faces, taken in (-L/2, L/2]."""
+    return dx - length * np.round(dx / length)
+
+
+def free_surface(dump: dict, level: float = STILL_LEVEL) -> tuple[np.ndarray, np.ndarray]:
+    """(x of the column centres, eta [m]): the height of the water in each column of cells,
+    sum_j s_j dy with s = phi_w / (phi_w + phi_air) the water's share of the fluid volume (1 in
+    cells with no fluid), minus `level` [m]; exact for a level surface at any cell size."""
+    x, y, _ = cell_centres(dump)
+    dy = y[1] - y[0]
+    w = dump["cell"][f"{WATER}/volume_fraction"][:, :, 0]
+    a = dump["cell"][f"{AIR}/volume_fraction"][:, :, 0]
+    share = np.where(w + a > 1e-3, w / np.maximum(w + a, 1e-300), 1.0)
+    eta = np.sum(share, axis=1) * dy + (y[0] - 0.5 * dy) - level
+    return x, eta
+
+
+def excess_pore_pressure(dump: dict, parts: dict) -> np.ndarray:
+    """Pore pressure minus the hydrostatic value at the centre of the particle's cell [Pa]."""
+    _, y, _ = cell_centres(dump)
+    dy = y[1] - y[0]
+    j = np.clip(np.floor((parts["y"] - (y[0] - 0.5 * dy)) / dy).astype(int), 0, len(y) - 1)
+    yc = y[j]
+    hydro = P_ATM + RHO_W * G * np.maximum(STILL_LEVEL - yc, 0.0)
+    if not np.any(parts["pore_pressure"]):        # the initial dump: not computed yet
+        return np.zeros_like(hydro)
+    return parts["pore_pressure"] - hydro
+
+
+def masses(dump: dict) -> dict[str, float]:
+    """Mass [kg] of every fluid (cells) and solid (particles) of a dump."""
+    vol = float(np.prod(np.asarray(dump["attrs"]["dx"]).reshape(3)))
+    out = {}
+    for key, field in dump["cell"].items():
+        if key.endswith("/density"):
+            out[key.split("/")[0]] = float(np.sum(field)) * vol
+    for name, parts in dump.get("particles", {}).items():
+        out[name] = float(np.sum(parts["mass"]))
+    return out
+
+
+def analyse(dumps: list[dict]) -> list[dict]:
+    """One row of measured quantities per dump (see the module header)."""
+    length = domain_length(dumps[0])
+    s0, b0 = by_id(dumps[0]["particles"][SEDIMENT]), by_id(dumps[0]["particles"][BASE])
+    monitors = {k: np.argsort((s0["x"] - px) ** 2 + (s0["y"] - py) ** 2)[:4]
+                for k, (px, py) in MONITORS.items()}
+    m0 = masses(dumps[0])
+    # the still level as the initial fluid regions hold it (cells whose centre is below it)
+    level = STILL_LEVEL + float(np.mean(free_surface(dumps[0])[1]))
+    rows = []
+    for d in dumps:
+        s, b = by_id(d["particles"][SEDIMENT]), by_id(d["particles"][BASE])
+        base_dx = float(np.mean(unwrapped(b["x"] - b0["x"], length)))
+        ux = unwrapped(s["x"] - s0["x"], length) - base_dx
+        uy = s["y"] - s0["y"]
+        rel = np.hypot(ux, uy)
+        pex = excess_pore_pressure(d, s)
+        _, eta = free_surface(d, level)
+        m = masses(d)
+        rows.append({
+            "time": float(d["time"]), "base_dx": base_dx,
+            "base_dx_prescribed": prescribed_displacement(float(d["time"])),
+            "rel_disp_max": float(np.max(rel)), "ux": ux, "uy": uy, "rel": rel,
+            "plastic_max": float(np.max(s["plastic_strain"])), "plastic": s["plastic_strain"],
+            "pex": pex, "pex_min": float(np.min(pex)), "pex_max": float(np.max(pex)),
+            "pex_monitor": {k: float(np.mean(pex[i])) for k, i in monitors.items()},
+            "eta": eta, "level": level, "eta_max": float(np.nanmax(eta)), "eta_min": float(np.nanmin(eta)),
+            "mass_change": {k: abs(m[k] / m0[k] - 1.0) for k in m0 if m0[k] > 0.0},
+            "x": s["x"], "y": s["y"],
+        })
+    return rows
+
+
+def plot(dumps: list[dict], rows: list[dict], out: str) -> list[str]:
+    """Snapshot and history figures; returns their paths."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    pick = sorted({0, len(rows) // 3, (2 * len(rows)) // 3, len(rows) - 1})
+    fig, axes = plt.subplots(len(pick), 3, figsize=(15, 2.2 * len(pick)), squeeze=False)
+    for r, i in enumerate(pick):
+        row, d = rows[i], dumps[i]
+        xs, eta = free_surface(d, row["level"])
+        for c, (key, label, cmap, lim) in enumerate([
+                ("rel", "|u - u_base| [m]", "viridis", None),
+                ("plastic", "plastic strain [-]", "magma", None),
+                ("pex", "excess pore pressure [kPa]", "coolwarm", "sym")]):
+            ax = axes[r][c]
+            v = row[key] / (1000.0 if key == "pex" else 1.0)
+            kw = {}
+            if lim == "sym":
+                vmax = max(float(np.percentile(np.abs(v), 99)), 1e-9)
+                kw = {"vmin": -vmax, "vmax": vmax}
+            sc = ax.scatter(row["x"], row["y"], c=v, s=2, cmap=cmap, **kw)
+            ax.plot(xs, eta + row["level"], "b-", lw=1)
+            ax.set_title(f"t = {row['time']:.2f} s: {label}", fontsize=8)
+            ax.set_aspect("equal")
+            ax.set_xlim(xs[0], xs[-1])
+            ax.set_ylim(0.0, STILL_LEVEL + 0.6)
+            fig.colorbar(sc, ax=ax, fraction=0.02)
+    fig.tight_layout()
+    snap = os.path.join(out, "earthquake_slope.png")
+    fig.savefig(snap, dpi=100)
+    plt.close(fig)
+    t = np.array([r["time"] for r in rows])
+    fig, (a1, a2, a3) = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
+    a1.plot(t, [r["base_dx"] for r in rows], "o", label="base (particles)")
+    tt = np.linspace(0.0, t[-1], 200)
+    a1.plot(tt, [prescribed_displacement(v) for v in tt], "k-", lw=1, label="prescribed")
+    a1.plot(t, [r["rel_disp_max"] for r in rows], "s-", label="sediment: max |u - u_base|")
+    a1.set_ylabel("displacement [m]")
+    a1.legend(fontsize=8)
+    for k in MONITORS:
+        a2.plot(t, [r["pex_monitor"][k] / 1000.0 for r in rows], "o-", label=k)
+    a2.set_ylabel("excess pore pressure [kPa]")
+    a2.legend(fontsize=8)
+    a3.plot(t, [r["eta_max"] * 100.0 for r in rows], "o-", label="eta max")
+    a3.plot(t, [r["eta_min"] * 100.0 for r in rows], "o-", label="eta min")
+    a3.set_ylabel("free surface [cm]")
+    a3.set_xlabel("t [s]")
+    a3.legend(fontsize=8)
+    fig.tight_layout()
+    hist = os.path.join(out, "earthquake_slope_history.png")
+    fig.savefig(hist, dpi=100)
+    plt.close(fig)
+    return [snap, hist]
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--dir", required=True, help="output directory of a run")
+    parser.add_argument("--out", default=None)
+    args = parser.parse_args(argv)
+    dumps = [read_dump(p) for p in list_dumps(args.dir, NAME)]
+    if not dumps:
+        raise SystemExit(f"no dumps {NAME}_<step>.h5 in {args.dir}")
+    rows = analyse(dumps)
+    print("  t [s]  base dx [m]  prescribed  max|u-ub| [m]  max eps_p  pex min/max [kPa]"
+          "  pex crest/left/right [kPa]  eta max/min [cm]  mass change")
+    for r in rows:
+        mon = "/".join(f"{v / 1000.0:.1f}" for v in r["pex_monitor"].values())
+        print(f"{r['time']:7.3f} {r['base_dx']:11.5f} {r['base_dx_prescribed']:11.5f} "
+              f"{r['rel_disp_max']:13.4f} {r['plastic_max']:10.4f} "
+              f"{r['pex_min'] / 1000.0:8.1f}/{r['pex_max'] / 1000.0:.1f} {mon:>22s} "
+              f"{r['eta_max'] * 100.0:8.2f}/{r['eta_min'] * 100.0:.2f} "
+              f"{max(r['mass_change'].values()):10.2e}")
+    for path in plot(dumps, rows, args.out or args.dir):
+        print(f"plot: {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
