@@ -9,7 +9,8 @@ periodic x faces) and the prescribed one x(t) = A/w (t - sin(w t)/w); the sedime
 displacement relative to the base; the largest accumulated plastic strain; the excess pore
 pressure of the sediment (the particle's pore pressure, i.e. the pressure of the cell holding it,
 minus the hydrostatic pressure p_atm + rho_w g (h - y) at that cell's centre: min / max and the
-mean at three monitoring points, crest, left and right mid-flank); the free-surface elevation
+mean over the particles within 0.3 m of three monitoring points, crest, left and right
+mid-flank); the free-surface elevation
 eta (water share 0.5 contour, m above the still level) max / min; the largest relative mass
 change of each material. Writes earthquake_slope.png (snapshots: relative displacement, plastic
 strain and excess pore pressure of the particles, with the free surface) and
@@ -34,7 +35,9 @@ G = 9.81                     # m/s^2
 AMPLITUDE = 9.81             # m/s^2 (1 g)
 FREQUENCY = 2.0              # Hz
 WATER, AIR, SEDIMENT, BASE = "water", "air", "sediment", "base"
-# monitoring points (initial positions): crest centre at mid-height, left and right mid-flank
+# monitoring points (initial positions): crest centre at mid-height, left and right mid-flank;
+# the excess pore pressure there is the mean over the particles that start within MONITOR_RADIUS
+MONITOR_RADIUS = 0.3         # m
 MONITORS = {"crest": (5.789, 1.5), "left flank": (3.1, 1.0), "right flank": (8.5, 1.0)}
 
 
@@ -103,7 +106,7 @@ def analyse(dumps: list[dict]) -> list[dict]:
     """One row of measured quantities per dump (see the module header)."""
     length = domain_length(dumps[0])
     s0, b0 = by_id(dumps[0]["particles"][SEDIMENT]), by_id(dumps[0]["particles"][BASE])
-    monitors = {k: np.argsort((s0["x"] - px) ** 2 + (s0["y"] - py) ** 2)[:4]
+    monitors = {k: np.flatnonzero((s0["x"] - px) ** 2 + (s0["y"] - py) ** 2 < MONITOR_RADIUS**2)
                 for k, (px, py) in MONITORS.items()}
     m0 = masses(dumps[0])
     # the still level as the initial fluid regions hold it (cells whose centre is below it)
