@@ -176,6 +176,7 @@ contains
       call add('prescribed_velocity', reals_repr(p%prescribed_velocity))
       call add('acceleration_amplitude', reals_repr(p%acceleration_amplitude))
       call add('acceleration_frequency', real_repr(p%acceleration_frequency))
+      call add('acceleration_duration', real_repr(p%acceleration_duration))
       call add('velocity_wavenumber', reals_repr(p%velocity_wavenumber))
       call add('drag_law', quoted(p%drag_law))
       call add('drag_coefficient', real_repr(p%drag_coefficient))

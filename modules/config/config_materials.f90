@@ -160,6 +160,7 @@ module config_materials
     real(wp) :: prescribed_velocity(3) = [0.0_wp, 0.0_wp, 0.0_wp]    !< rigid velocity [m/s]
     real(wp) :: acceleration_amplitude(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< rigid A [m/s^2]
     real(wp) :: acceleration_frequency = 0.0_wp          !< rigid f [Hz]
+    real(wp) :: acceleration_duration = 0.0_wp           !< rigid: a = 0 after it [s] (0: never)
     character(len=name_len) :: drag_law = 'kozeny_carman' !< one of drag_law_names (mpmice)
     real(wp) :: drag_coefficient = 0.0_wp                !< K of drag_law 'constant' [kg/m^3/s]
     real(wp) :: grain_bulk_modulus = 0.0_wp              !< K_s [Pa] (0: incompressible grains)

@@ -143,6 +143,7 @@ module config_namelist
     variable_info_t('solid', 'prescribed_velocity', 'r', 3, 0), &
     variable_info_t('solid', 'acceleration_amplitude', 'r', 3, 0), &
     variable_info_t('solid', 'acceleration_frequency', 'r', 1, 0), &
+    variable_info_t('solid', 'acceleration_duration', 'r', 1, 0), &
     variable_info_t('solid', 'velocity_wavenumber', 'r', 3, 0), &
     variable_info_t('solid', 'drag_law', 'c', 1, name_len), &
     variable_info_t('solid', 'drag_coefficient', 'r', 1, 0), &

@@ -206,6 +206,7 @@ contains
     real(wp) :: plane_point(3), plane_normal(3), rotation_deg, velocity(3), temperature
     real(wp) :: heat_capacity, conductivity, porosity, grain_size, prescribed_velocity(3)
     real(wp) :: acceleration_amplitude(3), acceleration_frequency, velocity_wavenumber(3)
+    real(wp) :: acceleration_duration
     integer :: npoints, particles_per_cell(3)
     logical :: tension_cutoff, geostatic
     namelist /solid/ name, model, density, youngs_modulus, poisson_ratio, cohesion, &
@@ -213,7 +214,7 @@ contains
       lower, upper, npoints, polygon_x, polygon_y, plane_point, plane_normal, rotation_deg, &
       particles_per_cell, velocity, temperature, heat_capacity, conductivity, porosity, &
       grain_size, prescribed_velocity, acceleration_amplitude, acceleration_frequency, &
-      velocity_wavenumber, drag_law, drag_coefficient, grain_bulk_modulus, traction, &
+      acceleration_duration, velocity_wavenumber, drag_law, drag_coefficient, grain_bulk_modulus, traction, &
       traction_lower, traction_upper, traction_ramp_time
     name = p%name
     model = p%model
@@ -246,6 +247,7 @@ contains
     prescribed_velocity = p%prescribed_velocity
     acceleration_amplitude = p%acceleration_amplitude
     acceleration_frequency = p%acceleration_frequency
+    acceleration_duration = p%acceleration_duration
     velocity_wavenumber = p%velocity_wavenumber
     drag_law = p%drag_law
     drag_coefficient = p%drag_coefficient
@@ -287,6 +289,7 @@ contains
     p%prescribed_velocity = prescribed_velocity
     p%acceleration_amplitude = acceleration_amplitude
     p%acceleration_frequency = acceleration_frequency
+    p%acceleration_duration = acceleration_duration
     p%velocity_wavenumber = velocity_wavenumber
     p%drag_law = drag_law
     p%drag_coefficient = drag_coefficient

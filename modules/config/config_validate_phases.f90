@@ -250,6 +250,8 @@ contains
       call check_finite(err, g, 'prescribed_velocity', p%prescribed_velocity, ' [m/s]')
       call check_finite(err, g, 'acceleration_amplitude', p%acceleration_amplitude, ' [m/s^2]')
       call non_negative(err, g, 'acceleration_frequency', p%acceleration_frequency, ' [Hz]')
+      call non_negative(err, g, 'acceleration_duration', p%acceleration_duration, &
+        ' [s] (0: no end)')
       call check_choice(err, g, 'drag_law', p%drag_law, drag_law_names)
       call non_negative(err, g, 'drag_coefficient', p%drag_coefficient, ' [kg/m^3/s]')
       call check_real(err, g, 'grain_bulk_modulus', p%grain_bulk_modulus, &

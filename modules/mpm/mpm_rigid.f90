@@ -4,7 +4,9 @@
 !! (`prescribed_velocity` v0, `acceleration_amplitude` A, `acceleration_frequency` f), i.e.
 !!   v(t) = v0 + A (1 - cos(2 pi f t)) / (2 pi f),
 !!   x(t) = x0 + v0 t + A / (2 pi f) (t - sin(2 pi f t) / (2 pi f)),
-!! integrated exactly by `rigid_displacement`. Its particles do not enter the deformable P2G; they
+!! integrated exactly by `rigid_displacement`. With `acceleration_duration` T > 0 the acceleration
+!! stops at t = T and the body keeps v(T) (after whole cycles, v0), so x grows by v(T) (t - T).
+!! Its particles do not enter the deformable P2G; they
 !! scatter their mass and momentum into separate node components, and every node they touch takes
 !! the rigid velocity (no-slip contact with the deformable material, `mpm_nodal`).
 module mpm_rigid
@@ -21,6 +23,7 @@ module mpm_rigid
     real(wp) :: velocity(3) = 0.0_wp       !< v0 [m/s]
     real(wp) :: amplitude(3) = 0.0_wp      !< A [m/s^2]
     real(wp) :: frequency = 0.0_wp         !< f [Hz]
+    real(wp) :: duration = 0.0_wp          !< T: a = 0 for t > T [s] (0: no end)
   end type rigid_motion_t
 
 contains
@@ -34,7 +37,7 @@ contains
     v = m%velocity
     if (m%frequency > 0.0_wp) then
       w = two_pi * m%frequency
-      v = v + m%amplitude * (1.0_wp - cos(w * t)) / w
+      v = v + m%amplitude * (1.0_wp - cos(w * shaking_time(m, t))) / w
     end if
   end function rigid_velocity
 
@@ -48,7 +51,32 @@ contains
     dx = m%velocity * dt
     if (m%frequency > 0.0_wp) then
       w = two_pi * m%frequency
-      dx = dx + m%amplitude / w * (dt - (sin(w * (t + dt)) - sin(w * t)) / w)
+      if (m%duration > 0.0_wp .and. t + dt > m%duration) then
+        dx = dx + shaking_position(m, w, t + dt) - shaking_position(m, w, t)
+      else
+        dx = dx + m%amplitude / w * (dt - (sin(w * (t + dt)) - sin(w * t)) / w)
+      end if
     end if
   end function rigid_displacement
+
+  !> Time [s] up to which the acceleration has acted at time `t`: min(t, T), or t without an end.
+  pure real(wp) function shaking_time(m, t) result(ts)
+    type(rigid_motion_t), intent(in) :: m  !< motion
+    real(wp), intent(in) :: t              !< time [s]
+    ts = t
+    if (m%duration > 0.0_wp) ts = min(t, m%duration)
+  end function shaking_time
+
+  !> Displacement [m] of the acceleration's part of the motion from 0 to `t` (w = 2 pi f):
+  !! A/w (t_s - sin(w t_s)/w) + A (1 - cos(w t_s))/w (t - t_s), t_s = `shaking_time`.
+  pure function shaking_position(m, w, t) result(x)
+    type(rigid_motion_t), intent(in) :: m  !< motion
+    real(wp), intent(in) :: w              !< angular frequency [1/s]
+    real(wp), intent(in) :: t              !< time [s]
+    real(wp) :: x(3)
+    real(wp) :: ts
+    ts = shaking_time(m, t)
+    x = m%amplitude / w * (ts - sin(w * ts) / w) + m%amplitude * (1.0_wp - cos(w * ts)) / w * &
+      (t - ts)
+  end function shaking_position
 end module mpm_rigid

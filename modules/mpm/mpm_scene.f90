@@ -110,7 +110,7 @@ contains
           sp%density, sp%youngs_modulus, sp%poisson_ratio, sp%cohesion, sp%friction_angle, &
           sp%dilation_angle, sp%tension_cutoff, sp%tensile_strength)
         self%motions(s) = rigid_motion_t(sp%prescribed_velocity, sp%acceleration_amplitude, &
-          sp%acceleration_frequency)
+          sp%acceleration_frequency, sp%acceleration_duration)
         call seed_solid(self%parts(s), sp, grid, self%gravity)
         if (self%mats(s)%model == model_rigid) call move_rigid(self, s, grid, 0.0_wp, 0.0_wp)
         if (self%parts(s)%np > 0) mmin = min(mmin, minval(self%parts(s)%mass(1:self%parts(s)%np)))

@@ -42,3 +42,25 @@ def test_shaking_table(tmp_path, nranks):
     expected = math.cos(k * lp) / math.cos(k * length)
     ratio = np.max(np.abs(tip)) / (a / w ** 2)
     assert abs(ratio - expected) < 0.01 * expected, (ratio, expected)
+
+
+@pytest.mark.parametrize("duration", [0.05, 0.2])
+def test_shaking_table_stops_after_its_duration(tmp_path, duration):
+    """`acceleration_duration` T: a(t) = A sin(2 pi f t) until T, then 0 with the velocity kept.
+    T = 0.05 s (a quarter period): v(T) = v0 + A/w = 0, the table stands at x0 - A/w^2; T = 0.2 s
+    (one period): it moves on with v0 = -A/w. Table particles at the dumps t = 0.1 .. 0.4 s on
+    that trajectory to 1e-12 m."""
+    out = tmp_path / "stop"
+    run_mpmice([NAMELIST, "--set", f"&run output_dir = '{out}' / "
+                f"&solid name = 'table' acceleration_duration = {duration} /"], cwd=str(tmp_path))
+    a, f = 1.0, 5.0
+    w = 2.0 * math.pi * f
+    v_end = -a / w + a * (1.0 - math.cos(w * duration)) / w
+    paths = dump_paths(str(out), "shaking1d")
+    assert len(paths) == 5
+    _, start = particles(paths[0], "table")
+    for path in paths[1:]:
+        time, now = particles(path, "table")
+        ts = min(time, duration)
+        exact = -a * math.sin(w * ts) / w ** 2 + v_end * (time - ts)
+        assert np.max(np.abs(now["x"] - start["x"] - exact)) < 1e-12, (time, duration)
