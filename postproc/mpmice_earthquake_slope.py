@@ -34,6 +34,7 @@ RHO_W = 999.8                # kg/m^3
 G = 9.81                     # m/s^2
 AMPLITUDE = 9.81             # m/s^2 (1 g)
 FREQUENCY = 2.0              # Hz
+DURATION = 1.0               # s: the shaking stops after 2 cycles (v = 0 there)
 WATER, AIR, SEDIMENT, BASE = "water", "air", "sediment", "base"
 # monitoring points (initial positions): crest centre at mid-height, left and right mid-flank;
 # the excess pore pressure there is the mean over the particles that start within MONITOR_RADIUS
@@ -41,10 +42,13 @@ MONITOR_RADIUS = 0.3         # m
 MONITORS = {"crest": (5.789, 1.5), "left flank": (3.1, 1.0), "right flank": (8.5, 1.0)}
 
 
-def prescribed_displacement(t: float, a: float = AMPLITUDE, f: float = FREQUENCY) -> float:
-    """x(t) - x(0) [m] of a base with a(t) = a sin(2 pi f t) starting from rest."""
+def prescribed_displacement(t: float, a: float = AMPLITUDE, f: float = FREQUENCY,
+                            duration: float = DURATION) -> float:
+    """x(t) - x(0) [m] of a base with a(t) = a sin(2 pi f t) starting from rest, a = 0 after
+    `duration` (the velocity v(duration) kept)."""
     w = 2.0 * math.pi * f
-    return a / w * (t - math.sin(w * t) / w)
+    ts = min(t, duration) if duration > 0.0 else t
+    return a / w * (ts - math.sin(w * ts) / w) + a * (1.0 - math.cos(w * ts)) / w * (t - ts)
 
 
 def domain_length(dump: dict) -> float:
