@@ -7,7 +7,8 @@
 #   python -m postproc.mpmice_earthquake_slope --dir output/mpmice_earthquake_slope_2d_5cm
 # Size: the 0.125 m run takes 46 s on one core (docs/applications.md); 0.05 m has 6x the cells
 # and 2.5x the steps: ~15x the work, ~12 min on one core, a few minutes on 8 ranks. Note: the
-# 0.1 m run fails at t = 0.767 s (docs/applications.md); the 0.05 m result is not known yet.
+# 0.1 and 0.05 m runs fail at t = 0.767 / 0.778 s on one rank (docs/applications.md): this job
+# is ready for when that failure is fixed.
 #SBATCH --job-name=quake5cm
 #SBATCH --nodes=1
 #SBATCH --ntasks-per-node=8
