@@ -134,7 +134,7 @@ def analyse(dumps: list[dict]) -> list[dict]:
             "pex_monitor": {k: float(np.mean(pex[i])) for k, i in monitors.items()},
             "eta": eta, "level": level, "eta_max": float(np.nanmax(eta)), "eta_min": float(np.nanmin(eta)),
             "mass_change": {k: abs(m[k] / m0[k] - 1.0) for k in m0 if m0[k] > 0.0},
-            "x": s["x"], "y": s["y"],
+            "x": s["x"], "y": s["y"], "y0": s0["y"],
         })
     return rows
 
@@ -157,7 +157,10 @@ def plot(dumps: list[dict], rows: list[dict], out: str) -> list[str]:
             v = row[key] / (1000.0 if key == "pex" else 1.0)
             kw = {}
             if lim == "sym":
-                vmax = max(float(np.percentile(np.abs(v), 99)), 1e-9)
+                # scale from the bank (start above the layer): the cells the lowest sediment row
+                # shares with the base's top carry a stuck pressure that would swamp the colours
+                bank = row["y0"] > 0.5
+                vmax = max(float(np.percentile(np.abs(v[bank]), 99)), 1e-9)
                 kw = {"vmin": -vmax, "vmax": vmax}
             sc = ax.scatter(row["x"], row["y"], c=v, s=2, cmap=cmap, **kw)
             ax.plot(xs, eta + row["level"], "b-", lw=1)
