@@ -6,11 +6,12 @@
 !! configuration exactly. The text has one `variable = value` per line and no comments after
 !! values (postproc/namelist.py reads it). Repeated groups (`&fluid`, `&solid`, `&region`,
 !! `&boundary`) follow the singletons, one group per occurrence in order; reading the text
-!! appends them again in the same order.
+!! appends them again in the same order. The unused tail of a `&boundary` velocity history is
+!! written as one repeat count (`192*-1.7976931348623157e308`).
 module config_echo
-  use mpmice_kinds, only: msg_len
+  use mpmice_kinds, only: wp, msg_len
   use config_types, only: config_t, fluid_params_t, solid_params_t, region_params_t, &
-    boundary_params_t
+    boundary_params_t, history_unset
   use config_text, only: real_repr, reals_repr, ints_repr, logicals_repr, quoted
   implicit none
   private
@@ -213,9 +214,29 @@ contains
       call add('solid', quoted(p%solid))
       call add('solid_velocity', reals_repr(p%solid_velocity))
       call add('solid_traction', reals_repr(p%solid_traction))
+      call add('solid_velocity_times', table_repr(p%solid_velocity_times))
+      call add('solid_velocity_history', table_repr(reshape(p%solid_velocity_history, &
+        [size(p%solid_velocity_history)])))
       text = text // '/' // nl
     end subroutine add_boundary
   end function config_to_text
+
+  !> A table with trailing unused entries (`history_unset`): the entries up to the last one in
+  !! use, then the unused ones as one repeat count `r*value`.
+  function table_repr(x) result(text)
+    real(wp), intent(in) :: x(:)  !< table
+    character(len=:), allocatable :: text
+    integer :: n
+    n = size(x)
+    do while (n > 0)
+      if (x(n) /= history_unset) exit
+      n = n - 1
+    end do
+    text = reals_repr(x(1:n))
+    if (n == size(x)) return
+    if (n > 0) text = text // ', '
+    text = text // ints_repr([size(x) - n]) // '*' // real_repr(history_unset)
+  end function table_repr
 
   !> Path of the echo file: `<output_dir>/<name>.used.nml`.
   function config_used_path(cfg) result(path)

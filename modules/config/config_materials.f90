@@ -18,12 +18,16 @@ module config_materials
   public :: boundary_fluid_names, boundary_thermal_names, boundary_solid_names
   public :: drag_law_names, drag_scheme_names, rigid_contact_names
   public :: particles_per_cell_used
+  public :: max_history_points, history_unset, history_points_used
 
   integer, parameter :: max_fluids = 8        !< most `&fluid` groups in one input
   integer, parameter :: max_solids = 8        !< most `&solid` groups in one input
   integer, parameter :: max_regions = 32      !< most `&region` groups in one input
   integer, parameter :: max_boundaries = 6    !< most `&boundary` groups (one per face)
   integer, parameter :: max_polygon_points = 32  !< most vertices of a `&solid` polygon
+  integer, parameter :: max_history_points = 64  !< most points of a `&boundary` velocity history
+  !> Value of the unused entries of `solid_velocity_times` and `solid_velocity_history`.
+  real(wp), parameter :: history_unset = -huge(1.0_wp)
 
   !> Allowed values of `&fluid eos`.
   character(len=*), parameter :: eos_names(3) = [character(len=name_len) :: &
@@ -181,6 +185,11 @@ module config_materials
     character(len=name_len) :: solid = 'fixed'           !< one of boundary_solid_names
     real(wp) :: solid_velocity(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< for solid = 'velocity' [m/s]
     real(wp) :: solid_traction(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< for solid = 'traction' [Pa]
+    !> times of the piecewise-linear velocity history of solid = 'velocity' [s] (leading
+    !! entries in use, the rest `history_unset`; none in use: `solid_velocity` throughout)
+    real(wp) :: solid_velocity_times(max_history_points) = history_unset
+    !> velocity at each of those times [m/s]
+    real(wp) :: solid_velocity_history(3, max_history_points) = history_unset
   end type boundary_params_t
 
 contains
@@ -193,4 +202,15 @@ contains
     integer :: ppc(3)
     ppc = merge(s%particles_per_cell, 1, ncells > 1)
   end function particles_per_cell_used
+
+  !> Number of leading entries of a `&boundary solid_velocity_times` table in use (those
+  !! before the first `history_unset`).
+  pure integer function history_points_used(times) result(n)
+    real(wp), intent(in) :: times(:)  !< table [s]
+    n = 0
+    do while (n < size(times))
+      if (times(n + 1) == history_unset) exit
+      n = n + 1
+    end do
+  end function history_points_used
 end module config_materials

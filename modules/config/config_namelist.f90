@@ -11,7 +11,8 @@ module config_namelist
     ieee_get_flag, ieee_set_flag, ieee_overflow, ieee_underflow, ieee_invalid, ieee_flag_type
   use mpmice_kinds, only: wp, name_len, path_len, msg_len
   use config_types, only: config_t, run_params_t, grid_params_t, time_params_t, &
-    numerics_params_t, solver_params_t, output_params_t, heat_params_t, max_polygon_points
+    numerics_params_t, solver_params_t, output_params_t, heat_params_t, max_polygon_points, &
+    max_history_points
   use config_occurrences, only: is_repeated_group, occurrence_count
   use config_read_phases, only: read_physics, read_ice, read_mpm, read_coupling, read_fluid, &
     read_solid, read_region, read_boundary
@@ -167,7 +168,9 @@ module config_namelist
     variable_info_t('boundary', 'temperature', 'r', 1, 0), &
     variable_info_t('boundary', 'solid', 'c', 1, name_len), &
     variable_info_t('boundary', 'solid_velocity', 'r', 3, 0), &
-    variable_info_t('boundary', 'solid_traction', 'r', 3, 0)]
+    variable_info_t('boundary', 'solid_traction', 'r', 3, 0), &
+    variable_info_t('boundary', 'solid_velocity_times', 'r', max_history_points, 0), &
+    variable_info_t('boundary', 'solid_velocity_history', 'r', 3 * max_history_points, 0)]
 
 contains
 

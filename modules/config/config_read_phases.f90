@@ -6,7 +6,8 @@
 module config_read_phases
   use mpmice_kinds, only: wp, name_len
   use config_materials, only: physics_params_t, ice_params_t, mpm_params_t, coupling_params_t, &
-    fluid_params_t, solid_params_t, region_params_t, boundary_params_t, max_polygon_points
+    fluid_params_t, solid_params_t, region_params_t, boundary_params_t, max_polygon_points, &
+    max_history_points
   implicit none
   private
 
@@ -308,8 +309,10 @@ contains
     character(len=*), intent(inout) :: iomsg    !< iomsg
     character(len=name_len) :: face, fluid, thermal, solid
     real(wp) :: pressure, velocity(3), temperature, solid_velocity(3), solid_traction(3)
+    real(wp) :: solid_velocity_times(max_history_points)
+    real(wp) :: solid_velocity_history(3, max_history_points)
     namelist /boundary/ face, fluid, pressure, velocity, thermal, temperature, solid, &
-      solid_velocity, solid_traction
+      solid_velocity, solid_traction, solid_velocity_times, solid_velocity_history
     face = p%face
     fluid = p%fluid
     pressure = p%pressure
@@ -319,6 +322,8 @@ contains
     solid = p%solid
     solid_velocity = p%solid_velocity
     solid_traction = p%solid_traction
+    solid_velocity_times = p%solid_velocity_times
+    solid_velocity_history = p%solid_velocity_history
     read(text, nml=boundary, iostat=ios, iomsg=iomsg)
     if (ios /= 0) return
     p%face = face
@@ -330,5 +335,7 @@ contains
     p%solid = solid
     p%solid_velocity = solid_velocity
     p%solid_traction = solid_traction
+    p%solid_velocity_times = solid_velocity_times
+    p%solid_velocity_history = solid_velocity_history
   end subroutine read_boundary
 end module config_read_phases

@@ -13,7 +13,7 @@ module config_types
     max_regions, max_boundaries, max_polygon_points, eos_names, solid_model_names, &
     solid_shape_names, face_names, boundary_fluid_names, boundary_thermal_names, &
     boundary_solid_names, drag_law_names, drag_scheme_names, rigid_contact_names, &
-    particles_per_cell_used
+    particles_per_cell_used, max_history_points, history_unset, history_points_used
   implicit none
   private
 
@@ -27,6 +27,7 @@ module config_types
   public :: boundary_fluid_names, boundary_thermal_names, boundary_solid_names
   public :: drag_law_names, drag_scheme_names, rigid_contact_names
   public :: particles_per_cell_used, boundary_for_face
+  public :: max_history_points, history_unset, history_points_used
 
   !> Scenes the driver knows (the allowed values of `&run scene`). Later issues append to it.
   !! 'ice': fluids only (>= 1 `&fluid`, no `&solid`); 'mpm': solids only (>= 1 `&solid`, no

@@ -10,7 +10,8 @@ module config_validate_phases
   use config_types, only: config_t, solid_params_t, eos_names, &
     solid_model_names, solid_shape_names, face_names, boundary_fluid_names, &
     boundary_thermal_names, boundary_solid_names, max_polygon_points, drag_law_names, &
-    drag_scheme_names, rigid_contact_names
+    drag_scheme_names, rigid_contact_names, boundary_params_t, max_history_points, history_unset, &
+    history_points_used
   use config_text, only: real_repr, reals_repr, ints_repr, quoted, join_names
   use config_check_tools, only: config_error_t, set_error, check_real, check_int, check_choice, &
     occurrence_label
@@ -428,8 +429,59 @@ contains
       call check_choice(err, g, 'solid', p%solid, boundary_solid_names)
       call check_finite(err, g, 'solid_velocity', p%solid_velocity, ' [m/s]')
       call check_finite(err, g, 'solid_traction', p%solid_traction, ' [Pa]')
+      call check_velocity_history(p, g, err)
     end associate
   end subroutine check_boundary
+
+  !> `solid_velocity_times` / `solid_velocity_history` of one `&boundary` (label `g`): the
+  !! times consecutive from entry 1 (the rest unset), finite and strictly increasing; one
+  !! finite velocity column per time and none beyond; a table only with solid = 'velocity' and
+  !! `solid_velocity` left at 0.
+  subroutine check_velocity_history(p, g, err)
+    type(boundary_params_t), intent(in) :: p    !< the group
+    character(len=*), intent(in) :: g           !< group label
+    type(config_error_t), intent(inout) :: err  !< problem record
+    integer :: n, m, j
+    character(len=:), allocatable :: count_text
+    if (err%found) return
+    n = history_points_used(p%solid_velocity_times)
+    count_text = ints_repr([n])
+    if (any(p%solid_velocity_times(n + 1:) /= history_unset)) then
+      call set_error(err, g, 'solid_velocity_times', reals_repr(pack(p%solid_velocity_times, &
+        p%solid_velocity_times /= history_unset)), 'consecutive entries from ' // &
+        'solid_velocity_times(1), at most ' // ints_repr([max_history_points]) // ' [s]')
+      return
+    end if
+    call check_finite(err, g, 'solid_velocity_times', p%solid_velocity_times(1:n), ' [s]')
+    if (err%found) return
+    if (n > 1) then
+      if (any(p%solid_velocity_times(2:n) <= p%solid_velocity_times(1:n - 1))) then
+        call set_error(err, g, 'solid_velocity_times', reals_repr(p%solid_velocity_times(1:n)), &
+          'strictly increasing times [s]')
+        return
+      end if
+    end if
+    m = 0
+    do j = 1, max_history_points
+      if (any(p%solid_velocity_history(:, j) /= history_unset)) m = j
+    end do
+    if (m /= n .or. any(p%solid_velocity_history(:, 1:n) == history_unset)) then
+      call set_error(err, g, 'solid_velocity_history', reals_repr(pack(p%solid_velocity_history, &
+        p%solid_velocity_history /= history_unset)), '3 components for each of the ' // &
+        count_text // ' solid_velocity_times, as (:, 1:' // count_text // ') [m/s]')
+      return
+    end if
+    call check_finite(err, g, 'solid_velocity_history', &
+      reshape(p%solid_velocity_history(:, 1:n), [3 * n]), ' [m/s]')
+    if (err%found .or. n == 0) return
+    if (trim(p%solid) /= 'velocity') then
+      call set_error(err, g, 'solid_velocity_times', reals_repr(p%solid_velocity_times(1:n)), &
+        'a velocity history only with solid = ''velocity'' (here ' // quoted(p%solid) // ')')
+    else if (any(p%solid_velocity /= 0.0_wp)) then
+      call set_error(err, g, 'solid_velocity', reals_repr(p%solid_velocity), '0, 0, 0 ' // &
+        'when solid_velocity_times is given (the history prescribes the velocity) [m/s]')
+    end if
+  end subroutine check_velocity_history
 
   !> `&grid periodic` as namelist text.
   pure function periodic_text(periodic) result(text)

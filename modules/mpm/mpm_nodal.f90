@@ -4,7 +4,10 @@
 !!
 !! Boundary conditions per face (`&boundary solid`): fixed (v = 0), roller (normal component 0,
 !! free slip), free (nothing), velocity (v = prescribed), applied on the face nodes and on the
-!! ghost nodes beyond the face. Inactive dimensions carry no motion.
+!! ghost nodes beyond the face. Inactive dimensions carry no motion. A prescribed velocity is
+!! constant (`solid_velocity`) or a piecewise-linear history in time (`solid_velocity_times`,
+!! `solid_velocity_history`), evaluated by `nodal_bc_at_time` at the end of the step, t + dt,
+!! so that v^L and a = (v^L - v^n)/dt carry the face to its velocity at t + dt.
 !! Nodes touched by a rigid material (`q(8) > 0`) take its velocity before the face conditions
 !! (`&mpm rigid_contact = 'no_slip'`), or, with 'friction', keep the deformable material's velocity
 !! except where it approaches the rigid body: then the normal relative velocity is removed and the
@@ -20,7 +23,7 @@ module mpm_nodal
   private
 
   public :: nodal_bc_t, nodal_solve, nodal_finish, bc_kind_from_name, rigid_contact_velocity
-  public :: face_load_power
+  public :: face_load_power, nodal_bc_at_time, history_velocity
   public :: bc_fixed, bc_roller, bc_free, bc_velocity, bc_traction
 
   integer, parameter :: bc_fixed = 1     !< no motion
@@ -29,10 +32,16 @@ module mpm_nodal
   integer, parameter :: bc_velocity = 4  !< prescribed velocity
   integer, parameter :: bc_traction = 5  !< prescribed surface load, otherwise free
 
+  integer, parameter :: max_points = 64  !< most points of a velocity history
+
   !> Solid boundary conditions on the six faces (x-, x+, y-, y+, z-, z+).
   type :: nodal_bc_t
     integer :: kind(6) = bc_fixed              !< condition per face
     real(wp) :: velocity(3, 6) = 0.0_wp        !< prescribed velocity per face [m/s]
+    integer :: npoints(6) = 0                  !< points of the face's velocity history (0: the
+                                               !! constant `velocity`)
+    real(wp) :: times(max_points, 6) = 0.0_wp  !< history times per face [s]
+    real(wp) :: history(3, max_points, 6) = 0.0_wp !< history velocities per face [m/s]
     real(wp) :: traction(3, 6) = 0.0_wp        !< surface load per face [Pa]
     logical :: friction_contact = .false.      !< frictional contact with rigid bodies (else
                                                !! no-slip)
@@ -57,6 +66,46 @@ contains
       kind = bc_fixed
     end select
   end function bc_kind_from_name
+
+  !> Velocity [m/s] of a piecewise-linear history at time `t`: linear between the points
+  !! (`times` strictly increasing), held at the first value before `times(1)` and at the last
+  !! after `times(n)`.
+  pure function history_velocity(times, values, t) result(v)
+    real(wp), intent(in) :: times(:)      !< history times, n >= 1 [s]
+    real(wp), intent(in) :: values(:, :)  !< velocity at each time, (3, n) [m/s]
+    real(wp), intent(in) :: t             !< time [s]
+    real(wp) :: v(3)
+    integer :: n, j
+    real(wp) :: w
+    n = size(times)
+    if (t <= times(1)) then
+      v = values(:, 1)
+      return
+    end if
+    if (t >= times(n)) then
+      v = values(:, n)
+      return
+    end if
+    j = 1
+    do while (times(j + 1) < t)
+      j = j + 1
+    end do
+    w = (t - times(j)) / (times(j + 1) - times(j))
+    v = (1.0_wp - w) * values(:, j) + w * values(:, j + 1)
+  end function history_velocity
+
+  !> The prescribed velocities of the faces with a velocity history set to their value at `t`
+  !! (the end of the step); faces without one keep their constant velocity.
+  pure subroutine nodal_bc_at_time(bc, t)
+    type(nodal_bc_t), intent(inout) :: bc  !< boundary conditions
+    real(wp), intent(in) :: t              !< time [s]
+    integer :: face, n
+    do face = 1, 6
+      n = bc%npoints(face)
+      if (n < 1) cycle
+      bc%velocity(:, face) = history_velocity(bc%times(1:n, face), bc%history(:, 1:n, face), t)
+    end do
+  end subroutine nodal_bc_at_time
 
   !> Solve every allocated node: `nodes%q` (after P2G) gives `vel`, `vel_l`, `acc`. With
   !! `contact_dv` (the coupled scene, frictional contact) a contact node only loses the normal

@@ -13,7 +13,7 @@ module mpm_scene
   use mpmice_errors, only: int_text, real_short_text, fatal
   use mpmice_log, only: log_info, log_warning
   use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
-  use config_types, only: config_t, boundary_for_face
+  use config_types, only: config_t, boundary_for_face, history_points_used
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_free
   use parallel_reduce, only: global_sum, global_max, global_min
@@ -27,7 +27,8 @@ module mpm_scene
   use mpm_shape, only: shape_kind_from_name
   use mpm_nodes, only: mpm_nodes_t, nodes_init, nodes_free, nq
   use mpm_p2g, only: p2g_accumulate, p2g_accumulate_rigid, p2g_complete
-  use mpm_nodal, only: nodal_bc_t, nodal_solve, bc_kind_from_name, face_load_power
+  use mpm_nodal, only: nodal_bc_t, nodal_solve, bc_kind_from_name, face_load_power, &
+    nodal_bc_at_time
   use mpm_g2p, only: g2p_update
   use mpm_constitutive, only: material_t, material_init, model_from_name, wave_speed, &
     model_rigid
@@ -86,7 +87,7 @@ contains
     type(domain_t), intent(in) :: dom            !< decomposition
     type(grid_t), intent(in) :: grid             !< block geometry
     type(timer_set_t), intent(inout) :: timers   !< stage timers
-    integer :: s, face
+    integer :: s, face, n
     real(wp) :: mmin
     if (any(grid%active .and. grid%ng < 1)) call fatal('mpm scene: &grid ghost_width must be >= 1')
     self%t_p2g = timer_register(timers, 'MPM particle to grid')
@@ -124,6 +125,12 @@ contains
       associate (b => boundary_for_face(cfg, face))
         self%bc%kind(face) = bc_kind_from_name(b%solid)
         self%bc%velocity(:, face) = b%solid_velocity
+        n = history_points_used(b%solid_velocity_times)
+        if (n > size(self%bc%times, 1)) call fatal('mpm scene: velocity history longer ' // &
+          'than the nodal table')
+        self%bc%npoints(face) = n
+        self%bc%times(1:n, face) = b%solid_velocity_times(1:n)
+        self%bc%history(:, 1:n, face) = b%solid_velocity_history(:, 1:n)
         self%bc%traction(:, face) = b%solid_traction
       end associate
     end do
@@ -186,6 +193,7 @@ contains
     call timer_start(timers, self%t_nodal)
     ramp = 1.0_wp
     if (self%ramp_time > 0.0_wp) ramp = min(1.0_wp, (time + dt) / self%ramp_time)
+    call nodal_bc_at_time(self%bc, time + dt)
     call nodal_solve(self%nodes, grid, ramp * self%gravity, self%damping, dt, self%bc, &
       self%min_mass)
     call timer_stop(timers, self%t_nodal)

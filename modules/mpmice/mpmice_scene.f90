@@ -46,7 +46,7 @@ module mpmice_scene
   use mpm_scene, only: mpm_scene_t, move_rigid, mpm_migrate_all
   use mpm_constitutive, only: model_rigid
   use mpm_p2g, only: p2g_accumulate, p2g_accumulate_rigid, p2g_complete
-  use mpm_nodal, only: nodal_solve, nodal_finish
+  use mpm_nodal, only: nodal_solve, nodal_finish, nodal_bc_at_time
   use mpm_g2p, only: g2p_update
   use mpm_loads, only: surface_load_t, surface_load_init, surface_load_scatter, &
     surface_load_power
@@ -263,6 +263,7 @@ contains
       call timer_start(timers, so%t_nodal)
       ramp = 1.0_wp
       if (so%ramp_time > 0.0_wp) ramp = min(1.0_wp, (time + dt) / so%ramp_time)
+      call nodal_bc_at_time(so%bc, time + dt)
       if (st%solid%sliding) then
         call contact_pressure_accel(st, grid, so%nodes, so%min_mass, self%contact_acc)
         call nodal_solve(so%nodes, grid, ramp * so%gravity, so%damping, dt, so%bc, so%min_mass, &
