@@ -144,6 +144,8 @@ MPMICE_CASE = """&run name = 'mpmice', scene = 'mpmice', output_dir = 'out' /
   traction_lower = 0.0, 0.9, 0.0, traction_upper = 1.0, 1.0, 1.0 /
 """
 
+_VH = "&boundary face = 'y-', solid = 'velocity',"
+
 #: Input errors of scene 'mpmice' and the new &solid variables, on one rank:
 #: (id, text appended to MPMICE_CASE, --set texts, pieces the error line must contain)
 BAD_MPMICE_INPUTS = [
@@ -164,6 +166,35 @@ BAD_MPMICE_INPUTS = [
     ("grain_size_zero_rigid",
      "&solid name = 's2', model = 'rigid', upper = 1, 1, 1, grain_size = 0 /", [],
      ["case.nml", "&solid(2) grain_size = 0.0", "> 0 [m]"]),
+] + [
+    # &boundary velocity history (solid_velocity_times / solid_velocity_history)
+    ("history_times_not_increasing",
+     f"{_VH} solid_velocity_times = 0, 0.2, 0.1, solid_velocity_history = 9*0.0 /", [],
+     ["case.nml", "&boundary(1) solid_velocity_times = 0.0, 0.2, 0.1",
+      "strictly increasing times [s]"]),
+    ("history_count_mismatch",
+     f"{_VH} solid_velocity_times = 0, 0.1, solid_velocity_history = 0, 0, 0 /", [],
+     ["case.nml", "&boundary(1) solid_velocity_history = 0.0, 0.0, 0.0",
+      "3 components for each of the 2 solid_velocity_times"]),
+    ("history_value_not_finite",
+     f"{_VH} solid_velocity_times = 0, 0.1, solid_velocity_history = 0, 0, 0, 0, 1e400, 0 /", [],
+     ["case.nml", "&boundary(1) solid_velocity_history", "Infinity", "finite numbers [m/s]"]),
+    ("history_time_nan",
+     f"{_VH} solid_velocity_times = nan, 0.1, solid_velocity_history = 6*0.0 /", [],
+     ["case.nml", "&boundary(1) solid_velocity_times = NaN, 0.1", "finite numbers [s]"]),
+    ("history_times_gap", f"{_VH} solid_velocity_times(1) = 0, solid_velocity_times(3) = 1, "
+     "solid_velocity_history = 6*0.0 /", [],
+     ["case.nml", "&boundary(1) solid_velocity_times = 0.0, 1.0",
+      "consecutive entries from solid_velocity_times(1), at most 64"]),
+    ("history_too_long", f"{_VH} solid_velocity_times = 65*0.5 /", [],
+     ["case.nml", "&boundary(1) solid_velocity_times = 65*0.5", "up to 64 real numbers"]),
+    ("history_on_fixed_face", "&boundary face = 'y-', solid = 'fixed', "
+     "solid_velocity_times = 0, 1, solid_velocity_history = 6*0.0 /", [],
+     ["case.nml", "&boundary(1) solid_velocity_times = 0.0, 1.0", "only with solid = 'velocity'"]),
+    ("history_and_constant",
+     f"{_VH} solid_velocity_times = 0, 1, solid_velocity_history = 6*0.0 /",
+     ["&boundary face = 'y-', solid_velocity = 0, 1, 0 /"],
+     ["--set", "&boundary(1) solid_velocity = 0.0, 1.0, 0.0", "history prescribes"]),
 ]
 
 
