@@ -48,7 +48,6 @@ contains
     real(wp), intent(in) :: sources(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :, :)
     integer :: d, m, i, j, k, o(3)
     real(wp) :: mass, vol, mom, work, phi, uh, ul, g_kinetic(3)
-    real(wp), allocatable :: defect(:, :, :), cell_mass(:, :, :)
     logical :: mixture
 
     vol = grid%cell_volume
@@ -56,11 +55,9 @@ contains
     mixture = .not. state%solid%present
     ! gravity work that stays kinetic: the components not carried as potential energy
     g_kinetic = gravity - potential_gravity(grid, gravity)
-    if (mixture) then
-      allocate(defect(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), grid%lo(3):grid%hi(3)), &
-        source=0.0_wp)
-      allocate(cell_mass, source=defect)
-    end if
+    ! energy defect and cell mass of the mixture correction: preallocated work storage
+    if (mixture) state%lag_work(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), &
+      grid%lo(3):grid%hi(3), :) = 0.0_wp
     do m = 1, state%nfluids
       associate (f => state%fluid(m))
         do k = grid%lo(3), grid%hi(3)
@@ -89,7 +86,7 @@ contains
                 f%lag(i, j, k, 1:3) = 0.0_wp
                 f%lag(i, j, k, 4) = f%eos%cv * f%temp(i, j, k)
                 f%lag(i, j, k, 5) = f%spvol(i, j, k)
-                if (mixture) defect(i, j, k) = defect(i, j, k) + work
+                if (mixture) state%lag_work(i, j, k, 1) = state%lag_work(i, j, k, 1) + work
                 cycle
               end if
               do d = 1, 3
@@ -106,11 +103,12 @@ contains
               f%lag(i, j, k, 4) = f%eos%cv * f%temp(i, j, k) + (vol * phi * f%kappa(i, j, k) * &
                 state%pressure(i, j, k) * state%dp_total(i, j, k) + sources(i, j, k, 4, m)) / mass
               if (mixture) then
-                defect(i, j, k) = defect(i, j, k) + work - vol * phi * f%kappa(i, j, k) * &
-                  state%pressure(i, j, k) * state%dp_total(i, j, k) - 0.5_wp * mass * &
-                  (sum(f%lag(i, j, k, 1:3)**2) - sum(f%vel(i, j, k, 1:3)**2)) + dt * mass * &
-                  dot_product(g_kinetic, 0.5_wp * (f%lag(i, j, k, 1:3) + f%vel(i, j, k, 1:3)))
-                cell_mass(i, j, k) = cell_mass(i, j, k) + mass
+                state%lag_work(i, j, k, 1) = state%lag_work(i, j, k, 1) + work - vol * phi * &
+                  f%kappa(i, j, k) * state%pressure(i, j, k) * state%dp_total(i, j, k) - &
+                  0.5_wp * mass * (sum(f%lag(i, j, k, 1:3)**2) - sum(f%vel(i, j, k, 1:3)**2)) + &
+                  dt * mass * dot_product(g_kinetic, 0.5_wp * (f%lag(i, j, k, 1:3) + &
+                  f%vel(i, j, k, 1:3)))
+                state%lag_work(i, j, k, 2) = state%lag_work(i, j, k, 2) + mass
               end if
               f%lag(i, j, k, 5) = f%spvol(i, j, k) - &
                 vol * phi * f%kappa(i, j, k) * state%dp_total(i, j, k) / mass
@@ -127,7 +125,8 @@ contains
           do j = grid%lo(2), grid%hi(2)
             do i = grid%lo(1), grid%hi(1)
               if (f%rho(i, j, k) <= 0.0_wp) cycle
-              f%lag(i, j, k, 4) = f%lag(i, j, k, 4) + defect(i, j, k) / cell_mass(i, j, k)
+              f%lag(i, j, k, 4) = f%lag(i, j, k, 4) + state%lag_work(i, j, k, 1) / &
+                state%lag_work(i, j, k, 2)
             end do
           end do
         end do
