@@ -101,6 +101,8 @@ contains
               end do
               call row_face_values(f%rho, grid%lbc, i1, i2, j, k, o, order, pos, dist, &
                 grid%dx(d), qf)
+              if (state%solid%present) call open_face_inflow(state, grid, f%rho, d, o, i1, i2, &
+                j, k, pos, qf)
               do i = i1, i2
                 u = f%uface(i, j, k, d)
                 mflux(i) = merge(qf(i) * (u * dt * area), 0.0_wp, u /= 0.0_wp)
@@ -234,4 +236,30 @@ contains
       limited_slope = 0.0_wp
     end if
   end function limited_slope
+
+  !> Open ('pressure') domain faces of a scene with a solid phase: fluid flowing in from the
+  !! ghost reservoir (mpmice `open_face_reservoirs`) carries the inner cell's bulk density, i.e.
+  !! it enters through the inner cell's pores, consistent with the inner-cell face fraction of
+  !! the pressure equation there (`ice_pressure`, open_face_shift).
+  subroutine open_face_inflow(state, grid, rho, d, o, i1, i2, j, k, pos, qf)
+    type(ice_state_t), intent(in) :: state     !< fluids (closed faces)
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: rho(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< bulk density
+    integer, intent(in) :: d                   !< face direction
+    integer, intent(in) :: o(3)                !< unit offset along d
+    integer, intent(in) :: i1, i2, j, k        !< the row of faces
+    logical, intent(in) :: pos(grid%lbc(1):)   !< u > 0 per face of the row
+    real(wp), intent(inout) :: qf(grid%lbc(1):) !< face bulk density of the row
+    integer :: i, idx(3)
+    if (grid%periodic(d)) return
+    do i = i1, i2
+      idx = [i, j, k]
+      if (idx(d) == 1) then
+        if (.not. state%closed(2 * d - 1) .and. pos(i)) qf(i) = rho(i, j, k)
+      else if (idx(d) == grid%ncells(d) + 1) then
+        if (.not. state%closed(2 * d) .and. .not. pos(i)) &
+          qf(i) = rho(i - o(1), j - o(2), k - o(3))
+      end if
+    end do
+  end subroutine open_face_inflow
 end module ice_advection

@@ -33,7 +33,7 @@ contains
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: theta              !< implicit weight of the pressure change
-    integer :: d, m, i, j, k, o(3), r(2, 3)
+    integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3)
     real(wp) :: area, w_lo, w_hi
 
     state%coef = 0.0_wp
@@ -57,6 +57,19 @@ contains
           end do
         end associate
       end do
+      if (state%solid%present) then
+        do side = 1, 2
+          if (.not. open_plane(state, grid, d, r, side, lo, hi)) cycle
+          do k = lo(3), hi(3)
+            do j = lo(2), hi(2)
+              do i = lo(1), hi(1)
+                state%coef(i, j, k, d) = state%coef(i, j, k, d) + &
+                  open_face_shift(state, d, o, i, j, k, side == 2, .false.)
+              end do
+            end do
+          end do
+        end do
+      end if
       do k = r(1, 3), r(2, 3)
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
@@ -102,7 +115,7 @@ contains
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp) :: residual
-    integer :: d, m, i, j, k, o(3)
+    integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3), c(3)
     real(wp) :: area, flux
 
     do k = grid%lo(3), grid%hi(3)
@@ -133,6 +146,23 @@ contains
           end do
         end associate
       end do
+      if (state%solid%present) then
+        r = face_range(grid, d)
+        do side = 1, 2
+          if (.not. open_plane(state, grid, d, r, side, lo, hi)) cycle
+          ! the plane's cells: above the low plane, below the high one (outward flux sign)
+          do k = lo(3), hi(3)
+            do j = lo(2), hi(2)
+              do i = lo(1), hi(1)
+                c = [i, j, k] - merge(o, 0, side == 2)
+                state%rhs(c(1), c(2), c(3)) = state%rhs(c(1), c(2), c(3)) - dt * area * &
+                  merge(1.0_wp, -1.0_wp, side == 2) * &
+                  open_face_shift(state, d, o, i, j, k, side == 2, .true.)
+              end do
+            end do
+          end do
+        end do
+      end if
       if (state%solid%present) then
         do k = grid%lo(3), grid%hi(3)
           do j = grid%lo(2), grid%hi(2)
@@ -344,4 +374,56 @@ contains
       face(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) = 0.0_wp
     end do
   end subroutine zero_closed_faces
+
+  !> True when the domain plane of direction `d` on `side` (1 low, 2 high) is an open
+  !! ('pressure') face that this rank holds; `lo`, `hi`: its faces.
+  logical function open_plane(state, grid, d, r, side, lo, hi)
+    type(ice_state_t), intent(in) :: state  !< fluids (closed faces)
+    type(grid_t), intent(in) :: grid        !< block geometry
+    integer, intent(in) :: d                !< face direction
+    integer, intent(in) :: r(2, 3)          !< face range of this rank
+    integer, intent(in) :: side             !< 1: low plane, 2: high plane
+    integer, intent(out) :: lo(3), hi(3)    !< face range of the plane
+    integer :: idx
+    open_plane = .false.
+    lo = r(1, :)
+    hi = r(2, :)
+    if (grid%periodic(d)) return
+    idx = merge(1, grid%ncells(d) + 1, side == 1)
+    if (state%closed(2 * d - 2 + side)) return
+    if (idx < r(1, d) .or. idx > r(2, d)) return
+    lo(d) = idx
+    hi(d) = idx
+    open_plane = .true.
+  end function open_plane
+
+  !> Open domain face of a scene with a solid phase: sum over the fluids of (phi_inner -
+  !! phi_upwind) w, w the face specific volume (coefficient) or the face velocity (flux). The
+  !! ghosts beyond an open face hold a free-fluid reservoir (mpmice `open_face_reservoirs`);
+  !! the fluid crosses the face through the pores of the inner cell in either direction (the
+  !! face's control volume is the inner half cell, as for the face exchange), so its face
+  !! fraction is the inner cell's. The upwind reservoir fraction (1 instead of the porosity
+  !! whenever the flow turned inward) grew an odd-even pressure mode at the drained face of a
+  !! consolidation column at small time steps (docs/accuracy.md, stability map (a)).
+  pure real(wp) function open_face_shift(state, d, o, i, j, k, inner_low, by_velocity) &
+    result(shift)
+    type(ice_state_t), intent(in) :: state  !< fluids
+    integer, intent(in) :: d                !< face direction
+    integer, intent(in) :: o(3)             !< unit offset along d
+    integer, intent(in) :: i, j, k          !< face (low face of cell i, j, k)
+    logical, intent(in) :: inner_low        !< the inner cell is the low one (high plane)
+    logical, intent(in) :: by_velocity      !< weight: face velocity (else specific volume)
+    integer :: m
+    real(wp) :: u, lo_frac, hi_frac
+    shift = 0.0_wp
+    do m = 1, state%nfluids
+      associate (f => state%fluid(m))
+        u = f%uface(i, j, k, d)
+        lo_frac = f%vfrac(i - o(1), j - o(2), k - o(3))
+        hi_frac = f%vfrac(i, j, k)
+        shift = shift + (merge(lo_frac, hi_frac, inner_low) - merge(lo_frac, hi_frac, &
+          u >= 0.0_wp)) * merge(u, f%vface(i, j, k, d), by_velocity)
+      end associate
+    end do
+  end function open_face_shift
 end module ice_pressure
