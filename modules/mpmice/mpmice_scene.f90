@@ -201,16 +201,17 @@ contains
 
   !> Deposit every solid's particles into the cells, sum the halo, and set the cell fields of the
   !! solid phase; `phi_p` gets the particles' solid fraction.
-  subroutine deposit_solids(self, dom, grid)
+  subroutine deposit_solids(self, dom, grid, dt)
     class(mpmice_scene_t), intent(inout) :: self  !< scene
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
+    real(wp), intent(in), optional :: dt          !< step [s]: face-plane fractions swept over it
     integer :: s, ns
     ns = size(self%coupling)
     self%dep = 0.0_wp
     do s = 1, ns
       call solid_deposit(self%so%parts(s), s, ns, self%coupling(s), grid, self%dep, &
-        self%fl%state%solid%sliding, self%fl%state%solid%frac_rigid)
+        self%fl%state%solid%sliding, self%fl%state%solid%frac_rigid, dt)
     end do
     call halo_reverse_cell_vec(self%halo, dom, grid, self%dep)
     call solid_cell_fields(self%fl%state, grid, self%dep, self%coupling, self%max_fraction, &
@@ -275,7 +276,7 @@ contains
 
       ! solid phase on the grid; the particles' fraction beyond the tracked one is a source
       call timer_start(timers, self%t_cells)
-      call deposit_solids(self, dom, grid)
+      call deposit_solids(self, dom, grid, dt)
       st%solid%source = self%relaxation * (self%phi_p - st%solid%vfrac)
       ! sliding rigid bodies: the wall cells keep their tracked fraction (a soil's overlap with
       ! them is not seen, mpmice_solid_cells%partner_fields)

@@ -85,7 +85,7 @@ contains
   !! grains from the fluids (the tracked solid volume of a block sliding 1.5 cm on a 45 deg slope
   !! fell by 0.05 cell volumes, which a closed box of water turned into -230 kPa), and the soil's
   !! lowest particles pass through them. `deposit_size` components in all.
-  subroutine solid_deposit(p, s, nsolids, solid, grid, dep, sliding, wall_frac)
+  subroutine solid_deposit(p, s, nsolids, solid, grid, dep, sliding, wall_frac, dt)
     type(particles_t), intent(in) :: p          !< particles of solid s
     integer, intent(in) :: s                    !< solid index
     integer, intent(in) :: nsolids              !< number of solids
@@ -95,8 +95,9 @@ contains
     logical, intent(in), optional :: sliding    !< rigid bodies slide (own plane components)
     real(wp), intent(in), optional :: wall_frac(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !<
                                                 !! rigid fraction of the cells (previous deposit)
+    real(wp), intent(in), optional :: dt        !< step [s]: plane fractions swept over it
     integer :: ip, d, k, a, b, c, first(3), nc(3), nf(3), ff(3), e, nbase, cb(3), nt, tgt(3, 6)
-    real(wp) :: w(2, 3), wt, vg, l(3), lo, hi, wf, mc, tw(6)
+    real(wp) :: w(2, 3), wt, vg, l(3), lo, hi, wf, mc, tw(6), step, sup, sdn, wlo, whi
     logical :: own_planes, redirect
     own_planes = .false.
     if (present(sliding)) own_planes = sliding .and. solid%rigid
@@ -104,6 +105,8 @@ contains
     if (present(sliding) .and. present(wall_frac)) redirect = sliding .and. .not. solid%rigid
     nbase = 2 + nsolids
     if (own_planes) nbase = 14 + nsolids
+    step = 0.0_wp
+    if (present(dt)) step = dt
     do ip = 1, p%np
       vg = p%mass(ip) / solid%grain_density
       mc = p%mass(ip) * solid%heat_capacity
@@ -122,11 +125,22 @@ contains
         lo = snap_to_plane((p%x(d, ip) - l(d) - grid%lower(d)) / grid%dx(d))
         hi = snap_to_plane((p%x(d, ip) + l(d) - grid%lower(d)) / grid%dx(d))
         wf = vg * grid%dx(d) / (2.0_wp * l(d) * grid%cell_volume)
-        do k = ceiling(lo), floor(hi)
+        ! swept over the step (departure 16): the low side carries the grains of the slab
+        ! [k - sup, k] that cross the plane at the particle's velocity (sup = u dt / dx > 0),
+        ! the high side those of [k, k + sdn] (u < 0); without a step, the plane itself
+        sup = max(p%v(d, ip), 0.0_wp) * step / grid%dx(d)
+        sdn = max(-p%v(d, ip), 0.0_wp) * step / grid%dx(d)
+        do k = ceiling(lo - sdn), floor(hi + sup)
+          wlo = swept_share(lo, hi, real(k, wp) - sup, real(k, wp), lo < real(k, wp) .and. &
+            real(k, wp) <= hi)
+          whi = swept_share(lo, hi, real(k, wp), real(k, wp) + sdn, lo <= real(k, wp) .and. &
+            real(k, wp) < hi)
+          if (wlo <= 0.0_wp .and. whi <= 0.0_wp) cycle
           ff = first
           nf = nc
           ff(d) = k + 1
           nf(d) = 1
+          if (k + 1 < grid%lbc(d) .or. k + 1 > grid%ubc(d)) cycle
           do c = 1, nf(3)
             do b = 1, nf(2)
               do a = 1, nf(1)
@@ -136,10 +150,10 @@ contains
                   wt = wt * w(merge(a, merge(b, c, e == 2), e == 1), e)
                 end do
                 associate (q => dep(:, ff(1) + a - 1, ff(2) + b - 1, ff(3) + c - 1))
-                  if (lo < real(k, wp)) q(nbase + 2 * d - 1) = q(nbase + 2 * d - 1) + wt
-                  if (real(k, wp) < hi) q(nbase + 2 * d) = q(nbase + 2 * d) + wt
+                  q(nbase + 2 * d - 1) = q(nbase + 2 * d - 1) + wlo * wt
+                  q(nbase + 2 * d) = q(nbase + 2 * d) + whi * wt
                 end associate
-                if (lo < real(k, wp) .and. .not. own_planes) then
+                if (lo < real(k, wp) .and. real(k, wp) <= hi .and. .not. own_planes) then
                   ! the cell below the plane keeps its own side too
                   cb = [ff(1) + a - 1, ff(2) + b - 1, ff(3) + c - 1] - unit_offset(:, d)
                   dep(11 + nsolids + d, cb(1), cb(2), cb(3)) = &
@@ -221,6 +235,20 @@ contains
       tw(1:n) = tw(1:n) / sum(tw(1:n))
     end if
   end subroutine wall_neighbours
+
+  !> Share of the slab [a, b] (in cells) that the particle domain [lo, hi] covers, over the slab's
+  !! width; a slab of zero width (no step or no motion that way) gives 1 where the domain reaches
+  !! the plane (`on_plane`), else 0.
+  pure real(wp) function swept_share(lo, hi, a, b, on_plane) result(share)
+    real(wp), intent(in) :: lo, hi   !< particle domain [cells]
+    real(wp), intent(in) :: a, b     !< slab, a <= b [cells]
+    logical, intent(in) :: on_plane  !< the plane's side test for a zero-width slab
+    if (b - a <= 0.0_wp) then
+      share = merge(1.0_wp, 0.0_wp, on_plane)
+    else
+      share = max(0.0_wp, min(hi, b) - max(lo, a)) / (b - a)
+    end if
+  end function swept_share
 
   !> Number of deposit components of `nsolids` solids (`solid_deposit`).
   pure integer function deposit_size(nsolids)
