@@ -105,8 +105,10 @@ contains
     if (present(sliding) .and. present(wall_frac)) redirect = sliding .and. .not. solid%rigid
     nbase = 2 + nsolids
     if (own_planes) nbase = 14 + nsolids
+    ! not with sliding rigid bodies: the contact corrects the nodal velocity, not the particle's
+    ! (the 40 mm debris flow: +367 / -6.6 kPa in a contact cell at 0.1 s with the sweep)
     step = 0.0_wp
-    if (present(dt)) step = dt
+    if (present(dt) .and. .not. own_planes .and. .not. redirect) step = dt
     do ip = 1, p%np
       vg = p%mass(ip) / solid%grain_density
       mc = p%mass(ip) * solid%heat_capacity
