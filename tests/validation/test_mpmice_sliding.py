@@ -36,7 +36,8 @@ def test_block_slides_in_air_as_rigid_block(tmp_path, mu):
 def test_block_slides_under_water_with_buoyant_friction(tmp_path):
     """Under water the friction carries the buoyant weight: a(0.4) / a(0) = 1 - mu cot 45 = 0.6
     (with the full weight it would be 1 - mu rho_sat / (rho_sat - rho_w) = 0.196), measured
-    0.601 (0.589 before the pore-water fix, docs/mpmice.md departure 16); within 0.03. The frictionless block is slower than the drained rigid block's
+    0.601 (0.589 before the pore-water fix, docs/mpmice.md departure 16); within 0.03. The
+    frictionless block is slower than the drained rigid block's
     g (1 - rho_w / rho_sat) sin 45 = 3.45 m/s^2 (the water's added mass and the pore water's
     drag; measured 0.60 of it), and sliding needs the buoyant weight: a(0) between 0.4 and 1.0
     of it. Water, block and bed masses kept to 1e-10; 2 ranks give the 1-rank slide to 1e-9."""
