@@ -14,7 +14,10 @@ from postproc.run_case import mpi_environment, mpirun_command, run_mpmice
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 NAMELIST = os.path.join(ROOT, "namelists", "heat_conduction_2d.nml")
-LONG = ["--set", "&run end_time = 1.0, output_interval = 0.25, checkpoint_interval = 0.0 /"]
+# 128 x 64 cells: about 2 s on a quiet machine, so that a signal sent 0.5 s after the first dump
+# arrives well before the end (the namelist's 64 x 32 finishes in 0.5 s)
+LONG = ["--set", "&run end_time = 1.0, output_interval = 0.25, checkpoint_interval = 0.0 /",
+        "--set", "&grid ncells = 128, 64, 1 /"]
 
 
 def read_status(path):
@@ -60,8 +63,10 @@ def test_sigusr1_checkpoints_and_restart_continues_identically(tmp_path, mpmice_
 
 def test_wall_time_limit_stops_with_checkpoint(tmp_path, mpmice_exe):
     out = tmp_path / "wall"
-    # the limit keeps a margin of 10 s + twice the slowest step, so 10.5 s stops after ~0.5 s
-    run_mpmice([NAMELIST] + LONG + ["--set", f"&run output_dir = '{out}', wall_time_limit = 10.5 /"],
+    # the limit keeps a margin of 10 s + twice the slowest step, so 10.5 s stops after ~0.5 s;
+    # the run is made 20x longer than LONG so that it cannot finish before the limit
+    very_long = LONG + ["--set", "&run end_time = 20.0 /"]
+    run_mpmice([NAMELIST] + very_long + ["--set", f"&run output_dir = '{out}', wall_time_limit = 10.5 /"],
                nranks=1, exe=str(mpmice_exe), cwd=str(tmp_path))
     status = read_status(out / "heat2d.status")
     assert status["state"] == "stopped", status
