@@ -25,6 +25,7 @@ import os
 
 import numpy as np
 
+from postproc.mpmice_debris_flow import masses  # noqa: F401  (also used by the test)
 from postproc.mpmice_io import cell_centres, list_dumps, read_dump
 
 NAME = "quake"
@@ -92,18 +93,6 @@ def excess_pore_pressure(dump: dict, parts: dict) -> np.ndarray:
     if not np.any(parts["pore_pressure"]):        # the initial dump: not computed yet
         return np.zeros_like(hydro)
     return parts["pore_pressure"] - hydro
-
-
-def masses(dump: dict) -> dict[str, float]:
-    """Mass [kg] of every fluid (cells) and solid (particles) of a dump."""
-    vol = float(np.prod(np.asarray(dump["attrs"]["dx"]).reshape(3)))
-    out = {}
-    for key, field in dump["cell"].items():
-        if key.endswith("/density"):
-            out[key.split("/")[0]] = float(np.sum(field)) * vol
-    for name, parts in dump.get("particles", {}).items():
-        out[name] = float(np.sum(parts["mass"]))
-    return out
 
 
 def analyse(dumps: list[dict]) -> list[dict]:
