@@ -244,30 +244,19 @@ contains
         ! alone
         pl = sp%xfrac(i - o(1), j - o(2), k - o(3))
         pr = sp%xfrac(i, j, k)
-        if (ghost_side == 1) pl = 0.0_wp
-        if (ghost_side == 2) pr = 0.0_wp
         if (rigid) then
-          phi = 0.5_wp * (pl + pr)
-          wl = merge(1.0_wp, 0.0_wp, pl > 0.0_wp)
-          wr = merge(1.0_wp, 0.0_wp, pr > 0.0_wp)
+          call face_pair_mean(pl, pr, ghost_side, phi, wl, wr)
         else
-          fl = sp%frac_def(i - o(1), j - o(2), k - o(3))
-          fr = sp%frac_def(i, j, k)
-          if (ghost_side == 1) fl = 0.0_wp
-          if (ghost_side == 2) fr = 0.0_wp
-          phi = 0.5_wp * (fl + fr)
-          wl = merge(1.0_wp, 0.0_wp, fl > 0.0_wp)
-          wr = merge(1.0_wp, 0.0_wp, fr > 0.0_wp)
+          call face_pair_mean(sp%frac_def(i - o(1), j - o(2), k - o(3)), sp%frac_def(i, j, k), &
+            ghost_side, phi, wl, wr)
         end if
       else
         pl = sp%vfrac(i - o(1), j - o(2), k - o(3))
         pr = sp%vfrac(i, j, k)
-        if (ghost_side == 1) pl = 0.0_wp
-        if (ghost_side == 2) pr = 0.0_wp
-        phi = 0.5_wp * (pl + pr)
-        wl = merge(1.0_wp, 0.0_wp, pl > 0.0_wp)
-        wr = merge(1.0_wp, 0.0_wp, pr > 0.0_wp)
+        call face_pair_mean(pl, pr, ghost_side, phi, wl, wr)
       end if
+      if (ghost_side == 1) pl = 0.0_wp
+      if (ghost_side == 2) pr = 0.0_wp
       if (ghost_side /= 0) phi = 2.0_wp * phi
       c = 0.0_wp
       v = 0.0_wp
@@ -298,6 +287,25 @@ contains
       end do
     end associate
   end subroutine solid_face_partner
+
+  !> Mean of a solid fraction over the two cells of a face, the cell beyond a domain face
+  !! (ghost_side 1: the low cell, 2: the high cell) counted as empty, and the 0/1 weights of the
+  !! sides that hold solid.
+  pure subroutine face_pair_mean(low, high, ghost_side, phi, w_low, w_high)
+    real(wp), intent(in) :: low       !< fraction in the low cell
+    real(wp), intent(in) :: high      !< fraction in the high cell
+    integer, intent(in) :: ghost_side !< 0, or the side beyond a domain face
+    real(wp), intent(out) :: phi      !< face mean
+    real(wp), intent(out) :: w_low    !< 1 where the low cell holds solid
+    real(wp), intent(out) :: w_high   !< 1 where the high cell holds solid
+    real(wp) :: a, b
+
+    a = merge(0.0_wp, low, ghost_side == 1)
+    b = merge(0.0_wp, high, ghost_side == 2)
+    phi = 0.5_wp * (a + b)
+    w_low = merge(1.0_wp, 0.0_wp, a > 0.0_wp)
+    w_high = merge(1.0_wp, 0.0_wp, b > 0.0_wp)
+  end subroutine face_pair_mean
 
   !> 1 when the low cell of face `idx` (direction d) lies beyond a domain face, 2 for the high
   !! cell, 0 for an inner face.
