@@ -13,6 +13,10 @@ module ice_equilibration
 
   public :: ice_equilibrate
 
+  !> Pressure [Pa] at which a trace fluid's volume is judged (trace_fallback) and at which a trace
+  !! left out of the volume sum takes its density when the others' pressure is not positive
+  real(wp), parameter :: trace_pressure = 1.0_wp
+
 contains
 
   !> Equilibrate every allocated cell (ghosts included, so no halo exchange is needed after it).
@@ -27,11 +31,13 @@ contains
     integer, intent(out) :: max_iterations_used    !< largest iteration count
     integer, intent(out) :: failed                 !< cells that did not converge
     integer :: i, j, k, m, it, n
-    real(wp) :: p, pn, f, deriv, rho_m, phi, porosity
+    real(wp) :: p, rho_m, porosity
+    logical :: active(state%nfluids), converged
 
     n = state%nfluids
     max_iterations_used = 0
     failed = 0
+    active = .true.
     do k = grid%lbc(3), grid%ubc(3)
       do j = grid%lbc(2), grid%ubc(2)
         do i = grid%lbc(1), grid%ubc(1)
@@ -44,27 +50,12 @@ contains
             end associate
           else
             p = state%pressure(i, j, k)
-            do it = 1, max_iterations
-              f = -porosity
-              deriv = 0.0_wp
-              do m = 1, n
-                associate (fl => state%fluid(m))
-                  rho_m = eos_density(fl%eos, p, fl%temp(i, j, k))
-                  phi = fl%rho(i, j, k) / rho_m
-                  f = f + phi
-                  deriv = deriv + phi / (rho_m * eos_dp_drho(fl%eos, rho_m, fl%temp(i, j, k)))
-                end associate
-              end do
-              ! d(sum phi)/dp = -deriv: Newton step p <- p + f / deriv, kept positive. One more
-              ! step after reaching the tolerance (quadratic convergence: error ~ tolerance^2),
-              ! since |sum phi - 1| = 1e-10 still allows K 1e-10 = 0.2 Pa of error for water.
-              pn = p + f / deriv
-              if (p > 0.0_wp) pn = max(pn, 0.1_wp * p)
-              p = pn
-              if (abs(f) <= tolerance) exit
-            end do
+            call newton_pressure(state, i, j, k, porosity, active, tolerance, max_iterations, &
+              p, it, converged)
             max_iterations_used = max(max_iterations_used, it)
-            if (it > max_iterations) failed = failed + 1
+            if (.not. converged) call trace_fallback(state, i, j, k, porosity, tolerance, &
+              max_iterations, p, converged)
+            if (.not. converged) failed = failed + 1
           end if
           state%pressure(i, j, k) = p
           state%p_eq(i, j, k) = p
@@ -74,7 +65,9 @@ contains
               if (n == 1) then
                 rho_m = fl%rho(i, j, k) / porosity
               else
+                ! a trace left out of the volume sum (trace_fallback) keeps a positive density
                 rho_m = eos_density(fl%eos, p, fl%temp(i, j, k))
+                if (rho_m <= 0.0_wp) rho_m = eos_density(fl%eos, trace_pressure, fl%temp(i, j, k))
               end if
               fl%spvol(i, j, k) = 1.0_wp / rho_m
               fl%vfrac(i, j, k) = fl%rho(i, j, k) / rho_m
@@ -90,4 +83,85 @@ contains
       end do
     end do
   end subroutine ice_equilibrate
+
+  !> Newton iteration on sum phi_m(p) - n = 0 over the fluids marked `active` (eqs. 10-11 with
+  !! the pores, as Uintah's computeEquilibrationPressure). `p` is the initial guess on entry and
+  !! the pressure [Pa] on exit; `iterations` the count used (max_iterations + 1 when it failed).
+  pure subroutine newton_pressure(state, i, j, k, porosity, active, tolerance, max_iterations, &
+      p, iterations, converged)
+    type(ice_state_t), intent(in) :: state  !< fluids
+    integer, intent(in) :: i, j, k          !< cell
+    real(wp), intent(in) :: porosity        !< pore fraction n = 1 - phi_s [-]
+    logical, intent(in) :: active(:)        !< fluids taking part in the volume sum
+    real(wp), intent(in) :: tolerance       !< |sum phi - n| to reach
+    integer, intent(in) :: max_iterations   !< iteration limit
+    real(wp), intent(inout) :: p            !< pressure [Pa]
+    integer, intent(out) :: iterations      !< iterations used
+    logical, intent(out) :: converged       !< tolerance reached
+    integer :: m, it
+    real(wp) :: f, deriv, rho_m, phi, pn
+
+    do it = 1, max_iterations
+      f = -porosity
+      deriv = 0.0_wp
+      do m = 1, state%nfluids
+        if (.not. active(m)) cycle
+        associate (fl => state%fluid(m))
+          rho_m = eos_density(fl%eos, p, fl%temp(i, j, k))
+          phi = fl%rho(i, j, k) / rho_m
+          f = f + phi
+          deriv = deriv + phi / (rho_m * eos_dp_drho(fl%eos, rho_m, fl%temp(i, j, k)))
+        end associate
+      end do
+      ! d(sum phi)/dp = -deriv: Newton step p <- p + f / deriv, kept positive. One more step
+      ! after reaching the tolerance (quadratic convergence: error ~ tolerance^2), since
+      ! |sum phi - 1| = 1e-10 still allows K 1e-10 = 0.2 Pa of error for water.
+      pn = p + f / deriv
+      if (p > 0.0_wp) pn = max(pn, 0.1_wp * p)
+      p = pn
+      if (abs(f) <= tolerance) exit
+    end do
+    iterations = it
+    converged = it <= max_iterations
+  end subroutine newton_pressure
+
+  !> When the Newton iteration fails, solve again without the trace fluids: those whose volume
+  !! at `trace_pressure` (1 Pa) would still be below `tolerance` of the pores (e.g. 1e-100
+  !! kg/m^3 of air numerically left in water-filled pores). Their volume cannot matter to the
+  !! sum within the tolerance at any pressure above 1 Pa, but where the others' pressure falls
+  !! toward zero (water under tension in a moving porous body) the full sum has its root at an
+  !! absurd pressure (1e-90 Pa) that the iteration cannot reach. Left with one fluid, the
+  !! pressure comes from its equation of state directly (it may then be negative: tension).
+  pure subroutine trace_fallback(state, i, j, k, porosity, tolerance, max_iterations, p, &
+      converged)
+    type(ice_state_t), intent(in) :: state  !< fluids
+    integer, intent(in) :: i, j, k          !< cell
+    real(wp), intent(in) :: porosity        !< pore fraction n = 1 - phi_s [-]
+    real(wp), intent(in) :: tolerance       !< |sum phi - n| to reach
+    integer, intent(in) :: max_iterations   !< iteration limit
+    real(wp), intent(inout) :: p            !< pressure [Pa]: the initial guess on entry
+    logical, intent(out) :: converged       !< a pressure was found
+    logical :: active(state%nfluids)
+    integer :: m, it
+
+    do m = 1, state%nfluids
+      associate (fl => state%fluid(m))
+        active(m) = fl%rho(i, j, k) >= tolerance * porosity * &
+          eos_density(fl%eos, trace_pressure, fl%temp(i, j, k))
+      end associate
+    end do
+    converged = .false.
+    if (all(active) .or. .not. any(active)) return
+    if (count(active) == 1) then
+      m = findloc(active, .true., 1)
+      associate (fl => state%fluid(m))
+        p = eos_pressure(fl%eos, fl%rho(i, j, k) / porosity, fl%temp(i, j, k))
+      end associate
+      converged = .true.
+    else
+      p = state%pressure(i, j, k)
+      call newton_pressure(state, i, j, k, porosity, active, tolerance, max_iterations, p, it, &
+        converged)
+    end if
+  end subroutine trace_fallback
 end module ice_equilibration
