@@ -51,10 +51,11 @@ module mpmice_scene
   use mpm_loads, only: surface_load_t, surface_load_init, surface_load_scatter, &
     surface_load_power
   use exchange_drag, only: drag_law_from_name
-  use mpmice_solid_cells, only: solid_coupling_t, solid_deposit, solid_cell_fields, &
-    solid_face_predictor, solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, &
-    solid_pore_pressure, fluid_face_blend, fluid_face_predictor_porous, deposit_size, &
-    wall_fraction, contact_pressure_accel
+  use mpmice_solid_coupling, only: solid_coupling_t, deposit_size
+  use mpmice_solid_cells, only: solid_deposit, solid_cell_fields, solid_face_predictor, &
+    solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, solid_pore_pressure, &
+    fluid_face_blend, fluid_face_predictor_porous
+  use mpmice_rigid_contact, only: wall_fraction, contact_pressure_accel
   use mpmice_solid_heat, only: solid_conduction, solid_conduction_dt, solid_heat_to_particles
   implicit none
   private
@@ -279,7 +280,7 @@ contains
       call deposit_solids(self, dom, grid, dt)
       st%solid%source = self%relaxation * (self%phi_p - st%solid%vfrac)
       ! sliding rigid bodies: the wall cells keep their tracked fraction (a soil's overlap with
-      ! them is not seen, mpmice_solid_cells%partner_fields)
+      ! them is not seen, mpmice_rigid_contact%partner_fields)
       if (st%solid%sliding) where (st%solid%frac_rigid >= wall_fraction) st%solid%source = 0.0_wp
       call timer_stop(timers, self%t_cells)
 

@@ -29,38 +29,20 @@ module mpmice_solid_cells
   use parallel_halo, only: halo_t, halo_reverse_cell_vec, halo_exchange_node_vec
   use mpm_particles, only: particles_t
   use mpm_nodes, only: mpm_nodes_t
-  use ice_state, only: ice_state_t, ice_solid_phase_t
+  use ice_state, only: ice_state_t
   use ice_face_velocity, only: face_range, closed_face, upwind
   use ice_pressure, only: solid_face_fraction
   use exchange_drag, only: drag_reduced_coefficient
+  use mpmice_solid_coupling, only: solid_coupling_t, surface_body_fraction
+  use mpmice_rigid_contact, only: wall_fraction, body_face, wall_neighbours, partner_fields
   implicit none
   private
 
 
-  public :: solid_coupling_t, solid_deposit, solid_cell_fields, solid_face_predictor, &
+  public :: solid_deposit, solid_cell_fields, solid_face_predictor, &
     solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, solid_pore_pressure, &
     fluid_face_blend, fluid_face_predictor_porous, overlap_weights, deformed_half_widths
-  public :: deposit_size, wall_fraction, contact_pressure_accel
 
-  !> Coupling parameters of one solid material.
-  type :: solid_coupling_t
-    integer :: drag_law = 1                 !< exchange_drag law id
-    real(wp) :: grain_size = 1.0e-3_wp      !< d [m]
-    real(wp) :: drag_coefficient = 0.0_wp   !< K of the constant law [kg/m^3/s]
-    real(wp) :: grain_kappa = 0.0_wp        !< 1 / grain bulk modulus [1/Pa] (0: incompressible)
-    real(wp) :: grain_density = 2650.0_wp   !< rho_s of the grains [kg/m^3]
-    real(wp) :: heat_capacity = 800.0_wp    !< c_s [J/kg/K]
-    real(wp) :: conductivity = 0.4_wp       !< k_s of the grains [W/m/K]
-    logical :: rigid = .false.              !< a rigid (prescribed-motion) body
-  end type solid_coupling_t
-
-  !> Deposit components beyond the 8 + nsolids of the mechanics and the face planes: heat
-  !! capacity, energy and grain conductance (3), the cell's own side of its high planes (3), the
-  !! rigid bodies' low / high side of the low planes when they slide (6).
-  integer, parameter :: extra_components = 12
-  !> Sliding rigid bodies: a cell the rigid solid fills to at least this fraction is part of the
-  !! wall the fluids see (`partner_fields`).
-  real(wp), parameter :: wall_fraction = 0.5_wp
   !> unit_offset(:, d): the index offset of one cell along dimension d.
   integer, parameter :: unit_offset(3, 3) = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
 
@@ -196,48 +178,6 @@ contains
     end do
   end subroutine solid_deposit
 
-  !> The face neighbours of wall cell `c` that lie in the domain and outside the wall, with
-  !! weights proportional to 1 / (distance from `x` to their centres) summing to 1; `c` itself
-  !! (weight 1) when there is none.
-  pure subroutine wall_neighbours(grid, wall_frac, c, x, n, tgt, tw)
-    type(grid_t), intent(in) :: grid            !< block geometry
-    real(wp), intent(in) :: wall_frac(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< rigid fraction
-    integer, intent(in) :: c(3)                 !< wall cell
-    real(wp), intent(in) :: x(3)                !< particle position [m]
-    integer, intent(out) :: n                   !< number of targets
-    integer, intent(out) :: tgt(3, 6)           !< target cells
-    real(wp), intent(out) :: tw(6)              !< their weights
-    integer :: d, side, nb(3), e
-    real(wp) :: dist, centre
-    n = 0
-    do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      do side = -1, 1, 2
-        nb = c
-        nb(d) = c(d) + side
-        if (nb(d) < grid%lbc(d) .or. nb(d) > grid%ubc(d)) cycle
-        if (.not. grid%periodic(d) .and. (nb(d) < 1 .or. nb(d) > grid%ncells(d))) cycle
-        if (wall_frac(nb(1), nb(2), nb(3)) >= wall_fraction) cycle
-        dist = 0.0_wp
-        do e = 1, 3
-          if (.not. grid%active(e)) cycle
-          centre = grid%lower(e) + (real(nb(e), wp) - 0.5_wp) * grid%dx(e)
-          dist = dist + (x(e) - centre)**2
-        end do
-        n = n + 1
-        tgt(:, n) = nb
-        tw(n) = 1.0_wp / max(sqrt(dist), 1.0e-12_wp * grid%dx(d))
-      end do
-    end do
-    if (n == 0) then
-      n = 1
-      tgt(:, 1) = c
-      tw(1) = 1.0_wp
-    else
-      tw(1:n) = tw(1:n) / sum(tw(1:n))
-    end if
-  end subroutine wall_neighbours
-
   !> Share of the slab [a, b] (in cells) that the particle domain [lo, hi] covers, over the slab's
   !! width; a slab of zero width (no step or no motion that way) gives 1 where the domain reaches
   !! the plane (`on_plane`), else 0.
@@ -251,12 +191,6 @@ contains
       share = max(0.0_wp, min(hi, b) - max(lo, a)) / (b - a)
     end if
   end function swept_share
-
-  !> Number of deposit components of `nsolids` solids (`solid_deposit`).
-  pure integer function deposit_size(nsolids)
-    integer, intent(in) :: nsolids  !< number of solids
-    deposit_size = 8 + nsolids + extra_components
-  end function deposit_size
 
   !> A coordinate in cells, put on the nearest plane when it lies within 1e-9 cells of it.
   pure real(wp) function snap_to_plane(x) result(y)
@@ -406,126 +340,6 @@ contains
     end associate
   end subroutine solid_cell_fields
 
-  !> Sliding rigid bodies (`ice_solid_phase_t%sliding`): the fields of the fluids' exchange
-  !! partner in cell c. Where the cell holds deformable solid, the partner is that solid alone:
-  !! its fraction phi_d, grain specific volume and drag; the rigid body's fraction phi_r only
-  !! takes volume from the pores, so the deformable solid's own region (1 - phi_r) V has the
-  !! fraction phi_k = phi_d / (1 - phi_r) and c = c(phi_k) / (1 - phi_r) per phi_d (the same
-  !! pressure drop per length as the region: phi_d c = phi_k c(phi_k)); without rigid body in the
-  !! cell, phi_k is the surface body fraction as without sliding. Where the rigid body fills at
-  !! least half of the cell (`wall_fraction`, a wall cell) the partner is the rigid body
-  !! (impermeable: the fluid moves with it) and deformable solid there is not seen by the
-  !! fluids (frac_def = 0): a soil sliding along a staircase bed reaches into the bed's cells by
-  !! a fraction of a particle, and the trace of pore volume there (1 - max_fraction) would turn
-  !! that overlap into GPa of pressure. A cell with less rigid solid and no deformable one has no
-  !! partner (xfrac = 0): the body's edge only takes pore volume. Dragged to the body, the water
-  !! of those cells was frozen and sealed the corner a sliding block leaves behind (the pore
-  !! water was sucked backwards through the block: over 0.12 s it reached 0.554 instead of 0.581
-  !! of the drained block's acceleration).
-  subroutine partner_fields(state, grid, dep, solids, max_fraction, c)
-    type(ice_state_t), intent(inout) :: state   !< solid phase (spvol, drag, frac_def, xfrac)
-    type(grid_t), intent(in) :: grid            !< block geometry
-    real(wp), intent(in) :: dep(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< deposits
-    type(solid_coupling_t), intent(in) :: solids(:) !< coupling parameters per solid
-    real(wp), intent(in) :: max_fraction        !< largest solid fraction [-]
-    integer, intent(in) :: c(3)                 !< cell
-    integer :: s, m, ns
-    real(wp) :: vol_d, vol_r, mass_d, mass_r, phi_d, phi_r, phi_k, scale, rho_f, slip, cs, wsum
-    logical :: deformable
-    ns = size(solids)
-    vol_d = 0.0_wp
-    vol_r = 0.0_wp
-    mass_d = 0.0_wp
-    mass_r = 0.0_wp
-    do s = 1, ns
-      if (solids(s)%rigid) then
-        vol_r = vol_r + dep(2 + s, c(1), c(2), c(3))
-        mass_r = mass_r + dep(2 + s, c(1), c(2), c(3)) * solids(s)%grain_density
-      else
-        vol_d = vol_d + dep(2 + s, c(1), c(2), c(3))
-        mass_d = mass_d + dep(2 + s, c(1), c(2), c(3)) * solids(s)%grain_density
-      end if
-    end do
-    phi_d = min(vol_d / grid%cell_volume, max_fraction)
-    phi_r = min(vol_r / grid%cell_volume, max_fraction)
-    deformable = vol_d > 0.0_wp .and. phi_r < wall_fraction
-    if (.not. deformable) phi_d = 0.0_wp
-    associate (sp => state%solid)
-      sp%frac_def(c(1), c(2), c(3)) = phi_d
-      sp%frac_rigid(c(1), c(2), c(3)) = phi_r
-      if (deformable) then
-        sp%xfrac(c(1), c(2), c(3)) = phi_d
-        sp%spvol(c(1), c(2), c(3)) = vol_d / mass_d
-        if (phi_r > 0.0_wp) then
-          phi_k = min(phi_d / (1.0_wp - phi_r), max_fraction)
-          scale = 1.0_wp / (1.0_wp - phi_r)
-        else
-          phi_k = surface_body_fraction(grid, dep, ns, c, phi_d, max_fraction)
-          scale = (1.0_wp - phi_d) / (1.0_wp - phi_k)
-        end if
-      else if (phi_r >= wall_fraction) then
-        sp%xfrac(c(1), c(2), c(3)) = phi_r
-        sp%spvol(c(1), c(2), c(3)) = vol_r / max(mass_r, tiny(1.0_wp))
-        phi_k = phi_r
-        scale = 1.0_wp
-      else
-        ! a rigid body's edge without deformable solid: only volume, no partner
-        sp%spvol(c(1), c(2), c(3)) = vol_r / max(mass_r, tiny(1.0_wp))
-        return
-      end if
-      do m = 1, state%nfluids
-        associate (f => state%fluid(m))
-          rho_f = 1.0_wp / max(f%spvol(c(1), c(2), c(3)), tiny(1.0_wp))
-          slip = norm2(sp%vel(c(1), c(2), c(3), :) - f%vel(c(1), c(2), c(3), :))
-          cs = 0.0_wp
-          wsum = 0.0_wp
-          do s = 1, ns
-            if (solids(s)%rigid .eqv. deformable) cycle
-            if (dep(2 + s, c(1), c(2), c(3)) <= 0.0_wp) cycle
-            cs = cs + dep(2 + s, c(1), c(2), c(3)) * scale * drag_reduced_coefficient( &
-              solids(s)%drag_law, phi_k, solids(s)%grain_size, f%viscosity, rho_f, slip, &
-              solids(s)%drag_coefficient)
-            wsum = wsum + dep(2 + s, c(1), c(2), c(3))
-          end do
-          sp%drag(c(1), c(2), c(3), m) = 0.0_wp
-          if (wsum > 0.0_wp) sp%drag(c(1), c(2), c(3), m) = cs / wsum
-        end associate
-      end do
-    end associate
-  end subroutine partner_fields
-
-  !> Solid fraction of the body in cell c: where one of the cell's face planes carries no grains
-  !! on the cell's side and another carries more than the cell average `phi` (a free surface of
-  !! the soil crosses the cell, e.g. the top cell of a settling column), the largest plane
-  !! fraction; otherwise `phi`. The drag of such a cell is that of the body over the share
-  !! phi / phi_body of the cell it fills: R_cell = (phi / phi_body) R(phi_body), R = phi_s c /
-  !! phi_f the resistance of eq. 18 per length. With the cell average instead, the Kozeny-Carman
-  !! resistance of the top cell of the consolidation column fell to 0.61 of the body's once it
-  !! had settled by 7 % of a cell, draining the column 0.7 % too fast.
-  pure real(wp) function surface_body_fraction(grid, dep, ns, c, phi, max_fraction) &
-    result(phi_body)
-    type(grid_t), intent(in) :: grid            !< block geometry
-    real(wp), intent(in) :: dep(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< deposits
-    integer, intent(in) :: ns                   !< number of solids
-    integer, intent(in) :: c(3)                 !< cell
-    real(wp), intent(in) :: phi                 !< cell solid fraction
-    real(wp), intent(in) :: max_fraction        !< cap of the fraction
-    integer :: d
-    real(wp) :: lo_side, hi_side, fmin, fmax
-    phi_body = phi
-    fmin = huge(1.0_wp)
-    fmax = 0.0_wp
-    do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      ! the cell's own side of its low plane and of its high plane
-      lo_side = dep(2 + ns + 2 * d, c(1), c(2), c(3))
-      hi_side = dep(11 + ns + d, c(1), c(2), c(3))
-      fmin = min(fmin, lo_side, hi_side)
-      fmax = max(fmax, lo_side, hi_side)
-    end do
-    if (fmin <= 1.0e-12_wp .and. fmax > phi + 1.0e-9_wp) phi_body = min(fmax, max_fraction)
-  end function surface_body_fraction
-
   !> Solid cell velocity for the cell exchange (eqs. 28, 51): mass-weighted mean of the corner
   !! nodes' final velocities v^L (after the pressure force and drag of the faces). The fluids are
   !! dragged toward it with the solid's row of the exchange held fixed, so the drag the fluid
@@ -581,12 +395,12 @@ contains
   !> Nodal face velocity u_s,f0 (mass-weighted mean of the face nodes' v^{L-}), the predictor
   !! u_s,f = u_s,f0 - dt v_s (p_R - p_L)/dx (eq. 33, pressure part) on faces where the solid
   !! moves freely, and the rigid-face flags. Faces of the owned cells. With sliding rigid bodies
-  !! (`ice_solid_phase_t%sliding`) a face next to a wall cell (`wall_cell`), or with solid but
-  !! none of it deformable, is a wall that moves with the rigid body (prescribed: the fluids
-  !! cannot enter the body, whose cells have almost no pore volume); any other face carries the
-  !! deformable solid (its mass-weighted nodal velocity);
-  !! the rigid bodies' volume flux phi_r,f u_r,f (upwind plane fraction, rigid momentum over
-  !! mass at the face's nodes) is kept apart in `rigid_flux`.
+  !! (`ice_solid_phase_t%sliding`) a face next to a wall cell, or with solid but none of it
+  !! deformable (`mpmice_rigid_contact%body_face`), is a wall that moves with the rigid body
+  !! (prescribed: the fluids cannot enter the body, whose cells have almost no pore volume); any
+  !! other face carries the deformable solid (its mass-weighted nodal velocity); the rigid
+  !! bodies' volume flux phi_r,f u_r,f (upwind plane fraction, rigid momentum over mass at the
+  !! face's nodes) is kept apart in `rigid_flux`.
   subroutine solid_face_predictor(state, grid, nodes, dt, min_mass)
     type(ice_state_t), intent(inout) :: state   !< solid phase face fields written
     type(grid_t), intent(in) :: grid            !< block geometry
@@ -639,10 +453,7 @@ contains
                 if (mr > 0.0_wp) ur = mvr / mr
                 ! a face next to a wall cell, or with solid but no deformable solid on either
                 ! side, moves with the rigid body
-                rigid = wall_cell(sp, [i, j, k] - o) .or. wall_cell(sp, [i, j, k]) .or. &
-                  (sp%frac_def(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
-                  sp%frac_def(i, j, k) <= 0.0_wp .and. (sp%xfrac(i - o(1), j - o(2), k - o(3)) &
-                  > 0.0_wp .or. sp%xfrac(i, j, k) > 0.0_wp))
+                rigid = body_face(sp, [i, j, k] - o, [i, j, k])
                 if (rigid) sp%uface0(i, j, k, d) = ur
                 sp%rigid_flux(i, j, k, d) = 0.0_wp
                 if (.not. closed_face(state, grid, d, [i, j, k])) sp%rigid_flux(i, j, k, d) = &
@@ -675,65 +486,6 @@ contains
       end do
     end associate
   end subroutine solid_face_predictor
-
-  !> Sliding rigid bodies: the acceleration -v_s grad p [m/s^2] the fluid's pressure is expected
-  !! to give the deformable solid at every node with deformable and rigid mass (a contact node),
-  !! zero elsewhere: grad p the mean of the cell differences around the node, v_s the mean grain
-  !! specific volume of the surrounding cells with deformable solid. `nodal_solve` judges the
-  !! contact on v + dt a, so that the face velocities of the pressure equation obey it.
-  subroutine contact_pressure_accel(state, grid, nodes, min_mass, accel)
-    type(ice_state_t), intent(in) :: state      !< pressure (ghosts filled) and solid phase
-    type(grid_t), intent(in) :: grid            !< block geometry
-    type(mpm_nodes_t), intent(in) :: nodes      !< node fields (after P2G)
-    real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
-    real(wp), intent(out) :: accel(:, grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< [m/s^2]
-    integer :: i, j, k, a, b, e, d, top(3), c(3), lo(3)
-    real(wp) :: g(3), vs, wsum, w
-    top = merge(1, 0, grid%active)
-    accel = 0.0_wp
-    associate (sp => state%solid)
-      do k = grid%lbn(3) + top(3), grid%ubn(3) - top(3)
-        do j = grid%lbn(2) + top(2), grid%ubn(2) - top(2)
-          do i = grid%lbn(1) + top(1), grid%ubn(1) - top(1)
-            if (nodes%q(1, i, j, k) <= min_mass .or. nodes%q(8, i, j, k) <= min_mass) cycle
-            g = 0.0_wp
-            vs = 0.0_wp
-            wsum = 0.0_wp
-            lo = [i, j, k] - top
-            do e = 0, top(3)
-              do b = 0, top(2)
-                do a = 0, top(1)
-                  c = lo + [a, b, e]
-                  ! the cell's pressure enters each difference with +- its offset
-                  do d = 1, 3
-                    if (.not. grid%active(d)) cycle
-                    w = merge(1.0_wp, -1.0_wp, c(d) > lo(d))
-                    g(d) = g(d) + w * state%pressure(c(1), c(2), c(3)) / grid%dx(d)
-                  end do
-                  if (sp%frac_def(c(1), c(2), c(3)) > 0.0_wp) then
-                    vs = vs + sp%spvol(c(1), c(2), c(3))
-                    wsum = wsum + 1.0_wp
-                  end if
-                end do
-              end do
-            end do
-            if (wsum <= 0.0_wp) cycle
-            ! each difference was summed over the 2^(ndim-1) cell pairs across it
-            g = g / real(product(top + 1) / 2, wp)
-            accel(:, i, j, k) = -vs / wsum * g
-          end do
-        end do
-      end do
-    end associate
-  end subroutine contact_pressure_accel
-
-  !> True when cell c belongs to the wall of a sliding rigid body: the body fills at least
-  !! `wall_fraction` of it.
-  pure logical function wall_cell(sp, c)
-    type(ice_solid_phase_t), intent(in) :: sp  !< solid phase
-    integer, intent(in) :: c(3)                !< cell
-    wall_cell = sp%frac_rigid(c(1), c(2), c(3)) >= wall_fraction
-  end function wall_cell
 
   !> Eqs. 52, 66-67 (E5) through the faces: every node with solid mass adds the mean of the
   !! increments u_s,f - u_s,f0 of the faces it belongs to. `du` is node-shaped scratch
