@@ -431,16 +431,8 @@ def map_drag(work: str, quick: bool) -> list[dict]:
             dt = 2.0**-k
             for scheme in stiff.SCHEMES:
                 out = os.path.join(work, f"drag_{d:.0e}_{k}_{scheme}")
-                args = [mpmice_terzaghi.NAMELIST,
-                        "--set", f"&grid ncells = 1, {DRAG_CELLS}, 1 /",
-                        "--set", f"&solid name='soil', grain_size = {d!r} /",
-                        "--set", f"&coupling drag_scheme = '{scheme}' /",
-                        "--set", mpmice_terzaghi.QUASI_STATIC_SET[0],
-                        "--set", mpmice_terzaghi.QUASI_STATIC_SET[1],
-                        "--set", f"&time cfl = 1.0, dt_init = {dt!r}, dt_max = {dt!r}, "
-                                 f"dt_min = {0.75 * dt!r} /",
-                        "--set", f"&run end_time = {DRAG_END!r}, output_interval = "
-                                 f"{DRAG_END / 4!r}, output_dir = '{out}' /"]
+                args = mpmice_terzaghi.fixed_dt_args(DRAG_CELLS, d, dt, DRAG_END, DRAG_END / 4,
+                                                     out, drag_scheme=scheme)
                 run = timed_run(args, out, mpmice_terzaghi.NAME, 1, work)
                 below = math.nan
                 verdict = "failed"

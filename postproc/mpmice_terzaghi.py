@@ -170,6 +170,26 @@ def analyse_dumps(dumps, params: dict | None = None) -> dict:
 
 # --------------------------------------------------------------------------- runs
 
+def fixed_dt_args(cells: int, grain_size: float, dt: float, end_time: float,
+                  output_interval: float, output_dir: str,
+                  drag_scheme: str | None = None) -> list[str]:
+    """mpmice arguments of the quasi-static column (QUASI_STATIC_SET) with `cells` cells along y
+    and grain size `grain_size` [m], run at the fixed step `dt` [s] to `end_time` [s]: cfl 1 and
+    dt_min = 0.75 dt, so a step the scene rejects, or the CFL limit, stops the run instead of
+    shortening dt. `drag_scheme` sets &coupling drag_scheme (the namelist's when None)."""
+    args = [NAMELIST,
+            "--set", f"&grid ncells = 1, {cells}, 1 /",
+            "--set", f"&solid name='soil', grain_size = {grain_size!r} /"]
+    if drag_scheme is not None:
+        args += ["--set", f"&coupling drag_scheme = '{drag_scheme}' /"]
+    for text in QUASI_STATIC_SET:
+        args += ["--set", text]
+    return args + ["--set", f"&time cfl = 1.0, dt_init = {dt!r}, dt_max = {dt!r}, "
+                            f"dt_min = {0.75 * dt!r} /",
+                   "--set", f"&run end_time = {end_time!r}, output_interval = "
+                            f"{output_interval!r}, output_dir = '{output_dir}' /"]
+
+
 def run_resolution(workdir: str, cells: int, nranks: int = 1, extra_set=(),
                    params: dict | None = None) -> dict:
     """Run the scene with `cells` cells along y; return :func:`analyse_dumps` of its dumps plus

@@ -47,15 +47,7 @@ def base_history(tmp_path, exponent: int):
     """(time [s], base excess pressure / p0, final excess pressure profile / p0)."""
     dt = 2.0**-exponent
     out = str(tmp_path / f"dt{exponent}")
-    args = [mpmice_terzaghi.NAMELIST,
-            "--set", "&grid ncells = 1, 50, 1 /",
-            "--set", f"&solid name='soil', grain_size = {GRAIN!r} /",
-            "--set", mpmice_terzaghi.QUASI_STATIC_SET[0],
-            "--set", mpmice_terzaghi.QUASI_STATIC_SET[1],
-            "--set", f"&time cfl = 1.0, dt_init = {dt!r}, dt_max = {dt!r}, "
-                     f"dt_min = {0.75 * dt!r} /",
-            "--set", f"&run end_time = {END!r}, output_interval = {DUMPS!r}, "
-                     f"output_dir = '{out}' /"]
+    args = mpmice_terzaghi.fixed_dt_args(50, GRAIN, dt, END, DUMPS, out)
     run_mpmice(args, cwd=str(tmp_path), timeout=120)
     _, p0 = mpmice_terzaghi.consolidation_constants()
     dumps = [read_dump(p) for p in list_dumps(out, mpmice_terzaghi.NAME)]
