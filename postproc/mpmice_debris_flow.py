@@ -12,12 +12,11 @@ dump) in --out (default: the run directory).
 """
 from __future__ import annotations
 
-import argparse
 import os
 
 import numpy as np
 
-from postproc.mpmice_io import cell_centres, list_dumps, read_dump
+from postproc.mpmice_io import cell_centres, parse_run_dir
 
 NAME = "debris"
 STILL_LEVEL = 1.6            # m
@@ -59,13 +58,7 @@ def slide_front(dump: dict) -> float:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--dir", required=True, help="output directory of a run")
-    parser.add_argument("--out", default=None)
-    args = parser.parse_args(argv)
-    dumps = [read_dump(p) for p in list_dumps(args.dir, NAME)]
-    if not dumps:
-        raise SystemExit(f"no dumps {NAME}_<step>.h5 in {args.dir}")
+    args, dumps = parse_run_dir(__doc__.splitlines()[0], NAME, argv)
     m0 = masses(dumps[0])
     print("   t [s]   front [m]   max eta [m]   min eta [m]   largest relative mass change")
     for d in dumps:

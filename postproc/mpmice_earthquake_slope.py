@@ -19,14 +19,13 @@ The dumps open in ParaView through <name>.xmf.
 """
 from __future__ import annotations
 
-import argparse
 import math
 import os
 
 import numpy as np
 
 from postproc.mpmice_debris_flow import masses  # noqa: F401  (also used by the test)
-from postproc.mpmice_io import cell_centres, list_dumps, read_dump
+from postproc.mpmice_io import cell_centres, parse_run_dir
 
 NAME = "quake"
 STILL_LEVEL = 3.5            # m
@@ -187,13 +186,7 @@ def plot(dumps: list[dict], rows: list[dict], out: str) -> list[str]:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--dir", required=True, help="output directory of a run")
-    parser.add_argument("--out", default=None)
-    args = parser.parse_args(argv)
-    dumps = [read_dump(p) for p in list_dumps(args.dir, NAME)]
-    if not dumps:
-        raise SystemExit(f"no dumps {NAME}_<step>.h5 in {args.dir}")
+    args, dumps = parse_run_dir(__doc__.splitlines()[0], NAME, argv)
     rows = analyse(dumps)
     print("  t [s]  base dx [m]  prescribed  max|u-ub| [m]  max eps_p  pex min/max [kPa]"
           "  pex crest/left/right [kPa]  eta max/min [cm]  mass change")

@@ -15,6 +15,7 @@ Only numpy and h5py are needed::
 """
 from __future__ import annotations
 
+import argparse
 import os
 import re
 
@@ -102,6 +103,31 @@ def list_dumps(output_dir: str, name: str) -> list[str]:
         if match:
             found.append((int(match.group(1)), os.path.join(output_dir, entry)))
     return [path for _, path in sorted(found)]
+
+
+def read_run_dumps(output_dir: str, name: str) -> list[dict]:
+    """Every dump ``<output_dir>/<name>_<step>.h5`` read (:func:`read_dump`), in step order;
+    RuntimeError when there is none."""
+    paths = list_dumps(output_dir, name)
+    if not paths:
+        raise RuntimeError(f"no dumps {name}_<step>.h5 in {output_dir}")
+    return [read_dump(path) for path in paths]
+
+
+def parse_run_dir(description: str, name: str, argv=None) -> tuple[argparse.Namespace, list[dict]]:
+    """Command line of a script that reports on one finished run: ``--dir DIR`` (the run's output
+    directory, required) and ``--out DIR`` (where the plots go; None: DIR). Returns the parsed
+    arguments and every dump ``<name>_<step>.h5`` of DIR; exits with status 1 and
+    "no dumps <name>_<step>.h5 in DIR" when there is none."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--dir", required=True, help="output directory of a run")
+    parser.add_argument("--out", default=None)
+    args = parser.parse_args(argv)
+    try:
+        dumps = read_run_dumps(args.dir, name)
+    except RuntimeError as error:
+        raise SystemExit(str(error)) from None
+    return args, dumps
 
 
 def _grid_geometry(dump: dict):

@@ -41,7 +41,7 @@ import numpy as np
 
 from postproc.analytic import (carman_kozeny_conductivity, oedometer_modulus,
                                terzaghi_degree_of_consolidation, terzaghi_excess_pressure)
-from postproc.mpmice_io import cell_centres, list_dumps, read_dump
+from postproc.mpmice_io import cell_centres, read_run_dumps
 from postproc.run_case import ROOT, run_mpmice
 
 NAMELIST = os.path.join(ROOT, "namelists", "mpmice_terzaghi_1d.nml")
@@ -203,10 +203,7 @@ def run_resolution(workdir: str, cells: int, nranks: int = 1, extra_set=(),
     start = _time.perf_counter()
     run_mpmice(args, nranks=nranks, cwd=workdir)
     wall = _time.perf_counter() - start
-    paths = list_dumps(out, NAME)
-    if not paths:
-        raise RuntimeError(f"no dumps {NAME}_<step>.h5 in {out}")
-    result = analyse_dumps([read_dump(path) for path in paths], params)
+    result = analyse_dumps(read_run_dumps(out, NAME), params)
     result.update({"cells": cells, "nranks": nranks, "wall_time": wall, "output_dir": out})
     return result
 
@@ -328,10 +325,7 @@ def plot(study: dict, path: str, profile_cells: int = 100) -> None:
 def report_directory(output_dir: str) -> dict:
     """Compare the dumps of one finished run in `output_dir` with the exact solution: print the
     error at the report times and write terzaghi_vs_exact.png there (scripts/run.sh)."""
-    paths = list_dumps(output_dir, NAME)
-    if not paths:
-        raise RuntimeError(f"no dumps {NAME}_<step>.h5 in {output_dir}")
-    r = analyse_dumps([read_dump(path) for path in paths])
+    r = analyse_dumps(read_run_dumps(output_dir, NAME))
     cells = len(r["y"])
     study = {"cells": [cells], "runs": {cells: r}, "max_error": [r["max_error"]],
              "order_max": [], "error_at_tv": {tv: [r["at_tv"][tv]["l2_error"]
