@@ -626,31 +626,38 @@ VERDICT_STYLE = {"ok": ("o", "tab:green"), "inaccurate": ("s", "tab:orange"),
                  "failed": ("x", "tab:red")}
 
 
-def _legend_verdicts(ax, verdicts):
-    for v in verdicts:
+def _legend_verdicts(ax, rows: list[dict]) -> None:
+    """Legend of the verdicts of `rows`, in VERDICT_STYLE's order."""
+    for v in sorted({r["verdict"] for r in rows}, key=list(VERDICT_STYLE).index):
         m, c = VERDICT_STYLE[v]
         ax.plot([], [], m, color=c, label=v, mfc="none" if m not in "x" else c)
     ax.legend(fontsize=8, loc="best")
+
+
+def _verdict_points(ax, rows: list[dict], x: str, y: str, plot, note, xytext) -> None:
+    """r[x] against r[y] of every row with `plot` (ax.loglog, ax.semilogy, ...), a marker in the
+    style of the row's verdict, labelled with note(r) where that is not None."""
+    for r in rows:
+        m, c = VERDICT_STYLE[r["verdict"]]
+        plot(r[x], r[y], m, color=c, ms=9, mfc="none" if m != "x" else c)
+        text = note(r)
+        if text is not None:
+            ax.annotate(text, (r[x], r[y]), textcoords="offset points", xytext=xytext,
+                        fontsize=6)
 
 
 def plot_drag(rows: list[dict], path: str) -> None:
     plt = _plt()
     fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
     for ax, scheme in zip(axes, stiff.SCHEMES):
-        for r in rows:
-            if r["scheme"] != scheme:
-                continue
-            m, c = VERDICT_STYLE[r["verdict"]]
-            ax.loglog(r["beta_dt"], r["solid_cfl"], m, color=c, ms=9,
-                      mfc="none" if m != "x" else c)
-            if math.isfinite(r["max_error_below_top"]):
-                ax.annotate(f"{r['max_error_below_top']:.1e}", (r["beta_dt"], r["solid_cfl"]),
-                            textcoords="offset points", xytext=(5, -10), fontsize=6)
+        _verdict_points(ax, [r for r in rows if r["scheme"] == scheme], "beta_dt", "solid_cfl",
+                        ax.loglog, lambda r: f"{r['max_error_below_top']:.1e}"
+                        if math.isfinite(r["max_error_below_top"]) else None, (5, -10))
         ax.axvline(2.0, color="grey", ls=":", lw=1)
         ax.axhline(1.0, color="grey", ls=":", lw=1)
         ax.set_xlabel("drag relaxation beta dt = K_d dt / (n rho_f)")
         ax.set_title(f"drag_scheme = '{scheme}'")
-        _legend_verdicts(ax, sorted({r["verdict"] for r in rows}, key=list(VERDICT_STYLE).index))
+        _legend_verdicts(ax, rows)
     axes[0].set_ylabel("solid CFL number dt c_p / dx")
     fig.suptitle("Consolidation column, 50 cells, densities / 100, fixed dt 2^-22 .. 2^-14 s "
                  "x grain size 1 mm .. 10 um (to t = 2^-7 s)\nfailed: exit status 3 (non-finite, or dt < "
@@ -665,20 +672,14 @@ def plot_mpm_cfl(rows: list[dict], path: str) -> None:
     plt = _plt()
     fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
     for ax, shape in zip(axes, ("linear", "gimp")):
-        for r in rows:
-            if r["shape"] != shape:
-                continue
-            m, c = VERDICT_STYLE[r["verdict"]]
-            ax.semilogy(r["cfl"], r["amplitude_cells"], m, color=c, ms=9,
-                        mfc="none" if m != "x" else c)
-            if math.isfinite(r["energy_growth"]):
-                ax.annotate(f"{r['energy_growth']:+.1e}\n{r['history_error']:.1e}",
-                            (r["cfl"], r["amplitude_cells"]), textcoords="offset points",
-                            xytext=(5, -12), fontsize=6)
+        _verdict_points(ax, [r for r in rows if r["shape"] == shape], "cfl", "amplitude_cells",
+                        ax.semilogy,
+                        lambda r: f"{r['energy_growth']:+.1e}\n{r['history_error']:.1e}"
+                        if math.isfinite(r["energy_growth"]) else None, (5, -12))
         ax.set_xlabel("&time cfl (dt = cfl dx / (c + |v|); validation caps it at 1)")
         ax.set_title(f"shape_function = '{shape}'")
         ax.set_xlim(0.15, 1.15)
-        _legend_verdicts(ax, sorted({r["verdict"] for r in rows}, key=list(VERDICT_STYLE).index))
+        _legend_verdicts(ax, rows)
     axes[0].set_ylabel("tip amplitude [cells] (E / E_ref = 1 .. 1e-5 at v0 = 0.01 m/s)")
     fig.suptitle(f"Elastic bar, {MPM_CELLS} cells, 10 periods. unstable: stopped by &run "
                  f"max_energy_growth = {1 + ENERGY_LIMIT:g} (energy > {1 + ENERGY_LIMIT:g} E(0)); "
