@@ -23,7 +23,7 @@ import tempfile
 import numpy as np
 
 from postproc.analytic import darcy_pore_velocity
-from postproc.mpmice_io import cell_centres, list_dumps, read_dump
+from postproc.mpmice_io import cell_centres, read_run_dumps
 from postproc.run_case import ROOT, run_mpmice
 
 NAMELIST = os.path.join(ROOT, "namelists", "mpmice_darcy_1d.nml")
@@ -99,11 +99,7 @@ def run_case(workdir: str, solid_fraction: float, dp_atm: float, nranks: int = 1
     for text in extra_set:
         args += ["--set", text]
     run_mpmice(args, nranks=nranks, cwd=workdir)
-    paths = list_dumps(out, NAME)
-    if not paths:
-        raise RuntimeError(f"no dumps {NAME}_<step>.h5 in {out}")
-    dumps = [read_dump(path) for path in paths[-2:]]
-    result = analyse_case(dumps, solid_fraction, dp_atm)
+    result = analyse_case(read_run_dumps(out, NAME, last=2), solid_fraction, dp_atm)
     result["output_dir"] = out
     return result
 

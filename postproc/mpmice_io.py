@@ -105,13 +105,13 @@ def list_dumps(output_dir: str, name: str) -> list[str]:
     return [path for _, path in sorted(found)]
 
 
-def read_run_dumps(output_dir: str, name: str) -> list[dict]:
-    """Every dump ``<output_dir>/<name>_<step>.h5`` read (:func:`read_dump`), in step order;
-    RuntimeError when there is none."""
+def read_run_dumps(output_dir: str, name: str, last: int | None = None) -> list[dict]:
+    """The dumps ``<output_dir>/<name>_<step>.h5`` read (:func:`read_dump`), in step order: every
+    one, or the `last` ones; RuntimeError when there is none."""
     paths = list_dumps(output_dir, name)
     if not paths:
         raise RuntimeError(f"no dumps {name}_<step>.h5 in {output_dir}")
-    return [read_dump(path) for path in paths]
+    return [read_dump(path) for path in (paths if last is None else paths[-last:])]
 
 
 def parse_run_dir(description: str, name: str, argv=None) -> tuple[argparse.Namespace, list[dict]]:
