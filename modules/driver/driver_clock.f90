@@ -9,7 +9,7 @@ module driver_clock
   implicit none
   private
 
-  public :: clock_t, clock_init, clock_propose_dt, clock_advance, clock_finished
+  public :: clock_t, clock_init, clock_propose_dt, clock_advance, clock_finished, clock_resume
 
   real(wp), parameter :: event_slack = 1.0e-9_wp  !< relative slack for landing on an event time
 
@@ -116,6 +116,32 @@ contains
     clock%dt_next = min(clock%dt_max, clock%dt_growth * max(unclipped, dt))
     if (dt < unclipped) clock%dt_next = min(clock%dt_next, unclipped)
   end subroutine clock_advance
+
+  !> After a restart: the output and checkpoint counters of the checkpoint count events of the
+  !! intervals it was written with; where `--set` changed an interval they are recounted from the
+  !! current time (the next event is the first multiple of the new interval after it), so that
+  !! the next event lies ahead (a dump interval cut from 0.05 to 0.001 s at t = 0.5 s asked for
+  !! the dump at 0.006 s: a negative step). Unchanged intervals keep their counters (the
+  !! continuation stays bitwise identical).
+  pure subroutine clock_resume(clock)
+    type(clock_t), intent(inout) :: clock  !< clock read from a checkpoint, intervals set anew
+    clock%output_index = resumed_index(clock%output_index, clock%output_interval, clock%time)
+    clock%checkpoint_index = resumed_index(clock%checkpoint_index, clock%checkpoint_interval, &
+      clock%time)
+  end subroutine clock_resume
+
+  !> Event counter `index` of `interval` [s] checked against `time` [s]: kept when the next event
+  !! lies ahead and the last one not, else the number of whole intervals up to `time`.
+  pure integer function resumed_index(index, interval, time) result(resumed)
+    integer, intent(in) :: index      !< counter from the checkpoint
+    real(wp), intent(in) :: interval  !< event interval [s] (0: none)
+    real(wp), intent(in) :: time      !< current time [s]
+    resumed = index
+    if (interval <= 0.0_wp) return
+    if (real(index + 1, wp) * interval > time .and. &
+      real(index, wp) * interval <= time * (1.0_wp + event_slack)) return
+    resumed = floor(time / interval * (1.0_wp + event_slack))
+  end function resumed_index
 
   !> True when the end time or this invocation's step limit is reached.
   pure function clock_finished(clock) result(finished)

@@ -14,7 +14,8 @@ module driver_loop
   use parallel_reduce, only: global_any, global_max
   use mpmice_signals, only: signals_install, signal_received, signal_name
   use grid_layout, only: grid_t
-  use driver_clock, only: clock_t, clock_init, clock_propose_dt, clock_advance, clock_finished
+  use driver_clock, only: clock_t, clock_init, clock_propose_dt, clock_advance, clock_finished, &
+    clock_resume
   use driver_output, only: write_dump, write_checkpoint, read_checkpoint
   use driver_scene, only: scene_t
   use driver_stops, only: stops_watch_state, stops_start, stops_check_dt, stops_check_state
@@ -64,6 +65,7 @@ contains
     call timer_start(timers, t_output)
     if (len_trim(restart_file) > 0) then
       call read_checkpoint(scene, dom, grid, restart_file, clock)
+      call clock_resume(clock)
       call log_info('restarted from ' // trim(restart_file) // ' at step ' // int_text(clock%step) &
         // ', t = ' // real_short_text(clock%time) // ' s')
     else

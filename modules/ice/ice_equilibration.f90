@@ -5,13 +5,14 @@
 !! With one fluid phi = 1, rho_micro = rho_bar and p = p_eos(rho_bar, T) directly.
 module ice_equilibration
   use mpmice_kinds, only: wp
-  use grid_layout, only: grid_t
+  use grid_layout, only: grid_t, cell_centre
   use ice_eos, only: eos_pressure, eos_density, eos_dp_drho, eos_sound_speed2
   use ice_state, only: ice_state_t
+  use mpmice_errors, only: real_short_text
   implicit none
   private
 
-  public :: ice_equilibrate
+  public :: ice_equilibrate, equilibration_failure_text
 
   !> Pressure [Pa] at which a trace fluid's volume is judged (trace_fallback) and at which a trace
   !! left out of the volume sum takes its density when the others' pressure is not positive
@@ -23,13 +24,15 @@ contains
   !! `state%pressure` is the initial guess on entry; `state%p_eq` and `state%pressure` hold the
   !! equilibrium pressure on exit. `max_iterations_used` is the largest Newton count over the
   !! cells and `failed` the number of cells that missed `tolerance` on sum phi - 1.
-  subroutine ice_equilibrate(state, grid, tolerance, max_iterations, max_iterations_used, failed)
+  subroutine ice_equilibrate(state, grid, tolerance, max_iterations, max_iterations_used, failed, &
+      first_failed)
     type(ice_state_t), intent(inout) :: state      !< fluids and pressure
     type(grid_t), intent(in) :: grid               !< block geometry
     real(wp), intent(in) :: tolerance              !< |sum phi - 1| to reach
     integer, intent(in) :: max_iterations          !< Newton iteration limit
     integer, intent(out) :: max_iterations_used    !< largest iteration count
     integer, intent(out) :: failed                 !< cells that did not converge
+    integer, intent(out), optional :: first_failed(3) !< the first such cell (0 when none)
     integer :: i, j, k, m, it, n
     real(wp) :: p, rho_m, porosity
     logical :: active(state%nfluids), converged
@@ -37,6 +40,7 @@ contains
     n = state%nfluids
     max_iterations_used = 0
     failed = 0
+    if (present(first_failed)) first_failed = 0
     active = .true.
     do k = grid%lbc(3), grid%ubc(3)
       do j = grid%lbc(2), grid%ubc(2)
@@ -55,7 +59,10 @@ contains
             max_iterations_used = max(max_iterations_used, it)
             if (.not. converged) call trace_fallback(state, i, j, k, porosity, tolerance, &
               max_iterations, p, converged)
-            if (.not. converged) failed = failed + 1
+            if (.not. converged) then
+              failed = failed + 1
+              if (present(first_failed) .and. failed == 1) first_failed = [i, j, k]
+            end if
           end if
           state%pressure(i, j, k) = p
           state%p_eq(i, j, k) = p
@@ -83,6 +90,31 @@ contains
       end do
     end do
   end subroutine ice_equilibrate
+
+  !> One line on cell `c` where the equilibration failed: its centre [m], porosity, and each
+  !! fluid's bulk density [kg/m^3] and temperature [K] (what the step's rejection leaves to
+  !! guess otherwise) and the pressure the iteration reached. Called on the rank that owns it.
+  function equilibration_failure_text(state, grid, c) result(text)
+    type(ice_state_t), intent(in) :: state  !< fluids
+    type(grid_t), intent(in) :: grid        !< block geometry
+    integer, intent(in) :: c(3)             !< cell
+    character(len=:), allocatable :: text
+    integer :: d, m
+    text = 'equilibration failed in the cell at'
+    do d = 1, grid%ndim
+      text = text // ' ' // real_short_text(cell_centre(grid, d, c(d)))
+    end do
+    text = text // ' m:'
+    if (state%solid%present) text = text // ' solid fraction ' // &
+      real_short_text(state%solid%vfrac(c(1), c(2), c(3))) // ','
+    do m = 1, state%nfluids
+      text = text // ' ' // trim(state%fluid(m)%name) // ' rho_bar ' // &
+        real_short_text(state%fluid(m)%rho(c(1), c(2), c(3))) // ' kg/m^3 T ' // &
+        real_short_text(state%fluid(m)%temp(c(1), c(2), c(3))) // ' K,'
+    end do
+    text = text // ' pressure reached ' // &
+      real_short_text(state%pressure(c(1), c(2), c(3))) // ' Pa'
+  end function equilibration_failure_text
 
   !> Newton iteration on sum phi_m(p) - n = 0 over the fluids marked `active` (eqs. 10-11 with
   !! the pores, as Uintah's computeEquilibrationPressure). `p` is the initial guess on entry and

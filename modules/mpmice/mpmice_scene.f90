@@ -17,6 +17,7 @@
 !! of the pore space. See docs/mpmice.md.
 module mpmice_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use, intrinsic :: iso_fortran_env, only: error_unit
   use mpmice_kinds, only: wp, name_len, path_len
   use mpmice_errors, only: fatal, int_text, real_short_text
   use mpmice_log, only: log_info, log_warning
@@ -35,7 +36,7 @@ module mpmice_scene
   use ice_state, only: ice_state_t, ice_solid_alloc
   use ice_scene, only: ice_scene_t, exchange_primitives, exchange_lagrangian, &
     ice_pressure_iteration
-  use ice_equilibration, only: ice_equilibrate
+  use ice_equilibration, only: ice_equilibrate, equilibration_failure_text
   use ice_face_velocity, only: ice_face_velocities
   use ice_pressure, only: ice_face_pressure
   use ice_lagrangian, only: ice_lagrangian_values
@@ -243,7 +244,7 @@ contains
     real(wp), intent(in) :: dt                    !< step [s]
     type(timer_set_t), intent(inout) :: timers    !< stage timers
     logical, intent(out) :: accepted              !< the step was taken
-    integer :: s, its, failed, negative, m
+    integer :: s, its, failed, negative, m, bad_cell(3)
     real(wp) :: ramp
 
     accepted = .false.
@@ -285,9 +286,11 @@ contains
       call timer_stop(timers, self%t_cells)
 
       call timer_start(timers, fl%t_equil)
-      call ice_equilibrate(st, grid, fl%eq_tolerance, fl%eq_max, its, failed)
+      call ice_equilibrate(st, grid, fl%eq_tolerance, fl%eq_max, its, failed, bad_cell)
       call ice_bc_fill(grid, fl%bc, st%pressure, bc_pressure)
       call timer_stop(timers, fl%t_equil)
+      if (failed > 0) write(error_unit, '(a)') 'mpmice: warning: ' // &
+        equilibration_failure_text(st, grid, bad_cell)
       if (global_sum(dom, failed) > 0) then
         call log_warning('MPMICE equilibration failed at t = ' // real_short_text(time) // ' s')
         return

@@ -79,18 +79,19 @@ contains
                                                 !! rigid fraction of the cells (previous deposit)
     real(wp), intent(in), optional :: dt        !< step [s]: plane fractions swept over it
     integer :: ip, d, k, a, b, c, first(3), nc(3), nf(3), ff(3), e, nbase, cb(3), nt, tgt(3, 6)
-    real(wp) :: w(2, 3), wt, vg, l(3), lo, hi, wf, mc, tw(6), step, sup, sdn, wlo, whi
-    logical :: own_planes, redirect
+    real(wp) :: w(2, 3), wt, vg, l(3), lo, hi, wf, mc, tw(6), step, sup, sdn, wlo, whi, wlo0, whi0
+    logical :: own_planes, redirect, sweep
     own_planes = .false.
     if (present(sliding)) own_planes = sliding .and. solid%rigid
     redirect = .false.
     if (present(sliding) .and. present(wall_frac)) redirect = sliding .and. .not. solid%rigid
     nbase = 2 + nsolids
     if (own_planes) nbase = 14 + nsolids
-    ! not with sliding rigid bodies: the contact corrects the nodal velocity, not the particle's
-    ! (the 40 mm debris flow: +367 / -6.6 kPa in a contact cell at 0.1 s with the sweep)
+    ! not on the planes of a wall cell of a sliding rigid body: the contact corrects the nodal
+    ! velocity, not the particle's (the 40 mm debris flow: +367 / -6.6 kPa in a contact cell at
+    ! 0.1 s when the sweep reached the bed's planes)
     step = 0.0_wp
-    if (present(dt) .and. .not. own_planes .and. .not. redirect) step = dt
+    if (present(dt) .and. .not. own_planes) step = dt
     do ip = 1, p%np
       vg = p%mass(ip) / solid%grain_density
       mc = p%mass(ip) * solid%heat_capacity
@@ -119,7 +120,9 @@ contains
             real(k, wp) <= hi)
           whi = swept_share(lo, hi, real(k, wp), real(k, wp) + sdn, lo <= real(k, wp) .and. &
             real(k, wp) < hi)
-          if (wlo <= 0.0_wp .and. whi <= 0.0_wp) cycle
+          wlo0 = merge(1.0_wp, 0.0_wp, lo < real(k, wp) .and. real(k, wp) <= hi)
+          whi0 = merge(1.0_wp, 0.0_wp, lo <= real(k, wp) .and. real(k, wp) < hi)
+          if (max(wlo, whi, wlo0, whi0) <= 0.0_wp) cycle
           ff = first
           nf = nc
           ff(d) = k + 1
@@ -133,9 +136,12 @@ contains
                   if (e == d) cycle
                   wt = wt * w(merge(a, merge(b, c, e == 2), e == 1), e)
                 end do
-                associate (q => dep(:, ff(1) + a - 1, ff(2) + b - 1, ff(3) + c - 1))
-                  q(nbase + 2 * d - 1) = q(nbase + 2 * d - 1) + wlo * wt
-                  q(nbase + 2 * d) = q(nbase + 2 * d) + whi * wt
+                cb = [ff(1) + a - 1, ff(2) + b - 1, ff(3) + c - 1]
+                sweep = .true.
+                if (redirect) sweep = .not. wall_plane(wall_frac, grid, cb, d)
+                associate (q => dep(:, cb(1), cb(2), cb(3)))
+                  q(nbase + 2 * d - 1) = q(nbase + 2 * d - 1) + merge(wlo, wlo0, sweep) * wt
+                  q(nbase + 2 * d) = q(nbase + 2 * d) + merge(whi, whi0, sweep) * wt
                 end associate
                 if (lo < real(k, wp) .and. real(k, wp) <= hi .and. .not. own_planes) then
                   ! the cell below the plane keeps its own side too
@@ -177,6 +183,19 @@ contains
       end do
     end do
   end subroutine solid_deposit
+
+  !> True when the low face plane of cell `c` in direction `d` borders a wall cell (rigid
+  !! fraction `wall_frac` >= `wall_fraction`) on either side.
+  pure logical function wall_plane(wall_frac, grid, c, d) result(wall)
+    type(grid_t), intent(in) :: grid     !< block geometry
+    real(wp), intent(in) :: wall_frac(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< rigid fraction
+    integer, intent(in) :: c(3)          !< cell above the plane
+    integer, intent(in) :: d             !< direction
+    integer :: b(3)
+    b = c - unit_offset(:, d)
+    wall = wall_frac(c(1), c(2), c(3)) >= wall_fraction
+    if (b(d) >= grid%lbc(d)) wall = wall .or. wall_frac(b(1), b(2), b(3)) >= wall_fraction
+  end function wall_plane
 
   !> Share of the slab [a, b] (in cells) that the particle domain [lo, hi] covers, over the slab's
   !! width; a slab of zero width (no step or no motion that way) gives 1 where the domain reaches
@@ -657,18 +676,22 @@ contains
 
   !> Near solid (a cell holding solid or next to one), the Lagrangian cell velocity of every
   !! fluid becomes the flux-consistent mean of its two final face velocities, component by
-  !! component: u_c = (phi_up,lo u_lo + phi_up,hi u_hi) / (2 phi_c) (upwind face fractions, as the
-  !! pressure equation's fluxes). Departure from eqs. 42-51 for the normal components there: the
-  !! faces carry the fluid's momentum next to solid (`fluid_face_predictor_porous`), and fluid
-  !! leaving a porous body at the pore velocity would otherwise push an odd-even velocity
-  !! pattern into the free fluid, a null mode of ICE's cell momentum that nothing restores.
+  !! component: u_c = (n_up,lo u_lo + n_up,hi u_hi) / (2 n_c) with the pore fractions
+  !! n = 1 - phi_s (upwind at the faces). Departure from eqs. 42-51 for the normal components
+  !! there: the faces carry the fluid's momentum next to solid (`fluid_face_predictor_porous`),
+  !! and fluid leaving a porous body at the pore velocity would otherwise push an odd-even
+  !! velocity pattern into the free fluid, a null mode of ICE's cell momentum that nothing
+  !! restores. The pore fractions, not the fluid's own: with one fluid they are the same, but
+  !! at a free surface next to the bed the fluid's fraction jumps from a full cell to a partly
+  !! filled one, and n_up u / (2 phi_c) with phi_c < n_up / 2 amplified the face velocity (the
+  !! 40 mm debris flow's water over the shelf edge: ten-fold per millisecond, then failure).
   subroutine fluid_face_blend(state, grid)
     type(ice_state_t), intent(inout) :: state   !< fluids (lag(:,:,:,1:3) updated, owned cells)
     type(grid_t), intent(in) :: grid            !< block geometry
     integer :: m, i, j, k, d, o(3)
     real(wp) :: flo, fhi, ulo, uhi
     do m = 1, state%nfluids
-      associate (f => state%fluid(m))
+      associate (f => state%fluid(m), phi_s => state%solid%vfrac)
         do d = 1, 3
           if (.not. grid%active(d)) cycle
           o = 0
@@ -680,14 +703,9 @@ contains
                 if (.not. near_solid(state, grid, [i, j, k])) cycle
                 ulo = f%uface(i, j, k, d)
                 uhi = f%uface(i + o(1), j + o(2), k + o(3), d)
-                flo = upwind(ulo, f%vfrac(i - o(1), j - o(2), k - o(3)), f%vfrac(i, j, k))
-                fhi = upwind(uhi, f%vfrac(i, j, k), f%vfrac(i + o(1), j + o(2), k + o(3)))
-                if (f%vfrac(i, j, k) > 1.0e-3_wp) then
-                  f%lag(i, j, k, d) = 0.5_wp * (flo * ulo + fhi * uhi) / f%vfrac(i, j, k)
-                else
-                  ! a trace of a fluid (e.g. air in a water-filled pore): the plain face mean
-                  f%lag(i, j, k, d) = 0.5_wp * (ulo + uhi)
-                end if
+                flo = 1.0_wp - upwind(ulo, phi_s(i - o(1), j - o(2), k - o(3)), phi_s(i, j, k))
+                fhi = 1.0_wp - upwind(uhi, phi_s(i, j, k), phi_s(i + o(1), j + o(2), k + o(3)))
+                f%lag(i, j, k, d) = 0.5_wp * (flo * ulo + fhi * uhi) / (1.0_wp - phi_s(i, j, k))
               end do
             end do
           end do
