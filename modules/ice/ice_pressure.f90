@@ -17,7 +17,7 @@ module ice_pressure
   private
 
   public :: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, ice_face_pressure
-  public :: solid_face_fraction
+  public :: solid_face_fraction, platen_fluid_faces
 
   real(wp), parameter :: pore_min = 1.0e-3_wp  !< smallest pore fraction in the face weights
 
@@ -25,7 +25,8 @@ contains
 
   !> Operator of eq. 35: low-face coefficients `state%coef` and diagonal `state%diag`
   !! (hypre's convention of `solver_pressure`); boundary faces do not couple (walls: zero
-  !! normal velocity and a homogeneous Neumann condition on dp). Written as one sweep per
+  !! normal velocity and a homogeneous Neumann condition on dp; a loading platen adds
+  !! theta dt^2 A c to its inner cell's diagonal, `platen_fluid_faces`). Written as one sweep per
   !! direction and material over the faces (branch-free, no calls per face) with the sums in
   !! the same order as a per-face loop over the materials.
   subroutine ice_pressure_assemble(state, grid, dt, theta)
@@ -33,7 +34,7 @@ contains
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: theta              !< implicit weight of the pressure change
-    integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3)
+    integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3), c(3)
     real(wp) :: area, w_lo, w_hi
 
     state%coef = 0.0_wp
@@ -100,6 +101,23 @@ contains
             w_hi = merge(2.0_wp, 1.0_wp, on_boundary(grid, d, i * o(1) + j * o(2) + k * o(3) + 1))
             state%diag(i, j, k) = state%diag(i, j, k) + state%coef(i, j, k, d) * w_lo + &
               state%coef(i + o(1), j + o(2), k + o(3), d) * w_hi
+          end do
+        end do
+      end do
+      ! a loading platen: dp of the inner cell pushes the platen and the skeleton behind it
+      ! outward by theta dt c dp (`solid_face_predictor`), and the outward volume flux with it
+      if (.not. state%solid%present) cycle
+      r = face_range(grid, d)
+      area = grid%cell_volume / grid%dx(d)
+      do side = 1, 2
+        if (.not. platen_plane(state, grid, d, r, side, lo, hi)) cycle
+        do k = lo(3), hi(3)
+          do j = lo(2), hi(2)
+            do i = lo(1), hi(1)
+              c = [i, j, k] - merge(o, 0, side == 2)
+              state%diag(c(1), c(2), c(3)) = state%diag(c(1), c(2), c(3)) + theta * dt**2 * &
+                area * state%solid%platen_coef(i, j, k, d)
+            end do
           end do
         end do
       end do
@@ -192,13 +210,14 @@ contains
   end function ice_pressure_rhs
 
   !> After a solve (dp valid in one ghost layer): p += dp, dp_total += dp on the owned cells and
-  !! u_m,f -= dt v_m,f (dp_R - dp_L)/dx on the faces of the owned cells.
+  !! u_m,f -= dt v_m,f (dp_R - dp_L)/dx on the faces of the owned cells; on a loading platen the
+  !! solid's u_s,f += theta dt c dp (outward, c = `platen_coef`) and the fluids' follow it.
   subroutine ice_pressure_correct(state, grid, dt, theta)
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: theta              !< implicit weight of the pressure change
-    integer :: d, m, i, j, k, o(3), r(2, 3)
+    integer :: d, m, i, j, k, o(3), r(2, 3), side, plo(3), phi(3), c(3)
     real(wp) :: g
 
     associate (lo => grid%lo, hi => grid%hi)
@@ -242,8 +261,90 @@ contains
           end do
         end do
       end do
+      ! loading platens: the skeleton's face velocity with the inner cell's dp (outward for
+      ! dp > 0), the fluids' from it
+      r = face_range(grid, d)
+      do side = 1, 2
+        if (.not. platen_plane(state, grid, d, r, side, plo, phi)) cycle
+        do k = plo(3), phi(3)
+          do j = plo(2), phi(2)
+            do i = plo(1), phi(1)
+              c = [i, j, k] - merge(o, 0, side == 2)
+              state%solid%uface(i, j, k, d) = state%solid%uface(i, j, k, d) + &
+                merge(1.0_wp, -1.0_wp, side == 2) * theta * dt * &
+                state%solid%platen_coef(i, j, k, d) * state%dp(c(1), c(2), c(3))
+            end do
+          end do
+        end do
+      end do
     end do
+    call platen_fluid_faces(state, grid)
   end subroutine ice_pressure_correct
+
+  !> Fluid face velocities of the loading platens (`ice_solid_phase_t%platen`: a closed domain
+  !! face where the skeleton carries a surface load). The platen is impermeable and moves with
+  !! the skeleton (no relative flow through it), so the mixture's outward volume flux there is
+  !! the solid's face velocity u_s. The solid crosses the plane with its own flux phi_s,f u_s
+  !! (`solid_face_fraction`: none while the skeleton moves inward, its particles staying inside
+  !! the domain); the fluids fill the rest: each gets u = (1 - phi_s,f) u_s / sum_m phi_m,up,
+  !! phi_m,up the upwind fractions of eq. 35. Without solid at the face (u_s = 0) a plain wall.
+  subroutine platen_fluid_faces(state, grid)
+    type(ice_state_t), intent(inout) :: state  !< fluids (uface on platen faces written)
+    type(grid_t), intent(in) :: grid           !< block geometry
+    integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3)
+    real(wp) :: us, phi_up, u
+    if (.not. state%solid%present) return
+    if (.not. any(state%solid%platen)) return
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      o = 0
+      o(d) = 1
+      r = face_range(grid, d)
+      do side = 1, 2
+        if (.not. platen_plane(state, grid, d, r, side, lo, hi)) cycle
+        do k = lo(3), hi(3)
+          do j = lo(2), hi(2)
+            do i = lo(1), hi(1)
+              us = state%solid%uface(i, j, k, d)
+              phi_up = 0.0_wp
+              do m = 1, state%nfluids
+                phi_up = phi_up + merge(state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)), &
+                  state%fluid(m)%vfrac(i, j, k), us >= 0.0_wp)
+              end do
+              u = 0.0_wp
+              if (phi_up > pore_min) u = (1.0_wp - solid_face_fraction(state, d, o, i, j, k)) &
+                * us / phi_up
+              do m = 1, state%nfluids
+                state%fluid(m)%uface(i, j, k, d) = u
+              end do
+            end do
+          end do
+        end do
+      end do
+    end do
+  end subroutine platen_fluid_faces
+
+  !> True when the domain plane of direction `d` on `side` (1 low, 2 high) is a loading platen
+  !! (`ice_solid_phase_t%platen`) that this rank holds; `lo`, `hi`: its faces.
+  logical function platen_plane(state, grid, d, r, side, lo, hi)
+    type(ice_state_t), intent(in) :: state  !< fluids and solid phase
+    type(grid_t), intent(in) :: grid        !< block geometry
+    integer, intent(in) :: d                !< face direction
+    integer, intent(in) :: r(2, 3)          !< face range of this rank
+    integer, intent(in) :: side             !< 1: low plane, 2: high plane
+    integer, intent(out) :: lo(3), hi(3)    !< face range of the plane
+    integer :: idx
+    platen_plane = .false.
+    lo = r(1, :)
+    hi = r(2, :)
+    if (grid%periodic(d) .or. .not. state%solid%present) return
+    if (.not. state%solid%platen(2 * d - 2 + side)) return
+    idx = merge(1, grid%ncells(d) + 1, side == 1)
+    if (idx < r(1, d) .or. idx > r(2, d)) return
+    lo(d) = idx
+    hi(d) = idx
+    platen_plane = .true.
+  end function platen_plane
 
   !> Face pressures of eq. 37 (weights: total bulk density of the fluids of the two cells, per
   !! pore volume 1 - phi_s where a solid phase is present); a wall face takes the pressure of its

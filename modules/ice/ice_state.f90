@@ -54,6 +54,12 @@ module ice_state
                                                        !! face plane [-]
     real(wp), allocatable :: face_fraction_hi(:, :, :, :) !< the same on its high side [-]
     logical :: explicit_drag = .false.          !< explicit (forward Euler) drag, for comparison
+    !> loading platen per domain face: a closed face where the skeleton carries a surface load
+    !! (`&boundary fluid = 'wall'` or 'free_slip' with `solid = 'traction'`); it is impermeable
+    !! and moves with the skeleton (`ice_pressure`, platen_fluid_faces)
+    logical :: platen(6) = .false.
+    real(wp), allocatable :: platen_coef(:, :, :, :) !< on a platen face: face area over the
+                                                     !! face nodes' mean solid mass [m^2/kg]
     real(wp), allocatable :: heat_cap(:, :, :)  !< heat capacity per volume rho_bar_s c_s [J/m^3/K]
     real(wp), allocatable :: conductance(:, :, :) !< phi_s k_s of the grains [W/m/K]
     real(wp), allocatable :: temp(:, :, :)      !< solid cell temperature [K]: m c T / m c at the
@@ -165,7 +171,9 @@ contains
         mold=s%uface)
       s%face_fraction = 0.0_wp
       s%face_fraction_hi = 0.0_wp
-      allocate(s%rigid_flux, s%rigid_fraction, s%rigid_fraction_hi, mold=s%uface)
+      allocate(s%rigid_flux, s%rigid_fraction, s%rigid_fraction_hi, s%platen_coef, &
+        mold=s%uface)
+      s%platen_coef = 0.0_wp
       s%rigid_flux = 0.0_wp
       s%rigid_fraction = 0.0_wp
       s%rigid_fraction_hi = 0.0_wp
@@ -200,7 +208,7 @@ contains
       state%solid%rigid_face, state%solid%face_fraction, state%solid%face_fraction_hi, &
       state%solid%heat_cap, state%solid%conductance, state%solid%temp, state%solid%rigid_flux, &
       state%solid%rigid_fraction, state%solid%rigid_fraction_hi, state%solid%frac_def, &
-      state%solid%xfrac, state%solid%frac_rigid)
+      state%solid%xfrac, state%solid%frac_rigid, state%solid%platen_coef)
     state%solid%present = .false.
     state%nfluids = 0
   end subroutine ice_state_free

@@ -13,8 +13,10 @@
 !!  the particles -> migration.
 !!
 !! The skeleton's constitutive models see the effective stress only (eq. 3); the fluid pressure
-!! acts on it through the face pressure gradient. A fluid's `&fluid volume_fraction` is its share
-!! of the pore space. See docs/mpmice.md.
+!! acts on it through the face pressure gradient. A fluid 'wall' where the skeleton carries a
+!! surface load (`solid = 'traction'`) is a loading platen: impermeable, moving with the
+!! skeleton, the load shared with the pore fluid (`ice_pressure` platen_fluid_faces). A fluid's
+!! `&fluid volume_fraction` is its share of the pore space. See docs/mpmice.md.
 module mpmice_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit
@@ -22,7 +24,7 @@ module mpmice_scene
   use mpmice_errors, only: fatal, int_text, real_short_text
   use mpmice_log, only: log_info, log_warning
   use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
-  use config_types, only: config_t
+  use config_types, only: config_t, boundary_for_face, boundary_params_t
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_free, halo_reverse_cell_vec, &
     halo_exchange_cell, halo_exchange_node
@@ -38,16 +40,16 @@ module mpmice_scene
     ice_pressure_iteration
   use ice_equilibration, only: ice_equilibrate, equilibration_failure_text
   use ice_face_velocity, only: ice_face_velocities
-  use ice_pressure, only: ice_face_pressure
+  use ice_pressure, only: ice_face_pressure, platen_fluid_faces
   use ice_lagrangian, only: ice_lagrangian_values
   use ice_advection, only: ice_advect
-  use ice_bc, only: ice_bc_fill, bc_pressure, bc_scalar, bc_temperature
+  use ice_bc, only: ice_bc_fill, bc_pressure, bc_scalar, bc_temperature, bc_wall, bc_free_slip
   use ice_exchange, only: ice_exchange_faces, ice_exchange_cells
   use ice_viscous, only: ice_viscous_sources
   use mpm_scene, only: mpm_scene_t, move_rigid, mpm_migrate_all
   use mpm_constitutive, only: model_rigid
   use mpm_p2g, only: p2g_accumulate, p2g_accumulate_rigid, p2g_complete
-  use mpm_nodal, only: nodal_solve, nodal_finish, nodal_bc_at_time
+  use mpm_nodal, only: nodal_solve, nodal_finish, nodal_bc_at_time, bc_traction
   use mpm_g2p, only: g2p_update
   use mpm_loads, only: surface_load_t, surface_load_init, surface_load_scatter, &
     surface_load_power
@@ -115,7 +117,8 @@ contains
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
     type(timer_set_t), intent(inout) :: timers    !< stage timers
-    integer :: s, m, ns, its, failed
+    integer :: s, m, ns, its, failed, face, d
+    type(boundary_params_t) :: b
     if (cfg%nfluids < 1 .or. cfg%nsolids < 1) call fatal('mpmice scene: needs at least one ' // &
       '&fluid and one &solid group')
     if (any(grid%active .and. grid%ng < 2)) call fatal('mpmice scene: &grid ghost_width must ' // &
@@ -148,6 +151,17 @@ contains
     self%fl%state%solid%sliding = self%so%bc%friction_contact .and. &
       any(self%so%mats(:)%model == model_rigid)
     self%fl%state%solid%explicit_drag = trim(cfg%coupling%drag_scheme) == 'explicit'
+    ! a wall where the skeleton carries a surface load is a loading platen: impermeable, moving
+    ! with the skeleton; the load beyond the face's `pressure` is shared with the pore fluid
+    do face = 1, 6
+      d = (face + 1) / 2
+      if (.not. grid%active(d) .or. grid%periodic(d)) cycle
+      if (self%so%bc%kind(face) /= bc_traction) cycle
+      if (self%fl%bc%fluid(face) /= bc_wall .and. self%fl%bc%fluid(face) /= bc_free_slip) cycle
+      b = boundary_for_face(cfg, face)
+      self%fl%state%solid%platen(face) = .true.
+      self%fl%state%p_boundary(face) = b%pressure
+    end do
     self%fl%state%solid%h_exchange = cfg%coupling%heat_exchange_coefficient
     allocate(self%dep(deposit_size(ns), grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
@@ -307,6 +321,7 @@ contains
       call fluid_face_predictor_porous(st, grid, self%uprev)
       call solid_face_predictor(st, grid, so%nodes, dt, so%min_mass)
       call ice_exchange_faces(st, grid, dt, fl%k_exchange)
+      call platen_fluid_faces(st, grid)
       call timer_stop(timers, fl%t_face)
 
       ! eq. 35 with the solid's volume flux and coefficient (ice_pressure)

@@ -30,7 +30,7 @@ module mpmice_solid_cells
   use mpm_particles, only: particles_t
   use mpm_nodes, only: mpm_nodes_t
   use ice_state, only: ice_state_t
-  use ice_face_velocity, only: face_range, closed_face, upwind
+  use ice_face_velocity, only: face_range, closed_face, face_index, upwind
   use ice_pressure, only: solid_face_fraction
   use exchange_drag, only: drag_reduced_coefficient
   use mpmice_solid_coupling, only: solid_coupling_t, surface_body_fraction
@@ -419,14 +419,15 @@ contains
   !! (prescribed: the fluids cannot enter the body, whose cells have almost no pore volume); any
   !! other face carries the deformable solid (its mass-weighted nodal velocity); the rigid
   !! bodies' volume flux phi_r,f u_r,f (upwind plane fraction, rigid momentum over mass at the
-  !! face's nodes) is kept apart in `rigid_flux`.
+  !! face's nodes) is kept apart in `rigid_flux`. On a loading platen
+  !! (`ice_solid_phase_t%platen`) the face nodes get the pore fluid's share of the load.
   subroutine solid_face_predictor(state, grid, nodes, dt, min_mass)
     type(ice_state_t), intent(inout) :: state   !< solid phase face fields written
     type(grid_t), intent(in) :: grid            !< block geometry
     type(mpm_nodes_t), intent(in) :: nodes      !< node fields (vel_l = v^{L-})
     real(wp), intent(in) :: dt                  !< time step [s]
     real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
-    integer :: d, i, j, k, o(3), r(2, 3), span(3), a, b, e, n(3)
+    integer :: d, i, j, k, o(3), r(2, 3), span(3), a, b, e, n(3), nm, face, inner(3)
     real(wp) :: m, mv, mi, vl, vr, v, mr, mvr, ur
     logical :: rigid
     associate (sp => state%solid)
@@ -444,6 +445,7 @@ contains
               mv = 0.0_wp
               mr = 0.0_wp
               mvr = 0.0_wp
+              nm = 0
               rigid = .false.
               do e = 0, span(3)
                 do b = 0, span(2)
@@ -462,6 +464,7 @@ contains
                     if (mi <= min_mass) cycle
                     m = m + mi
                     mv = mv + mi * nodes%vel_l(d, n(1), n(2), n(3))
+                    nm = nm + 1
                   end do
                 end do
               end do
@@ -482,6 +485,20 @@ contains
               sp%uface(i, j, k, d) = sp%uface0(i, j, k, d)
               sp%rigid_face(i, j, k, d) = merge(1.0_wp, 0.0_wp, rigid)
               sp%vface(i, j, k, d) = 0.0_wp
+              sp%platen_coef(i, j, k, d) = 0.0_wp
+              if (.not. rigid .and. m > 0.0_wp .and. closed_face(state, grid, d, [i, j, k])) then
+                face = face_index(d, [i, j, k])
+                if (sp%platen(face)) then
+                  ! a loading platen: the inner cell's pore pressure above the outside pressure
+                  ! pushes the face nodes outward (the pore fluid's share of the load), with
+                  ! acceleration (p - p_b) A / (mean nodal mass); dp implicitly (ice_pressure)
+                  inner = [i, j, k] - merge(o, 0, mod(face, 2) == 0)
+                  sp%platen_coef(i, j, k, d) = grid%cell_volume / grid%dx(d) * real(nm, wp) / m
+                  sp%uface(i, j, k, d) = sp%uface(i, j, k, d) + merge(1.0_wp, -1.0_wp, &
+                    mod(face, 2) == 0) * dt * sp%platen_coef(i, j, k, d) * &
+                    (state%pressure(inner(1), inner(2), inner(3)) - state%p_boundary(face))
+                end if
+              end if
               if (rigid .or. closed_face(state, grid, d, [i, j, k])) cycle
               vl = sp%spvol(i - o(1), j - o(2), k - o(3))
               vr = sp%spvol(i, j, k)
