@@ -427,7 +427,7 @@ contains
     type(mpm_nodes_t), intent(in) :: nodes      !< node fields (vel_l = v^{L-})
     real(wp), intent(in) :: dt                  !< time step [s]
     real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
-    integer :: d, i, j, k, o(3), r(2, 3), span(3), a, b, e, n(3), nm, face, inner(3)
+    integer :: d, i, j, k, o(3), r(2, 3), span(3), a, b, e, n(3), face, inner(3)
     real(wp) :: m, mv, mi, vl, vr, v, mr, mvr, ur
     logical :: rigid
     associate (sp => state%solid)
@@ -445,7 +445,6 @@ contains
               mv = 0.0_wp
               mr = 0.0_wp
               mvr = 0.0_wp
-              nm = 0
               rigid = .false.
               do e = 0, span(3)
                 do b = 0, span(2)
@@ -464,7 +463,6 @@ contains
                     if (mi <= min_mass) cycle
                     m = m + mi
                     mv = mv + mi * nodes%vel_l(d, n(1), n(2), n(3))
-                    nm = nm + 1
                   end do
                 end do
               end do
@@ -490,10 +488,12 @@ contains
                 face = face_index(d, [i, j, k])
                 if (sp%platen(face)) then
                   ! a loading platen: the inner cell's pore pressure above the outside pressure
-                  ! pushes the face nodes outward (the pore fluid's share of the load), with
-                  ! acceleration (p - p_b) A / (mean nodal mass); dp implicitly (ice_pressure)
+                  ! pushes the face's nodes outward (the pore fluid's share of the load), with
+                  ! acceleration (p - p_b) A / M, M the face's share of its nodes' mass
+                  ! (`platen_face_mass`); dp implicitly (ice_pressure)
                   inner = [i, j, k] - merge(o, 0, mod(face, 2) == 0)
-                  sp%platen_coef(i, j, k, d) = grid%cell_volume / grid%dx(d) * real(nm, wp) / m
+                  sp%platen_coef(i, j, k, d) = grid%cell_volume / grid%dx(d) / &
+                    platen_face_mass(sp%sliding, grid, nodes, d, [i, j, k], span, min_mass)
                   sp%uface(i, j, k, d) = sp%uface(i, j, k, d) + merge(1.0_wp, -1.0_wp, &
                     mod(face, 2) == 0) * dt * sp%platen_coef(i, j, k, d) * &
                     (state%pressure(inner(1), inner(2), inner(3)) - state%p_boundary(face))
@@ -522,6 +522,45 @@ contains
       end do
     end associate
   end subroutine solid_face_predictor
+
+  !> Mass [kg] a loading platen's face (direction d, index c) pushes: each of its nodes' solid
+  !! mass shared equally among the domain faces of that plane the node belongs to (1 in 1D, up
+  !! to 2 in 2D, 4 in 3D), so the faces of a plane share its nodes' mass exactly and a uniform
+  !! pressure gives every node the same acceleration (p - p_b) A / M, edges included.
+  pure real(wp) function platen_face_mass(sliding, grid, nodes, d, c, span, min_mass) &
+    result(mass)
+    logical, intent(in) :: sliding              !< rigid bodies slide (deformable mass only)
+    type(grid_t), intent(in) :: grid            !< block geometry
+    type(mpm_nodes_t), intent(in) :: nodes      !< node fields
+    integer, intent(in) :: d                    !< face direction
+    integer, intent(in) :: c(3)                 !< face index
+    integer, intent(in) :: span(3)              !< node offsets across the face (0 or 1)
+    real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
+    integer :: a, b, e, n(3), t, faces
+    real(wp) :: mi
+    mass = 0.0_wp
+    do e = 0, span(3)
+      do b = 0, span(2)
+        do a = 0, span(1)
+          n = c + [a, b, e]
+          mi = nodes%q(1, n(1), n(2), n(3))
+          if (.not. sliding) mi = mi + nodes%q(8, n(1), n(2), n(3))
+          if (mi <= min_mass) cycle
+          faces = 1
+          do t = 1, 3
+            if (t == d .or. .not. grid%active(t)) cycle
+            if (grid%periodic(t)) then
+              faces = faces * 2
+            else
+              faces = faces * (count([n(t) - 1, n(t)] >= 1 .and. [n(t) - 1, n(t)] <= &
+                grid%ncells(t)))
+            end if
+          end do
+          mass = mass + mi / real(max(faces, 1), wp)
+        end do
+      end do
+    end do
+  end function platen_face_mass
 
   !> Eqs. 52, 66-67 (E5) through the faces: every node with solid mass adds the mean of the
   !! increments u_s,f - u_s,f0 of the faces it belongs to. `du` is node-shaped scratch
