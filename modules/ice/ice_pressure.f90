@@ -312,8 +312,9 @@ contains
                   state%fluid(m)%vfrac(i, j, k), us >= 0.0_wp)
               end do
               u = 0.0_wp
-              if (phi_up > pore_min) u = (1.0_wp - solid_face_fraction(state, d, o, i, j, k)) &
-                * us / phi_up
+              if (phi_up > pore_min) then
+                u = (1.0_wp - solid_face_fraction(state, d, o, i, j, k)) * us / phi_up
+              end if
               do m = 1, state%nfluids
                 state%fluid(m)%uface(i, j, k, d) = u
               end do
