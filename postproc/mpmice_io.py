@@ -116,9 +116,9 @@ def read_run_dumps(output_dir: str, name: str, last: int | None = None) -> list[
 
 def parse_run_dir(description: str, name: str, argv=None) -> tuple[argparse.Namespace, list[dict]]:
     """Command line of a script that reports on one finished run: ``--dir DIR`` (the run's output
-    directory, required) and ``--out DIR`` (where the plots go; None: DIR). Returns the parsed
-    arguments and every dump ``<name>_<step>.h5`` of DIR; exits with status 1 and
-    "no dumps <name>_<step>.h5 in DIR" when there is none."""
+    directory, required) and ``--out DIR`` (where the plots go, created when missing; None: DIR).
+    Returns the parsed arguments and every dump ``<name>_<step>.h5`` of DIR; exits with status 1
+    and "no dumps <name>_<step>.h5 in DIR" when there is none."""
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--dir", required=True, help="output directory of a run")
     parser.add_argument("--out", default=None)
@@ -127,6 +127,8 @@ def parse_run_dir(description: str, name: str, argv=None) -> tuple[argparse.Name
         dumps = read_run_dumps(args.dir, name)
     except RuntimeError as error:
         raise SystemExit(str(error)) from None
+    if args.out:
+        os.makedirs(args.out, exist_ok=True)
     return args, dumps
 
 

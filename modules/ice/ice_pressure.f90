@@ -334,17 +334,9 @@ contains
     integer, intent(in) :: r(2, 3)          !< face range of this rank
     integer, intent(in) :: side             !< 1: low plane, 2: high plane
     integer, intent(out) :: lo(3), hi(3)    !< face range of the plane
-    integer :: idx
-    platen_plane = .false.
-    lo = r(1, :)
-    hi = r(2, :)
-    if (grid%periodic(d) .or. .not. state%solid%present) return
-    if (.not. state%solid%platen(2 * d - 2 + side)) return
-    idx = merge(1, grid%ncells(d) + 1, side == 1)
-    if (idx < r(1, d) .or. idx > r(2, d)) return
-    lo(d) = idx
-    hi(d) = idx
-    platen_plane = .true.
+    platen_plane = held_plane(grid, d, r, side, lo, hi)
+    if (.not. state%solid%present) platen_plane = .false.
+    if (platen_plane) platen_plane = state%solid%platen(2 * d - 2 + side)
   end function platen_plane
 
   !> Face pressures of eq. 37 (weights: total bulk density of the fluids of the two cells, per
@@ -486,18 +478,29 @@ contains
     integer, intent(in) :: r(2, 3)          !< face range of this rank
     integer, intent(in) :: side             !< 1: low plane, 2: high plane
     integer, intent(out) :: lo(3), hi(3)    !< face range of the plane
+    open_plane = held_plane(grid, d, r, side, lo, hi)
+    if (open_plane) open_plane = .not. state%closed(2 * d - 2 + side)
+  end function open_plane
+
+  !> True when the non-periodic domain plane of direction `d` on `side` (1 low, 2 high) lies in
+  !! this rank's face range `r`; `lo`, `hi`: its faces (else the whole range).
+  logical function held_plane(grid, d, r, side, lo, hi)
+    type(grid_t), intent(in) :: grid        !< block geometry
+    integer, intent(in) :: d                !< face direction
+    integer, intent(in) :: r(2, 3)          !< face range of this rank
+    integer, intent(in) :: side             !< 1: low plane, 2: high plane
+    integer, intent(out) :: lo(3), hi(3)    !< face range of the plane
     integer :: idx
-    open_plane = .false.
+    held_plane = .false.
     lo = r(1, :)
     hi = r(2, :)
     if (grid%periodic(d)) return
     idx = merge(1, grid%ncells(d) + 1, side == 1)
-    if (state%closed(2 * d - 2 + side)) return
     if (idx < r(1, d) .or. idx > r(2, d)) return
     lo(d) = idx
     hi(d) = idx
-    open_plane = .true.
-  end function open_plane
+    held_plane = .true.
+  end function held_plane
 
   !> Open domain face of a scene with a solid phase: sum over the fluids of (phi_inner -
   !! phi_upwind) w, w the face specific volume (coefficient) or the face velocity (flux). The
