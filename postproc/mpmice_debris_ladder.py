@@ -32,7 +32,7 @@ time), debris_ladder_front.png (front x(t) of every run, every dump) and debris_
 into --out (default: the first run's directory).
 
 Published numbers: no value of eta(x) at 0.4 s or 0.8 s for this experiment is stated in the
-text or a table of the sources consulted (the MPMICE paper, /work/shared/paper/mpmice-paper.md,
+text or a table of the sources consulted (the MPMICE paper, ../shared/paper/mpmice-paper.md,
 section "Underwater debris flow", compares eta(x) in its Figure 10 only; Rzadkiewicz et al.
 1997 and Dai et al. 2021, Water 13:2276, show eta(x) as curves in figures); see
 docs/applications.md section 1, "Published numbers". No comparison is printed.
