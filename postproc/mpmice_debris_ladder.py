@@ -11,7 +11,9 @@ whose nearest dump is more than half an output interval away has not reached tha
 left out of that time's comparison. Per run and time it prints:
 
 * eta max / min [cm] and their x (free surface of postproc.mpmice_debris_flow.free_surface);
-* the slide front x (largest x of the sand particles, mpmice_debris_flow.slide_front);
+* the slide front x (largest x of the sand particles, mpmice_debris_flow.slide_front) and its
+  advance since the first dump (the seeding puts the first front h/4 inside the wedge, an
+  offset that depends on the cell size h);
 * the largest relative mass change of water, sand and bed since the first dump
   (mpmice_debris_flow.masses);
 * against the next coarser run (runs ordered by cell size): the difference of eta(x), the coarser
@@ -23,8 +25,8 @@ left out of that time's comparison. Per run and time it prints:
 
 With three or more runs, the observed convergence order p of eta(x) from every three successive
 runs (cell sizes h1 > h2 > h3, differences e12, e23): (h1^p - h2^p) / (h2^p - h3^p) = e12 / e23,
-i.e. p = ln(e12 / e23) / ln(r) for a constant refinement ratio r; also of the front from its
-successive differences.
+i.e. p = ln(e12 / e23) / ln(r) for a constant refinement ratio r; also of the front's advance
+from its successive differences.
 
 Writes debris_ladder_eta.png (eta(x) and the slide's particles of every run, one column per
 time), debris_ladder_front.png (front x(t) of every run, every dump) and debris_ladder_pore.png
@@ -135,7 +137,7 @@ def read_run(directory: str, times) -> dict:
         p = d["particles"][SAND]
         run["at"][t] = {
             "file": os.path.basename(paths[i]), "time": d["time"], "x": x, "eta": eta,
-            "front": slide_front(d), "px": p["x"], "py": p["y"],
+            "front": slide_front(d), "advance": slide_front(d) - fronts[0], "px": p["x"], "py": p["y"],
             "excess": excess_pore_pressure(p["y"], p["pore_pressure"]),
             "mass_change": max(abs(m[k] / m0[k] - 1.0) for k in CONSERVED if m0.get(k, 0.0) > 0.0),
         }
@@ -156,7 +158,7 @@ def compare(runs: list[dict], times) -> dict:
         orders = []
         for k in range(2, len(present)):
             h = [present[k - j]["h"] for j in (2, 1, 0)]
-            fr = [present[k - j]["at"][t]["front"] for j in (2, 1, 0)]
+            fr = [present[k - j]["at"][t]["advance"] for j in (2, 1, 0)]
             orders.append(([present[k - j]["label"] for j in (2, 1, 0)],
                            observed_order(h, (diffs[k - 1][0], diffs[k][0])),
                            observed_order(h, (diffs[k - 1][1], diffs[k][1])),
@@ -171,7 +173,7 @@ def print_table(runs: list[dict], times, study: dict) -> None:
         print(f"{r['label']}: {r['dir']}, {len(r['times'])} dumps to t = {r['times'][-1]:.3f} s")
     print("published eta(x) at 0.4 / 0.8 s: none stated in text or tables (module docstring)")
     head = (f"{'t req':>5} {'run':<22} {'dump t':>6} {'eta max [cm] @ x':>17} "
-            f"{'eta min [cm] @ x':>17} {'front':>6} {'dmass':>8} {'L2 d [cm]':>9} "
+            f"{'eta min [cm] @ x':>17} {'front':>6} {'adv.':>6} {'dmass':>8} {'L2 d [cm]':>9} "
             f"{'max d':>6} {'n':>4} {'excess pore p min/med/max [kPa]':>32}")
     for t in times:
         print(head)
@@ -189,12 +191,12 @@ def print_table(runs: list[dict], times, study: dict) -> None:
             ex = a["excess"] / 1e3
             print(f"{t:5.2f} {r['label']:<22} {a['time']:6.3f} "
                   f"{a['eta'][i] * 100:+7.2f} @ {a['x'][i]:5.3f}  "
-                  f"{a['eta'][j] * 100:+7.2f} @ {a['x'][j]:5.3f}  {a['front']:6.3f} "
+                  f"{a['eta'][j] * 100:+7.2f} @ {a['x'][j]:5.3f}  {a['front']:6.3f} {a['advance']:6.3f} "
                   f"{a['mass_change']:8.1e} {d:>21} "
                   f"{ex.min():10.1f} {np.median(ex):10.2f} {ex.max():10.1f}")
         for labels, p_rms, p_max, p_front in entry["orders"]:
             print(f"{t:5.2f} observed order ({' > '.join(labels)}): eta L2 {p_rms:.2f}, "
-                  f"eta max {p_max:.2f}, front {p_front:.2f}")
+                  f"eta max {p_max:.2f}, front advance {p_front:.2f}")
 
 
 def plot(runs: list[dict], times, out: str) -> list[str]:

@@ -1,8 +1,9 @@
 """The resolution study of the sand slide (postproc/mpmice_debris_ladder.py) on three fake runs
 written with h5py (no solver): a free surface eta_h(x) = a + b x + C h^2 on cells of h = 0.2,
 0.1 and 0.05 m gives eta differences C (h1^2 - h2^2) between successive runs and the observed
-order 2; a column without an interface is left out of the comparison; the excess pore pressure
-and the nearest-dump choice are checked against the values put in."""
+order 2 (also of a front advance 0.2 m + h^2); a column without an interface is left out of the
+comparison; the excess pore pressure and the nearest-dump choice are checked against the values
+put in."""
 import math
 
 import h5py
@@ -14,6 +15,7 @@ A, B, C = 0.01, 0.005, 1.0       # eta_h(x) = A + B x + C h^2   [m]
 CELLS = (0.2, 0.1, 0.05)         # m
 EXCESS_PER_X = 1000.0            # Pa/m: the sand's excess pore pressure put in is 1000 x
 NAN_COLUMN = 10                  # in the 0.1 m run, this column holds water only (no interface)
+ADVANCE = 0.2                    # m: the front moves by ADVANCE + h^2 from t = 0 to 0.4 s
 
 
 def _write_dump(path, h, time, with_hole):
@@ -26,7 +28,7 @@ def _write_dump(path, h, time, with_hole):
     share = np.clip(0.5 + (surface[:, None] - yc[None, :]) / (4.0 * h), 0.0, 1.0)
     if with_hole:
         share[NAN_COLUMN, :] = 1.0
-    px = np.array([1.1, 1.2, 1.3 + h**2])
+    px = np.array([1.1, 1.2, 1.3 + (ADVANCE + h**2) * (time > 0.0)])
     py = np.array([1.0, 1.2, 1.7])
     hydrostatic = ladder.P_ATM + ladder.RHO_W * ladder.G * np.clip(1.6 - py, 0.0, None)
     with h5py.File(path, "w") as f:
@@ -64,6 +66,7 @@ def test_ladder_differences_and_order(tmp_path):
     assert [r["h"] for r in runs] == list(CELLS)
     for r in runs:
         assert r["at"][0.8] is None and r["at"][0.4]["time"] == 0.4
+        assert abs(r["at"][0.4]["advance"] - (ADVANCE + r["h"]**2)) < 1e-12
         np.testing.assert_allclose(r["at"][0.4]["excess"], EXCESS_PER_X * r["at"][0.4]["px"],
                                    rtol=0, atol=1e-8)
     study = ladder.compare(runs, [0.4, 0.8])
