@@ -45,3 +45,8 @@ def test_obstacle_scene_keeps_mass_and_records_the_contact_force(tmp_path):
     late = f["time"] > 0.01
     fy = np.median(f["bed_fy"][late])
     assert -w_sat * 0.5 < fy < -0.25 * w_sat * 0.5, (fy, w_sat)
+    # the report: force plot and snapshots (the nearest dump to each requested time)
+    plots = tmp_path / "plots"
+    assert obstacle.main(["--dir", out, "--out", str(plots), "--times", "0.0", "0.02"]) == 0
+    assert (plots / "obstacle_force.png").stat().st_size > 0
+    assert (plots / "obstacle_snapshots_obstacle.png").stat().st_size > 0
