@@ -93,21 +93,25 @@ contains
     clock%dt = dt
     ! land on the event when the gap left is round-off: relative to the step, or to the time
     ! itself (a fixed dt summed over many steps misses a decimal event time by ~N eps t)
-    if (t_event - (clock%time + dt) <= max(event_slack * dt, 1.0e-12_wp * abs(t_event))) then
+    if (reached(t_event, clock%time + dt, dt)) then
       clock%time = t_event
     else
       clock%time = clock%time + dt
     end if
+    ! an event counts as reached within the same round-off: the output and checkpoint series
+    ! hit "the same" time by different products (60 x 0.01 = 0.6 but 6 x 0.1 = 0.6 + 1e-16),
+    ! which left a step of 1e-16 s to the second one (below dt_min: the run stopped)
     clock%output_due = .false.
     clock%checkpoint_due = .false.
     if (clock%output_interval > 0.0_wp) then
-      if (clock%time >= real(clock%output_index + 1, wp) * clock%output_interval) then
+      if (reached(real(clock%output_index + 1, wp) * clock%output_interval, clock%time, dt)) then
         clock%output_index = clock%output_index + 1
         clock%output_due = .true.
       end if
     end if
     if (clock%checkpoint_interval > 0.0_wp) then
-      if (clock%time >= real(clock%checkpoint_index + 1, wp) * clock%checkpoint_interval) then
+      if (reached(real(clock%checkpoint_index + 1, wp) * clock%checkpoint_interval, &
+        clock%time, dt)) then
         clock%checkpoint_index = clock%checkpoint_index + 1
         clock%checkpoint_due = .true.
       end if
@@ -116,6 +120,15 @@ contains
     clock%dt_next = min(clock%dt_max, clock%dt_growth * max(unclipped, dt))
     if (dt < unclipped) clock%dt_next = min(clock%dt_next, unclipped)
   end subroutine clock_advance
+
+  !> True when `time` [s], reached by a step of `dt` [s], is at or past `t_event` [s] up to
+  !! round-off (relative to the step, or to the time itself).
+  pure logical function reached(t_event, time, dt)
+    real(wp), intent(in) :: t_event  !< event time [s]
+    real(wp), intent(in) :: time     !< time [s]
+    real(wp), intent(in) :: dt       !< the step that led there [s]
+    reached = t_event - time <= max(event_slack * dt, 1.0e-12_wp * abs(t_event))
+  end function reached
 
   !> After a restart: the output and checkpoint counters of the checkpoint count events of the
   !! intervals it was written with; where `--set` changed an interval they are recounted from the
