@@ -88,6 +88,7 @@ def main(argv=None) -> int:
     parser.add_argument("--out", default=None, help="keep the runs here")
     args = parser.parse_args(argv)
     work = args.out or tempfile.mkdtemp(prefix="slide_")
+    os.makedirs(work, exist_ok=True)
     a0 = None
     for mu in args.mu:
         extra = ["--set", f"&run end_time = {args.end} /"] if args.end else []
