@@ -284,7 +284,9 @@ def main(argv=None) -> int:
     runs.sort(key=lambda r: -r["h"])
     study = compare(runs, args.times)
     print_table(runs, args.times, study)
-    for path in plot(runs, args.times, args.out or args.dir[0]):
+    out = args.out or args.dir[0]
+    os.makedirs(out, exist_ok=True)
+    for path in plot(runs, args.times, out):
         print(f"plot: {path}")
     return 0
 
