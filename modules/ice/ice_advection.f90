@@ -31,17 +31,17 @@ module ice_advection
 
 contains
 
-  !> Advect every fluid: new rho, vel, temp and spvol on the owned cells. Returns the number of
-  !! owned cells whose mass became negative (0 on success). `gravity`: carried as potential
-  !! energy (module header; absent: none).
+  !> Advect every fluid: new rho, vel, temp and spvol on the owned cells. `negative`: the number
+  !! of owned cells whose mass became negative (0 on success; a caller that judges the masses
+  !! itself leaves it out). `gravity`: carried as potential energy (module header; absent: none).
   subroutine ice_advect(state, grid, dt, order, negative, gravity)
     type(ice_state_t), intent(inout) :: state  !< fluids (rho, lag, uface read; primitives written)
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     integer, intent(in) :: order               !< 1 first order, 2 limited second order
-    integer, intent(out) :: negative           !< owned cells with negative new mass
+    integer, intent(out), optional :: negative !< owned cells with negative new mass
     real(wp), intent(in), optional :: gravity(3) !< gravitational acceleration [m/s^2]
-    integer :: d, m, n, i, j, k, o(3), r(2, 3), i1, i2, cu(3)
+    integer :: d, m, n, i, j, k, o(3), r(2, 3), i1, i2, cu(3), negative_cells
     real(wp) :: area, u, vol, g(3), pot_lo, pot_hi
     logical :: total
     ! one row of faces along x (automatic arrays, no heap allocation): upwind side, centroid
@@ -54,7 +54,7 @@ contains
     real(wp) :: zc(grid%lbc(3):grid%ubc(3))
 
     vol = grid%cell_volume
-    negative = 0
+    negative_cells = 0
     total = .not. state%solid%present
     g = 0.0_wp
     if (present(gravity) .and. total) g = potential_gravity(grid, gravity)
@@ -144,7 +144,7 @@ contains
         do k = grid%lo(3), grid%hi(3)
           do j = grid%lo(2), grid%hi(2)
             do i = grid%lo(1), grid%hi(1)
-              if (c(i, j, k, 1) < 0.0_wp) negative = negative + 1
+              if (c(i, j, k, 1) < 0.0_wp) negative_cells = negative_cells + 1
               f%rho(i, j, k) = c(i, j, k, 1) / vol
               if (c(i, j, k, 1) > 0.0_wp) then
                 f%vel(i, j, k, 1:3) = c(i, j, k, 2:4) / c(i, j, k, 1)
@@ -165,6 +165,7 @@ contains
         end do
       end associate
     end do
+    if (present(negative)) negative = negative_cells
 
   contains
 

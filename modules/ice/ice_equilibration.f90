@@ -4,6 +4,7 @@
 !! compressibilities kappa_m = v_m / c_m^2 used by the implicit pressure equation (eq. 35).
 !! With one fluid phi = 1, rho_micro = rho_bar and p = p_eos(rho_bar, T) directly.
 module ice_equilibration
+  use, intrinsic :: iso_fortran_env, only: error_unit
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t, cell_centre
   use ice_eos, only: eos_pressure, eos_density, eos_dp_drho, eos_sound_speed2
@@ -12,7 +13,7 @@ module ice_equilibration
   implicit none
   private
 
-  public :: ice_equilibrate, equilibration_failure_text
+  public :: ice_equilibrate, report_equilibration_failure
 
   !> Pressure [Pa] at which a trace fluid's volume is judged (trace_fallback) and at which a trace
   !! left out of the volume sum takes its density when the others' pressure is not positive
@@ -91,16 +92,20 @@ contains
     end do
   end subroutine ice_equilibrate
 
-  !> One line on cell `c` where the equilibration failed: its centre [m], porosity, and each
-  !! fluid's bulk density [kg/m^3] and temperature [K] (what the step's rejection leaves to
-  !! guess otherwise) and the pressure the iteration reached. Called on the rank that owns it.
-  function equilibration_failure_text(state, grid, c) result(text)
+  !> Where this rank's equilibration failed (`failed` > 0), one warning line on standard error
+  !! about cell `c` (`first_failed` of `ice_equilibrate`): its centre [m], its solid fraction in
+  !! a coupled scene, each fluid's bulk density [kg/m^3] and temperature [K], and the pressure
+  !! the iteration reached, which the step's rejection otherwise leaves to guess. Every rank
+  !! reports its own cell; nothing when `failed` is 0.
+  subroutine report_equilibration_failure(state, grid, failed, c)
     type(ice_state_t), intent(in) :: state  !< fluids
     type(grid_t), intent(in) :: grid        !< block geometry
-    integer, intent(in) :: c(3)             !< cell
+    integer, intent(in) :: failed           !< cells of this rank that failed
+    integer, intent(in) :: c(3)             !< the first of them
     character(len=:), allocatable :: text
     integer :: d, m
-    text = 'equilibration failed in the cell at'
+    if (failed <= 0) return
+    text = 'mpmice: warning: equilibration failed in the cell at'
     do d = 1, grid%ndim
       text = text // ' ' // real_short_text(cell_centre(grid, d, c(d)))
     end do
@@ -114,7 +119,8 @@ contains
     end do
     text = text // ' pressure reached ' // &
       real_short_text(state%pressure(c(1), c(2), c(3))) // ' Pa'
-  end function equilibration_failure_text
+    write(error_unit, '(a)') text
+  end subroutine report_equilibration_failure
 
   !> Newton iteration on sum phi_m(p) - n = 0 over the fluids marked `active` (eqs. 10-11 with
   !! the pores, as Uintah's computeEquilibrationPressure). `p` is the initial guess on entry and

@@ -25,7 +25,7 @@ module ice_scene
   use driver_scene, only: scene_t
   use ice_eos, only: eos_t, eos_kind_from_name, eos_sound_speed2
   use ice_state, only: ice_state_t, ice_state_alloc, ice_state_free
-  use ice_equilibration, only: ice_equilibrate
+  use ice_equilibration, only: ice_equilibrate, report_equilibration_failure
   use ice_face_velocity, only: ice_face_velocities
   use ice_pressure, only: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, &
     ice_face_pressure
@@ -204,13 +204,14 @@ contains
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
     logical, intent(out) :: accepted             !< the step was taken
-    integer :: its, failed, negative, m
+    integer :: its, failed, negative, m, bad_cell(3)
 
     accepted = .false.
     call timer_start(timers, self%t_equil)
-    call ice_equilibrate(self%state, grid, self%eq_tolerance, self%eq_max, its, failed)
+    call ice_equilibrate(self%state, grid, self%eq_tolerance, self%eq_max, its, failed, bad_cell)
     call ice_bc_fill(grid, self%bc, self%state%pressure, bc_pressure)
     call timer_stop(timers, self%t_equil)
+    call report_equilibration_failure(self%state, grid, failed, bad_cell)
     if (global_sum(dom, failed) > 0) then
       call log_warning('ICE equilibration failed at t = ' // real_short_text(time) // ' s')
       return

@@ -20,7 +20,8 @@ module mpmice_rigid_contact
   implicit none
   private
 
-  public :: wall_fraction, body_face, wall_neighbours, partner_fields, contact_pressure_accel
+  public :: wall_fraction, body_face, wall_neighbours, wall_plane, partner_fields, &
+    contact_pressure_accel
 
   !> Sliding rigid bodies: a cell the rigid solid fills to at least this fraction is part of the
   !! wall the fluids see (`partner_fields`).
@@ -47,6 +48,20 @@ contains
       sp%frac_def(hi(1), hi(2), hi(3)) <= 0.0_wp .and. (sp%xfrac(lo(1), lo(2), lo(3)) &
       > 0.0_wp .or. sp%xfrac(hi(1), hi(2), hi(3)) > 0.0_wp))
   end function body_face
+
+  !> True when the low face plane of cell `c` in direction `d` borders a wall cell (rigid
+  !! fraction `wall_frac` >= `wall_fraction`) on either side.
+  pure logical function wall_plane(wall_frac, grid, c, d) result(wall)
+    type(grid_t), intent(in) :: grid     !< block geometry
+    real(wp), intent(in) :: wall_frac(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< rigid fraction
+    integer, intent(in) :: c(3)          !< cell above the plane
+    integer, intent(in) :: d             !< direction
+    integer :: b(3)
+    b = c
+    b(d) = c(d) - 1
+    wall = wall_frac(c(1), c(2), c(3)) >= wall_fraction
+    if (b(d) >= grid%lbc(d)) wall = wall .or. wall_frac(b(1), b(2), b(3)) >= wall_fraction
+  end function wall_plane
 
   !> The face neighbours of wall cell `c` that lie in the domain and outside the wall, with
   !! weights proportional to 1 / (distance from `x` to their centres) summing to 1; `c` itself

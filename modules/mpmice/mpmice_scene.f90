@@ -19,7 +19,6 @@
 !! `&fluid volume_fraction` is its share of the pore space. See docs/mpmice.md.
 module mpmice_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-  use, intrinsic :: iso_fortran_env, only: error_unit
   use mpmice_kinds, only: wp, name_len, path_len
   use mpmice_errors, only: fatal, int_text, real_short_text
   use mpmice_log, only: log_info, log_warning
@@ -38,7 +37,7 @@ module mpmice_scene
   use ice_state, only: ice_state_t, ice_solid_alloc
   use ice_scene, only: ice_scene_t, exchange_primitives, exchange_lagrangian, &
     ice_pressure_iteration
-  use ice_equilibration, only: ice_equilibrate, equilibration_failure_text
+  use ice_equilibration, only: ice_equilibrate, report_equilibration_failure
   use ice_face_velocity, only: ice_face_velocities
   use ice_pressure, only: ice_face_pressure, platen_fluid_faces
   use ice_lagrangian, only: ice_lagrangian_values
@@ -303,8 +302,7 @@ contains
       call ice_equilibrate(st, grid, fl%eq_tolerance, fl%eq_max, its, failed, bad_cell)
       call ice_bc_fill(grid, fl%bc, st%pressure, bc_pressure)
       call timer_stop(timers, fl%t_equil)
-      if (failed > 0) write(error_unit, '(a)') 'mpmice: warning: ' // &
-        equilibration_failure_text(st, grid, bad_cell)
+      call report_equilibration_failure(st, grid, failed, bad_cell)
       if (global_sum(dom, failed) > 0) then
         call log_warning('MPMICE equilibration failed at t = ' // real_short_text(time) // ' s')
         return
@@ -378,7 +376,7 @@ contains
       call exchange_lagrangian(fl, dom, grid)
       call timer_stop(timers, fl%t_halo)
       call timer_start(timers, fl%t_advect)
-      call ice_advect(st, grid, dt, fl%order, negative)
+      call ice_advect(st, grid, dt, fl%order)
       call timer_stop(timers, fl%t_advect)
       call tame_trace_fluids(st, grid, negative)
       negative = global_sum(dom, negative)

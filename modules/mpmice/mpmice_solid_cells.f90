@@ -34,7 +34,8 @@ module mpmice_solid_cells
   use ice_pressure, only: solid_face_fraction
   use exchange_drag, only: drag_reduced_coefficient
   use mpmice_solid_coupling, only: solid_coupling_t, surface_body_fraction
-  use mpmice_rigid_contact, only: wall_fraction, body_face, wall_neighbours, partner_fields
+  use mpmice_rigid_contact, only: wall_fraction, body_face, wall_neighbours, wall_plane, &
+    partner_fields
   implicit none
   private
 
@@ -183,19 +184,6 @@ contains
       end do
     end do
   end subroutine solid_deposit
-
-  !> True when the low face plane of cell `c` in direction `d` borders a wall cell (rigid
-  !! fraction `wall_frac` >= `wall_fraction`) on either side.
-  pure logical function wall_plane(wall_frac, grid, c, d) result(wall)
-    type(grid_t), intent(in) :: grid     !< block geometry
-    real(wp), intent(in) :: wall_frac(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< rigid fraction
-    integer, intent(in) :: c(3)          !< cell above the plane
-    integer, intent(in) :: d             !< direction
-    integer :: b(3)
-    b = c - unit_offset(:, d)
-    wall = wall_frac(c(1), c(2), c(3)) >= wall_fraction
-    if (b(d) >= grid%lbc(d)) wall = wall .or. wall_frac(b(1), b(2), b(3)) >= wall_fraction
-  end function wall_plane
 
   !> Share of the slab [a, b] (in cells) that the particle domain [lo, hi] covers, over the slab's
   !! width; a slab of zero width (no step or no motion that way) gives 1 where the domain reaches
