@@ -247,6 +247,17 @@ contains
       call non_negative(err, g, 'conductivity', p%conductivity, ' [W/m/K]')
       call check_real(err, g, 'porosity', p%porosity, '0 <= n < 1', min_value=0.0_wp, &
         max_value=1.0_wp, max_open=.true.)
+      if (.not. err%found .and. p%max_porosity /= 1.0_wp) then
+        if (trim(p%model) /= 'mohr_coulomb') then
+          call check_real(err, g, 'max_porosity', p%max_porosity, &
+            '1 (only a mohr_coulomb solid loses its grain contacts)', min_value=1.0_wp, &
+            max_value=1.0_wp)
+        else
+          call check_real(err, g, 'max_porosity', p%max_porosity, 'porosity (' // &
+            real_repr(p%porosity) // ') < value <= 1', min_value=p%porosity, &
+            max_value=1.0_wp, min_open=.true.)
+        end if
+      end if
       call positive_real(err, g, 'grain_size', p%grain_size, ' [m]')
       call check_finite(err, g, 'prescribed_velocity', p%prescribed_velocity, ' [m/s]')
       call check_finite(err, g, 'acceleration_amplitude', p%acceleration_amplitude, ' [m/s^2]')

@@ -28,6 +28,9 @@ module mpm_constitutive
     real(wp) :: lambda = 0.0_wp              !< first Lame constant [Pa]
     real(wp) :: mu = 0.0_wp                  !< shear modulus [Pa]
     type(mc_params_t) :: mc                  !< Mohr-Coulomb parameters
+    !> Mohr-Coulomb: J = det F beyond which the grains lose contact (the porosity
+    !! 1 - (1 - n0) / J passes `&solid max_porosity`): no effective stress, no stiffness
+    real(wp) :: j_loose = huge(1.0_wp)
   end type material_t
 
 contains
@@ -82,7 +85,8 @@ contains
   !! * Neo-Hookean (eq. 16, E2): the spatial tangent plus the initial-stress term along a unit
   !!   direction n gives c^2 = (lambda (1 - ln J) + mu (1 + n.b.n)) / rho0, b = F F^T; n.b.n is
   !!   bounded by the largest row sum of |b| (equal to it at F = I, where c^2 = (lambda + 2 mu)
-  !!   / rho0), the lambda term floored at 0.
+  !!   / rho0), the lambda term floored at 0;
+  !! * a loose Mohr-Coulomb particle (J > `j_loose`, grains out of contact) has no stiffness: 0.
   pure real(wp) function wave_speed(mat, f) result(c)
     type(material_t), intent(in) :: mat  !< material
     real(wp), intent(in) :: f(3, 3)      !< deformation gradient F [-]
@@ -96,13 +100,18 @@ contains
       c = sqrt((mat%lambda * max(1.0_wp - log(max(jac, tiny(1.0_wp))), 0.0_wp) + &
         mat%mu * (1.0_wp + maxval(sum(abs(b), dim=2)))) / mat%density)
     case default
-      c = sqrt((mat%lambda + 2.0_wp * mat%mu) * max(jac, 1.0_wp) / mat%density)
+      if (jac > mat%j_loose) then
+        c = 0.0_wp  ! grains out of contact: no stiffness
+      else
+        c = sqrt((mat%lambda + 2.0_wp * mat%mu) * max(jac, 1.0_wp) / mat%density)
+      end if
     end select
   end function wave_speed
 
   !> Stress update of one particle over a step: `f` is F^{n+1}, `l` the velocity gradient L
   !! (l(i,j) = dv_i/dx_j) [1/s], `dt` [s]. Updates `stress_unrot` (rotated frame), `stress`
-  !! (current frame) [Pa] and `plastic_strain` [-].
+  !! (current frame) [Pa] and `plastic_strain` [-]. A rate-model particle dilated past
+  !! `mat%j_loose` (`&solid max_porosity`) carries no stress.
   pure subroutine constitutive_update(mat, f, l, dt, stress_unrot, stress, plastic_strain)
     type(material_t), intent(in) :: mat              !< material
     real(wp), intent(in) :: f(3, 3)                  !< deformation gradient F^{n+1}
@@ -118,6 +127,13 @@ contains
       r = polar_rotation(f)
       stress_unrot = rotate_to(r, stress)
     case (model_linear_elastic, model_mohr_coulomb)
+      if (det3(f) > mat%j_loose) then
+        ! loose: the grains are out of contact (a suspension), no effective stress; the
+        ! stress grows again from zero once the particle compacts below j_loose
+        stress_unrot = 0.0_wp
+        stress = 0.0_wp
+        return
+      end if
       r = polar_rotation(f)                                  ! eq. 12
       deps = rotate_to(r, mat_to_sym(l) * dt)                ! eq. 14
       stress_unrot = stress_unrot + elastic_increment(mat%lambda, mat%mu, deps)

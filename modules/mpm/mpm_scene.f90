@@ -110,6 +110,8 @@ contains
         self%mats(s) = material_init(model_from_name(sp%model), (1.0_wp - sp%porosity) * &
           sp%density, sp%youngs_modulus, sp%poisson_ratio, sp%cohesion, sp%friction_angle, &
           sp%dilation_angle, sp%tension_cutoff, sp%tensile_strength)
+        if (sp%max_porosity < 1.0_wp) self%mats(s)%j_loose = (1.0_wp - sp%porosity) / &
+          (1.0_wp - sp%max_porosity)
         self%motions(s) = rigid_motion_t(sp%prescribed_velocity, sp%acceleration_amplitude, &
           sp%acceleration_frequency, sp%acceleration_duration)
         call seed_solid(self%parts(s), sp, grid, self%gravity)
