@@ -14,7 +14,7 @@ module mpm_rigid
   implicit none
   private
 
-  public :: rigid_motion_t, rigid_velocity, rigid_displacement
+  public :: rigid_motion_t, rigid_velocity, rigid_displacement, rigid_is_static
 
   real(wp), parameter :: two_pi = 2.0_wp * acos(-1.0_wp)  !< 2 pi
 
@@ -27,6 +27,13 @@ module mpm_rigid
   end type rigid_motion_t
 
 contains
+
+  !> The body never moves: no initial velocity and no shaking (v = 0 for all t).
+  elemental logical function rigid_is_static(m)
+    type(rigid_motion_t), intent(in) :: m  !< motion
+    rigid_is_static = all(m%velocity == 0.0_wp) .and. &
+      (m%frequency == 0.0_wp .or. all(m%amplitude == 0.0_wp))
+  end function rigid_is_static
 
   !> Velocity [m/s] at time `t` [s].
   pure function rigid_velocity(m, t) result(v)

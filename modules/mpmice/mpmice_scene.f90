@@ -47,6 +47,7 @@ module mpmice_scene
   use ice_viscous, only: ice_viscous_sources
   use mpm_scene, only: mpm_scene_t, move_rigid, mpm_migrate_all
   use mpm_constitutive, only: model_rigid
+  use mpm_rigid, only: rigid_is_static
   use mpm_p2g, only: p2g_accumulate, p2g_accumulate_rigid, p2g_complete
   use mpm_nodal, only: nodal_solve, nodal_finish, nodal_bc_at_time, bc_traction
   use mpm_g2p, only: g2p_update
@@ -86,6 +87,7 @@ module mpmice_scene
     integer, allocatable :: owner(:, :, :)                !< that body (solid index)
     character(len=path_len) :: force_path = ''            !< contact-force series file
     logical :: force_started = .false.                    !< series opened this run
+    logical :: owner_fixed = .false.                      !< owner map final (static bodies)
     real(wp) :: max_fraction = 0.999_wp                   !< cap of the solid fraction
     real(wp) :: relaxation = 0.1_wp                       !< solid-fraction relaxation per step
     real(wp), allocatable :: uprev(:, :, :, :, :)          !< last final face velocities
@@ -446,17 +448,22 @@ contains
     integer :: s, i, j, k, unit
     character(len=:), allocatable :: header
     associate (so => self%so)
-      self%owner = 0
-      self%owner_m = 0.0_wp
-      do s = 1, so%nsolids
-        if (so%mats(s)%model /= model_rigid) cycle
-        self%qscr = 0.0_wp
-        call p2g_accumulate_rigid(so%parts(s), self%qscr, so%shape_kind, grid)
-        where (self%qscr(8, :, :, :) > self%owner_m)
-          self%owner = s
-          self%owner_m = self%qscr(8, :, :, :)
-        end where
-      end do
+      ! the owner map moves with the bodies: computed once when none of them moves
+      if (.not. self%owner_fixed) then
+        self%owner = 0
+        self%owner_m = 0.0_wp
+        do s = 1, so%nsolids
+          if (so%mats(s)%model /= model_rigid) cycle
+          self%qscr = 0.0_wp
+          call p2g_accumulate_rigid(so%parts(s), self%qscr, so%shape_kind, grid)
+          where (self%qscr(8, :, :, :) > self%owner_m)
+            self%owner = s
+            self%owner_m = self%qscr(8, :, :, :)
+          end where
+        end do
+        self%owner_fixed = all(pack(rigid_is_static(so%motions(1:so%nsolids)), &
+          so%mats(1:so%nsolids)%model == model_rigid))
+      end if
       force = 0.0_wp
       do k = grid%nlo(3), grid%nhi(3)
         do j = grid%nlo(2), grid%nhi(2)
