@@ -30,6 +30,9 @@ done
 # Open MPI: allow running as root (containers, CI) and more ranks than cores (MPI tests use 4).
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
+# no core binding: each mpirun binds its rank 0 to core 0, so concurrent runs (ctest -j2, several
+# scenes at once) would all share one core (docs/testing.md)
+export OMPI_MCA_hwloc_base_binding_policy="${OMPI_MCA_hwloc_base_binding_policy:-none}"
 # ROMIO for MPI-IO: Open MPI 4.1 OMPIO collective writes corrupted data here (docs/io.md)
 export OMPI_MCA_io="${OMPI_MCA_io:-^ompio}"
 export MPMICE_EXE="${MPMICE_EXE:-$root/build/bin/mpmice}"
