@@ -137,8 +137,13 @@ contains
     integer, intent(out) :: iterations      !< iterations used
     logical, intent(out) :: converged       !< tolerance reached
     integer :: m, it
-    real(wp) :: f, deriv, rho_m, phi, pn
+    real(wp) :: f, deriv, rho_m, phi, pn, floor
 
+    ! keep the iteration above the pressure floor of the fluids that matter (below it a gas's
+    ! volume is negative: a spurious root); a guess below it (a pressure solve that overshot
+    ! below zero beside a real amount of gas) starts just above it
+    floor = pressure_floor(state, i, j, k, porosity, active, tolerance)
+    if (floor > -huge(1.0_wp) .and. .not. p > floor) p = floor + trace_pressure
     do it = 1, max_iterations
       f = -porosity
       deriv = 0.0_wp
@@ -151,10 +156,11 @@ contains
           deriv = deriv + phi / (rho_m * eos_dp_drho(fl%eos, rho_m, fl%temp(i, j, k)))
         end associate
       end do
-      ! d(sum phi)/dp = -deriv: Newton step p <- p + f / deriv, kept positive. One more step
-      ! after reaching the tolerance (quadratic convergence: error ~ tolerance^2), since
-      ! |sum phi - 1| = 1e-10 still allows K 1e-10 = 0.2 Pa of error for water.
-      pn = p + f / deriv
+      ! d(sum phi)/dp = -deriv: Newton step p <- p + f / deriv, kept above the floor (and
+      ! positive from a positive pressure). One more step after reaching the tolerance
+      ! (quadratic convergence: error ~ tolerance^2), since |sum phi - 1| = 1e-10 still allows
+      ! K 1e-10 = 0.2 Pa of error for water.
+      pn = max(p + f / deriv, floor + 0.1_wp * (p - floor))
       if (p > 0.0_wp) pn = max(pn, 0.1_wp * p)
       p = pn
       if (abs(f) <= tolerance) exit
@@ -162,6 +168,37 @@ contains
     iterations = it
     converged = it <= max_iterations
   end subroutine newton_pressure
+
+  !> The lowest pressure [Pa] at which every active fluid that is not a trace (its volume at
+  !! `trace_pressure` above the floor at least `tolerance` of the pores) has a positive density:
+  !! 0 for an ideal gas, -p_inf for a stiffened gas, p_ref - K (about) for the linear water.
+  !! Above it each phi_m(p) = rho_bar_m / rho_m(p) is positive, decreasing and convex, so
+  !! sum phi - n has exactly one root there and Newton started below that root approaches it
+  !! monotonically. Below it a gas's volume is negative and sum phi - n has a spurious root:
+  !! water under tension beside a real amount of air converged there, the air's volume then
+  !! came out as rho_bar / rho(1 Pa) (2.7 of the cell for 2.6e-5 kg/m^3) with the
+  !! compressibility of air at 1 Pa. Traces do not set the floor (their volume cannot matter
+  !! above it; a trace of air in water under tension keeps the water's tension, trace_fallback).
+  pure real(wp) function pressure_floor(state, i, j, k, porosity, active, tolerance) &
+      result(floor)
+    type(ice_state_t), intent(in) :: state  !< fluids
+    integer, intent(in) :: i, j, k          !< cell
+    real(wp), intent(in) :: porosity        !< pore fraction n = 1 - phi_s [-]
+    logical, intent(in) :: active(:)        !< fluids taking part in the volume sum
+    real(wp), intent(in) :: tolerance       !< |sum phi - n| to reach
+    integer :: m
+    real(wp) :: p0
+    floor = -huge(1.0_wp)
+    do m = 1, state%nfluids
+      if (.not. active(m)) cycle
+      associate (fl => state%fluid(m))
+        p0 = eos_pressure(fl%eos, 0.0_wp, fl%temp(i, j, k))
+        if (fl%rho(i, j, k) < tolerance * porosity * eos_density(fl%eos, p0 + trace_pressure, &
+          fl%temp(i, j, k))) cycle
+        floor = max(floor, p0)
+      end associate
+    end do
+  end function pressure_floor
 
   !> When the Newton iteration fails, solve again without the trace fluids: those whose volume
   !! at `trace_pressure` (1 Pa) would still be below `tolerance` of the pores (e.g. 1e-100
