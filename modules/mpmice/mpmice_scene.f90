@@ -65,6 +65,11 @@ module mpmice_scene
 
   public :: mpmice_scene_t
 
+  !> A tracked solid fraction below this in a cell where the particles hold no grains is a
+  !! residual of the relaxation (which only decays it geometrically, 0.9 per step): it is removed
+  !! in one step.
+  real(wp), parameter :: residual_fraction = 1.0e-10_wp
+
   !> Fluids and porous solids with implicit pressure and exchange.
   type, extends(scene_t) :: mpmice_scene_t
     type(ice_scene_t) :: fl                               !< the fluids (ICE)
@@ -295,6 +300,8 @@ contains
       call timer_start(timers, self%t_cells)
       call deposit_solids(self, dom, grid, dt)
       st%solid%source = self%relaxation * (self%phi_p - st%solid%vfrac)
+      where (self%phi_p <= 0.0_wp .and. st%solid%vfrac < residual_fraction) &
+        st%solid%source = -st%solid%vfrac
       ! sliding rigid bodies: the wall cells keep their tracked fraction (a soil's overlap with
       ! them is not seen, mpmice_rigid_contact%partner_fields)
       if (st%solid%sliding) where (st%solid%frac_rigid >= wall_fraction) st%solid%source = 0.0_wp
