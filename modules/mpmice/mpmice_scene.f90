@@ -300,6 +300,7 @@ contains
       call timer_start(timers, self%t_cells)
       call deposit_solids(self, dom, grid, dt)
       st%solid%source = self%relaxation * (self%phi_p - st%solid%vfrac)
+      ! a residual where the particles have left goes at once (docs/mpmice.md departure 18)
       where (self%phi_p <= 0.0_wp .and. st%solid%vfrac < residual_fraction) &
         st%solid%source = -st%solid%vfrac
       ! sliding rigid bodies: the wall cells keep their tracked fraction (a soil's overlap with
