@@ -52,7 +52,7 @@ def snapshots(run_dir: str, times: list[float], path: str, plt) -> list[float]:
     paths = list_dumps(run_dir, NAME)
     dumps_t = [read_dump(p)["time"] for p in paths]
     chosen = sorted({int(np.argmin(np.abs(np.array(dumps_t) - t))) for t in times})
-    fig, axes = plt.subplots(len(chosen), 1, figsize=(8, 2.2 * len(chosen)), squeeze=False)
+    fig, axes = plt.subplots(len(chosen), 1, figsize=(8, 3.6 * len(chosen)), squeeze=False)
     for ax, index in zip(axes[:, 0], chosen):
         d = read_dump(paths[index])
         x, y, _ = cell_centres(d)
