@@ -210,6 +210,7 @@ contains
       call add('fluid', quoted(p%fluid))
       call add('pressure', real_repr(p%pressure))
       call add('velocity', reals_repr(p%velocity))
+      call add('inflow_fluid', quoted(p%inflow_fluid))
       call add('thermal', quoted(p%thermal))
       call add('temperature', real_repr(p%temperature))
       call add('solid', quoted(p%solid))

@@ -181,6 +181,9 @@ module config_materials
     character(len=name_len) :: fluid = 'wall'            !< one of boundary_fluid_names
     real(wp) :: pressure = 101325.0_wp                   !< for fluid = 'pressure' [Pa]
     real(wp) :: velocity(3) = [0.0_wp, 0.0_wp, 0.0_wp]   !< for fluid = 'inflow' [m/s]
+    !> name of the &fluid that enters through this face ('': the composition of the cell
+    !! next to the face); fluid = 'pressure', 'inflow' or 'outflow' only
+    character(len=name_len) :: inflow_fluid = ''
     character(len=name_len) :: thermal = 'adiabatic'     !< one of boundary_thermal_names
     real(wp) :: temperature = 300.0_wp                   !< for thermal = 'fixed' [K]
     character(len=name_len) :: solid = 'fixed'           !< one of boundary_solid_names

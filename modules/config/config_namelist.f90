@@ -165,6 +165,7 @@ module config_namelist
     variable_info_t('boundary', 'fluid', 'c', 1, name_len), &
     variable_info_t('boundary', 'pressure', 'r', 1, 0), &
     variable_info_t('boundary', 'velocity', 'r', 3, 0), &
+    variable_info_t('boundary', 'inflow_fluid', 'c', 1, name_len), &
     variable_info_t('boundary', 'thermal', 'c', 1, name_len), &
     variable_info_t('boundary', 'temperature', 'r', 1, 0), &
     variable_info_t('boundary', 'solid', 'c', 1, name_len), &

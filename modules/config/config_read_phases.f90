@@ -310,16 +310,17 @@ contains
     character(len=*), intent(in) :: text        !< namelist text
     integer, intent(out) :: ios                 !< iostat
     character(len=*), intent(inout) :: iomsg    !< iomsg
-    character(len=name_len) :: face, fluid, thermal, solid
+    character(len=name_len) :: face, fluid, thermal, solid, inflow_fluid
     real(wp) :: pressure, velocity(3), temperature, solid_velocity(3), solid_traction(3)
     real(wp) :: solid_velocity_times(max_history_points)
     real(wp) :: solid_velocity_history(3, max_history_points)
-    namelist /boundary/ face, fluid, pressure, velocity, thermal, temperature, solid, &
-      solid_velocity, solid_traction, solid_velocity_times, solid_velocity_history
+    namelist /boundary/ face, fluid, pressure, velocity, inflow_fluid, thermal, temperature, &
+      solid, solid_velocity, solid_traction, solid_velocity_times, solid_velocity_history
     face = p%face
     fluid = p%fluid
     pressure = p%pressure
     velocity = p%velocity
+    inflow_fluid = p%inflow_fluid
     thermal = p%thermal
     temperature = p%temperature
     solid = p%solid
@@ -333,6 +334,7 @@ contains
     p%fluid = fluid
     p%pressure = pressure
     p%velocity = velocity
+    p%inflow_fluid = inflow_fluid
     p%thermal = thermal
     p%temperature = temperature
     p%solid = solid

@@ -380,16 +380,21 @@ contains
   end subroutine check_region
 
   !> Names of all fluids and solids, quoted, or `none defined`.
-  function material_list(cfg) result(text)
+  function material_list(cfg, fluids_only) result(text)
     type(config_t), intent(in) :: cfg  !< configuration
+    logical, intent(in), optional :: fluids_only !< list the `&fluid` names alone
     character(len=:), allocatable :: text
-    integer :: j
+    integer :: j, nsolids
     text = ''
     do j = 1, cfg%nfluids
       if (len(text) > 0) text = text // ', '
       text = text // quoted(cfg%fluids(j)%name)
     end do
-    do j = 1, cfg%nsolids
+    nsolids = cfg%nsolids
+    if (present(fluids_only)) then
+      if (fluids_only) nsolids = 0
+    end if
+    do j = 1, nsolids
       if (len(text) > 0) text = text // ', '
       text = text // quoted(cfg%solids(j)%name)
     end do
@@ -435,6 +440,7 @@ contains
       call check_choice(err, g, 'fluid', p%fluid, boundary_fluid_names)
       call positive_real(err, g, 'pressure', p%pressure, ' [Pa]')
       call check_finite(err, g, 'velocity', p%velocity, ' [m/s]')
+      call check_inflow_fluid(cfg, p, g, err)
       call check_choice(err, g, 'thermal', p%thermal, boundary_thermal_names)
       call positive_real(err, g, 'temperature', p%temperature, ' [K]')
       call check_choice(err, g, 'solid', p%solid, boundary_solid_names)
@@ -443,6 +449,24 @@ contains
       call check_velocity_history(p, g, err)
     end associate
   end subroutine check_boundary
+
+  !> `inflow_fluid` of one `&boundary` (label `g`): empty, or the name of a `&fluid` on a face
+  !! that fluid can enter (fluid = 'pressure', 'inflow' or 'outflow').
+  subroutine check_inflow_fluid(cfg, p, g, err)
+    type(config_t), intent(in) :: cfg           !< configuration
+    type(boundary_params_t), intent(in) :: p    !< the group
+    character(len=*), intent(in) :: g           !< group label
+    type(config_error_t), intent(inout) :: err  !< problem record
+    if (err%found .or. len_trim(p%inflow_fluid) == 0) return
+    if (.not. any(cfg%fluids(1:cfg%nfluids)%name == p%inflow_fluid)) then
+      call set_error(err, g, 'inflow_fluid', quoted(p%inflow_fluid), '''''' // &
+        ' or the name of a &fluid (' // material_list(cfg, fluids_only=.true.) // ')')
+    else if (p%fluid /= 'pressure' .and. p%fluid /= 'inflow' .and. p%fluid /= 'outflow') then
+      call set_error(err, g, 'inflow_fluid', quoted(p%inflow_fluid), '''''' // &
+        ' on a face with fluid = ''' // trim(p%fluid) // ''' (a name only with fluid = ' // &
+        '''pressure'', ''inflow'' or ''outflow'')')
+    end if
+  end subroutine check_inflow_fluid
 
   !> `solid_velocity_times` / `solid_velocity_history` of one `&boundary` (label `g`): the
   !! times consecutive from entry 1 (the rest unset), finite and strictly increasing; one

@@ -113,12 +113,11 @@ contains
                     qf(i) = f%rho(cu(1), cu(2), cu(3))
                 end do
               end if
-              if (state%solid%present) call open_face_inflow(state, grid, f%rho, d, o, i1, i2, &
-                j, k, pos, qf)
               do i = i1, i2
                 u = f%uface(i, j, k, d)
                 mflux(i) = merge(qf(i) * (u * dt * area), 0.0_wp, u /= 0.0_wp)
               end do
+              call open_face_inflow(state, grid, m, d, o, i1, i2, j, k, dt, area, mflux)
               call row_update(c(:, :, :, 1), grid%lbc, i1, i2, j, k, o, mflux)
               do n = 1, 5
                 call row_face_values(f%lag(:, :, :, n), grid%lbc, i1, i2, j, k, o, order, pos, &
@@ -274,29 +273,59 @@ contains
     end if
   end function limited_slope
 
-  !> Open ('pressure') domain faces of a scene with a solid phase: fluid flowing in from the
-  !! ghost reservoir (mpmice `open_face_reservoirs`) carries the inner cell's bulk density, i.e.
-  !! it enters through the inner cell's pores, consistent with the inner-cell face fraction of
-  !! the pressure equation there (`ice_pressure`, open_face_shift).
-  subroutine open_face_inflow(state, grid, rho, d, o, i1, i2, j, k, pos, qf)
-    type(ice_state_t), intent(in) :: state     !< fluids (closed faces)
+  !> Mass flux of fluid `m` [kg] through the domain faces of one row where fluid flows in.
+  !! - A face with an `inflow_fluid` r (`&boundary`, ice_bc): the volume the fluids carry in,
+  !!   sum over the inflowing fluids n of phi_n u_n dt A with the inner cell's fractions phi_n
+  !!   (the volume the pressure equation admits there, `ice_pressure` open_face_shift), is
+  !!   filled with r at its density in the inner cell, 1/v_r; the other fluids bring nothing in
+  !!   (their outflow is unchanged). Without it a water mist next to an open top, carried in
+  !!   with the air, added water at every inflow (docs/mpmice.md, departure 11).
+  !! - Otherwise, on an open ('pressure') face of a scene with a solid phase: fluid flowing in
+  !!   from the ghost reservoir (mpmice `open_face_reservoirs`) carries the inner cell's bulk
+  !!   density, i.e. it enters through the inner cell's pores, consistent with the inner-cell
+  !!   face fraction of the pressure equation there (departure 11).
+  !! - Elsewhere the reconstructed flux stands.
+  subroutine open_face_inflow(state, grid, m, d, o, i1, i2, j, k, dt, area, mflux)
+    type(ice_state_t), intent(in) :: state     !< fluids (closed faces, inflow fluids)
     type(grid_t), intent(in) :: grid           !< block geometry
-    real(wp), intent(in) :: rho(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< bulk density
+    integer, intent(in) :: m                   !< the fluid advected
     integer, intent(in) :: d                   !< face direction
     integer, intent(in) :: o(3)                !< unit offset along d
     integer, intent(in) :: i1, i2, j, k        !< the row of faces
-    logical, intent(in) :: pos(grid%lbc(1):)   !< u > 0 per face of the row
-    real(wp), intent(inout) :: qf(grid%lbc(1):) !< face bulk density of the row
-    integer :: i, idx(3)
+    real(wp), intent(in) :: dt                 !< time step [s]
+    real(wp), intent(in) :: area               !< face area [m^2]
+    real(wp), intent(inout) :: mflux(grid%lbc(1):) !< mass flux along +d per face of the row [kg]
+    integer :: i, n, r, face, idx(3), c(3)
+    real(wp) :: inward, volume_in, u
     if (grid%periodic(d)) return
     do i = i1, i2
       idx = [i, j, k]
       if (idx(d) == 1) then
-        if (.not. state%closed(2 * d - 1) .and. pos(i)) qf(i) = rho(i, j, k)
+        face = 2 * d - 1
+        c = idx
+        inward = 1.0_wp
       else if (idx(d) == grid%ncells(d) + 1) then
-        if (.not. state%closed(2 * d) .and. .not. pos(i)) &
-          qf(i) = rho(i - o(1), j - o(2), k - o(3))
+        face = 2 * d
+        c = idx - o
+        inward = -1.0_wp
+      else
+        cycle
       end if
+      r = state%inflow_fluid(face)
+      u = inward * state%fluid(m)%uface(i, j, k, d)
+      if (r == 0) then
+        if (state%solid%present .and. .not. state%closed(face) .and. u > 0.0_wp) &
+          mflux(i) = state%fluid(m)%rho(c(1), c(2), c(3)) * (inward * u * dt * area)
+        cycle
+      end if
+      if (u > 0.0_wp) mflux(i) = 0.0_wp
+      if (m /= r) cycle
+      volume_in = 0.0_wp
+      do n = 1, state%nfluids
+        u = inward * state%fluid(n)%uface(i, j, k, d)
+        if (u > 0.0_wp) volume_in = volume_in + state%fluid(n)%vfrac(c(1), c(2), c(3)) * u
+      end do
+      mflux(i) = mflux(i) + inward * volume_in * dt * area / state%fluid(r)%spvol(c(1), c(2), c(3))
     end do
   end subroutine open_face_inflow
 end module ice_advection

@@ -14,6 +14,8 @@
 !!    face temperature), pressure and pressure correction even. The face velocity of every fluid is
 !!    the normal component of u_b and the pressure does not correct it (homogeneous Neumann on dp:
 !!    the face is absent from the operator, its flux is part of the right-hand side).
+!!  - `inflow_fluid` (faces 'pressure', 'inflow', 'outflow'): the volume that the fluids carry
+!!    in through the face is filled with that fluid alone (`ice_advection`, open_face_inflow).
 !!  - 'outflow' (zero gradient): every ghost even (velocities, scalars, pressure, pressure
 !!    correction); the face velocity is computed like an inner face (with even ghosts: the inner
 !!    cell's mass-weighted velocity plus dt g) and not corrected (homogeneous Neumann on dp).
@@ -51,6 +53,7 @@ module ice_bc
     logical :: open(6) = .false.            !< 'pressure': fluid may cross, p prescribed
     real(wp) :: p_face(6) = 101325.0_wp     !< pressure of an open face [Pa]
     real(wp) :: u_in(3, 6) = 0.0_wp         !< velocity of an inflow face [m/s]
+    integer :: inflow_fluid(6) = 0          !< the fluid entering a face (0: the inner cell's mix)
     logical :: fixed_t(6) = .false.         !< thermal 'fixed' (else 'adiabatic')
     real(wp) :: t_wall(6) = 300.0_wp        !< wall temperature [K]
   end type ice_bc_t
@@ -62,9 +65,13 @@ contains
     type(ice_bc_t), intent(out) :: bc   !< face conditions
     type(config_t), intent(in) :: cfg   !< configuration
     type(boundary_params_t) :: b
-    integer :: f
+    integer :: f, m
     do f = 1, 6
       b = boundary_for_face(cfg, f)
+      do m = 1, cfg%nfluids
+        if (cfg%fluids(m)%name == b%inflow_fluid .and. len_trim(b%inflow_fluid) > 0) &
+          bc%inflow_fluid(f) = m
+      end do
       bc%no_slip(f) = .false.
       select case (trim(b%fluid))
       case ('wall')

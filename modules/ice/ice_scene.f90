@@ -140,6 +140,7 @@ contains
     call ice_initial_state(self%state, cfg, grid)
     self%state%closed = .not. self%bc%open
     self%state%p_boundary = self%bc%p_face
+    self%state%inflow_fluid = self%bc%inflow_fluid
     allocate(self%sources(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3), 4, cfg%nfluids), source=0.0_wp)
 

@@ -100,6 +100,8 @@ module ice_state
                                                     !! energy defect [J], cell mass [kg] (i,j,k,2)
     logical :: closed(6) = .true.                   !< domain face closed (wall) or open (pressure)
     real(wp) :: p_boundary(6) = 0.0_wp              !< pressure of an open face [Pa]
+    integer :: inflow_fluid(6) = 0                  !< fluid filling a face's inflow (0: the
+                                                    !< inner cell's composition)
     type(ice_solid_phase_t) :: solid                !< solid phase of a coupled scene
   end type ice_state_t
 

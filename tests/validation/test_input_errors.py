@@ -131,6 +131,11 @@ BAD_PHASE_INPUTS = [
      ["case.nml", "&boundary(2) face = 'y-'", "non-periodic"]),
     ("second_boundary_same_face", "&boundary face = 'x+' /", [],
      ["case.nml", "&boundary(2) face = 'x+'", "at most one", "&boundary(1)"]),
+    ("inflow_fluid_unknown", "", ["&boundary face = 'x+', inflow_fluid = 'oil' /"],
+     ["--set", "&boundary(1) inflow_fluid = 'oil'", "the name of a &fluid ('air', 'water')"]),
+    ("inflow_fluid_on_wall", "&boundary face = 'x-', inflow_fluid = 'air' /", [],
+     ["case.nml", "&boundary(2) inflow_fluid = 'air'", "fluid = 'wall'",
+      "'pressure', 'inflow' or 'outflow'"]),
     ("set_selector_not_present", "", ["&fluid name = 'oil', viscosity = 2e-3 /"],
      ["--set", "&fluid name = 'oil'", "present: 'air', 'water'"]),
 ]
