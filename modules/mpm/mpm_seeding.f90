@@ -8,8 +8,10 @@
 !! (uniform, or shaped by `velocity_wavenumber`),
 !! temperature, F = I, the GIMP half-width dx/(2 ppc) and a global id from its global cell and
 !! sub-cell index (the same at any rank count). With `geostatic`, the initial effective stress is
-!! sigma_v = -(1 - n) rho |g| (top - z_v) along the gravity direction v (top: highest point of
-!! the shape along v, box and polygon only) and K0 sigma_v across it (K0 = nu/(1-nu) when k0 < 0).
+!! sigma_v = -(1 - n) rho |g| d along the gravity direction v, d the depth of the particle below
+!! the shape's surface straight above it (`depth_below_surface`), and K0 sigma_v across it
+!! (K0 = nu/(1-nu) when k0 < 0). The coupled scene then takes the pore fluid's buoyancy off
+!! (mpmice `buoyant_geostatic_stress`).
 module mpm_seeding
   use mpmice_kinds, only: wp, i8
   use grid_layout, only: grid_t
@@ -30,7 +32,7 @@ contains
     real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
     integer :: ppc(3), i, j, k, a, b, c, n, dv, dd
     integer(i8) :: cell_id, nsub
-    real(wp) :: xp(3), vol, rho, top, sv, k0, gmag
+    real(wp) :: xp(3), vol, rho, sv, k0, gmag
     call particles_reserve(p, max(p%np, 1))   ! arrays allocated even on a rank without particles
     ppc = merge(s%particles_per_cell, 1, grid%active)
     nsub = int(product(ppc), i8)
@@ -39,7 +41,6 @@ contains
     p%half_width = 0.5_wp * grid%dx / real(ppc, wp)
     dv = maxloc(abs(gravity), dim=1)
     gmag = sqrt(sum(gravity**2))
-    top = shape_top(s, dv)
     k0 = s%k0
     if (k0 < 0.0_wp) k0 = s%poisson_ratio / (1.0_wp - s%poisson_ratio)
     do k = grid%lo(3), grid%hi(3)
@@ -71,7 +72,7 @@ contains
                 p%pore_pressure(n) = 0.0_wp
                 p%id(n) = cell_id * nsub + int(((c - 1) * ppc(2) + (b - 1)) * ppc(1) + a, i8)
                 if (s%geostatic .and. gmag > 0.0_wp) then
-                  sv = -rho * gmag * max(top - xp(dv), 0.0_wp)
+                  sv = -rho * gmag * depth_below_surface(s, grid, xp, dv, gravity(dv) < 0.0_wp)
                   do dd = 1, 3
                     p%stress(dd, n) = merge(sv, k0 * sv, dd == dv)
                   end do
@@ -137,22 +138,56 @@ contains
     end select
   end function inside_shape
 
-  !> Highest coordinate of the shape along dimension `d` (box: upper, or rotated corners;
-  !! polygon: largest vertex; half-space: plane point).
-  pure real(wp) function shape_top(s, d) result(top)
-    type(solid_params_t), intent(in) :: s  !< `&solid` parameters
-    integer, intent(in) :: d               !< dimension
-    select case (trim(s%shape))
-    case ('polygon')
-      if (d == 1) then
-        top = maxval(s%polygon_x(1:s%npoints))
-      else
-        top = maxval(s%polygon_y(1:s%npoints))
+  !> Depth [m] of the point `x` (inside the shape) below the shape's surface straight above it
+  !! along dimension `dv`, "above" being against gravity (`up`: towards higher coordinates):
+  !! the first point of the vertical through `x` that leaves the shape, or the domain's face. An
+  !! axis-aligned box gives its upper (lower) face exactly; other shapes are walked in steps of
+  !! a quarter of the particle spacing (so a layer thinner than that may be stepped over) and
+  !! the crossing is bisected to 1e-9 of the cell size. The depth is that within the shape
+  !! alone: another solid resting on it does not load it.
+  pure real(wp) function depth_below_surface(s, grid, x, dv, up) result(depth)
+    type(solid_params_t), intent(in) :: s   !< `&solid` parameters
+    type(grid_t), intent(in) :: grid        !< block geometry (domain bounds, cell size)
+    real(wp), intent(in) :: x(3)            !< point inside the shape [m]
+    integer, intent(in) :: dv               !< dimension of gravity
+    logical, intent(in) :: up               !< gravity points to lower coordinates
+    real(wp) :: y(3), step, limit, inside_at, outside_at, mid
+    integer :: ppc
+    if (trim(s%shape) == 'box' .and. s%rotation_deg == 0.0_wp) then
+      depth = merge(min(s%upper(dv), grid%upper(dv)) - x(dv), &
+        x(dv) - max(s%lower(dv), grid%lower(dv)), up)
+      depth = max(depth, 0.0_wp)
+      return
+    end if
+    ppc = max(s%particles_per_cell(dv), 1)
+    step = merge(1.0_wp, -1.0_wp, up) * 0.25_wp * grid%dx(dv) / real(ppc, wp)
+    limit = merge(grid%upper(dv), grid%lower(dv), up)
+    y = x
+    inside_at = x(dv)
+    do
+      outside_at = inside_at + step
+      if ((up .and. outside_at >= limit) .or. (.not. up .and. outside_at <= limit)) then
+        outside_at = limit
+        y(dv) = limit
+        if (inside_shape(s, grid%active, y)) then
+          depth = abs(limit - x(dv))
+          return
+        end if
+        exit
       end if
-    case ('half_space')
-      top = s%plane_point(d)
-    case default
-      top = s%upper(d)
-    end select
-  end function shape_top
+      y(dv) = outside_at
+      if (.not. inside_shape(s, grid%active, y)) exit
+      inside_at = outside_at
+    end do
+    do while (abs(outside_at - inside_at) > 1.0e-9_wp * grid%dx(dv))
+      mid = 0.5_wp * (inside_at + outside_at)
+      y(dv) = mid
+      if (inside_shape(s, grid%active, y)) then
+        inside_at = mid
+      else
+        outside_at = mid
+      end if
+    end do
+    depth = abs(0.5_wp * (inside_at + outside_at) - x(dv))
+  end function depth_below_surface
 end module mpm_seeding

@@ -19,6 +19,7 @@
 !! `&fluid volume_fraction` is its share of the pore space. See docs/mpmice.md.
 module mpmice_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use mpmice_geostatic, only: buoyant_geostatic_stress
   use mpmice_kinds, only: wp, name_len, path_len
   use mpmice_errors, only: fatal, int_text, real_short_text
   use mpmice_log, only: log_info, log_warning
@@ -217,6 +218,14 @@ contains
     call ice_equilibrate(self%fl%state, grid, self%fl%eq_tolerance, self%fl%eq_max, its, failed)
     if (global_sum(dom, failed) > 0) call fatal('mpmice scene: initial pressure equilibration ' &
       // 'with the solid failed')
+    ! geostatic stress: the skeleton carries the grains' submerged weight (a restart has it)
+    if (.not. self%so%restored) then
+      do s = 1, ns
+        if (cfg%solids(s)%geostatic .and. .not. self%coupling(s)%rigid) &
+          call buoyant_geostatic_stress(self%so%parts(s), self%fl%state, grid, &
+          cfg%solids(s)%density)
+      end do
+    end if
     call log_info('mpmice: ' // int_text(ns) // ' solids, ' // int_text(cfg%nfluids) // &
       ' fluids, drag ' // trim(cfg%coupling%drag_scheme))
   end subroutine mpmice_init
