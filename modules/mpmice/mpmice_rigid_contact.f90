@@ -10,6 +10,8 @@
 !!   cell holds any, the rigid body in a wall cell, none at a body's edge.
 !! * Contact nodes: the acceleration the fluid's pressure is expected to add there
 !!   (`contact_pressure_accel`), on which the nodal contact is judged.
+!! * The fluids' pressure force on each rigid body (`fluid_pressure_force`), written with the
+!!   contact force by `mpmice_scene`.
 module mpmice_rigid_contact
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
@@ -21,7 +23,7 @@ module mpmice_rigid_contact
   private
 
   public :: wall_fraction, body_face, wall_neighbours, wall_plane, partner_fields, &
-    contact_pressure_accel
+    contact_pressure_accel, fluid_pressure_force
 
   !> Sliding rigid bodies: a cell the rigid solid fills to at least this fraction is part of the
   !! wall the fluids see (`partner_fields`).
@@ -243,4 +245,79 @@ contains
       end do
     end associate
   end subroutine contact_pressure_accel
+  !> The fluids' pressure force [N] on rigid body `s`: F = -oint p n dA over the body's surface,
+  !! discretely (summation by parts of -int phi_b grad p dV) F_d = sum over the faces normal to
+  !! d of p_f (phi_b,hi - phi_b,lo) A_f, phi_b the body's own cell fraction (`frac`), A_f the
+  !! face area (per the grid's depth in an inactive dimension). Where phi_b jumps, p_f is the
+  !! pressure of the fluid on the body's outer side (the cell with less of the body), carried
+  !! hydrostatically to the face, p_c + rho_c g_d (x_f - x_c), rho_c the fluids' intrinsic
+  !! density (bulk over porosity) - as eq. 37 does at a closed domain face. The cell pressure
+  !! inside the body is not used: the faces next to a wall cell move with the body
+  !! (`body_face`), so the pressure equation barely couples the body's trace of pore fluid to
+  !! the outside and its pressure keeps its initial value (eq. 37's face mean would carry half
+  !! of it). An outer cell that is itself a wall cell (rigid fraction >= `wall_fraction`, e.g.
+  !! the body's half-filled edge cell) is stepped over to the next cell outward when it holds
+  !! some of this body; when that one is a wall cell too, or the first was another body's wall,
+  !! or the step leaves the domain, the face has no fluid and no force. Faces on a non-periodic
+  !! domain face get no force (no fluid beyond). Absolute pressure: a body on the floor carries
+  !! the full load p A of the fluid above it. Faces of the owned cells (the low face of each;
+  !! needs `frac` and the pressure in two ghost layers); the caller sums over the ranks.
+  pure function fluid_pressure_force(state, grid, frac, s, gravity) result(force)
+    type(ice_state_t), intent(in) :: state      !< pressure (ghosts filled) and fluids
+    type(grid_t), intent(in) :: grid            !< block geometry
+    real(wp), intent(in) :: frac(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :) !< each solid's
+                                                !! cell fraction (zero for deformable solids)
+    integer, intent(in) :: s                    !< the rigid body (solid index)
+    real(wp), intent(in) :: gravity(3)          !< gravitational acceleration [m/s^2]
+    real(wp) :: force(3)
+    integer :: i, j, k, d, m, o(3), lo(3), hi(3), c(3), step, walked
+    real(wp) :: jump, area, p, rho, porosity
+    force = 0.0_wp
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      o = 0
+      o(d) = 1
+      area = grid%cell_volume / grid%dx(d)
+      do k = grid%lo(3), grid%hi(3)
+        do j = grid%lo(2), grid%hi(2)
+          do i = grid%lo(1), grid%hi(1)
+            hi = [i, j, k]
+            lo = hi - o
+            if (.not. grid%periodic(d) .and. hi(d) == 1) cycle
+            jump = frac(hi(1), hi(2), hi(3), s) - frac(lo(1), lo(2), lo(3), s)
+            if (jump == 0.0_wp) cycle
+            ! the outer side: the cell with less of the body
+            if (jump < 0.0_wp) then
+              c = hi
+              step = 1
+            else
+              c = lo
+              step = -1
+            end if
+            walked = 0
+            if (sum(frac(c(1), c(2), c(3), :)) >= wall_fraction) then
+              if (frac(c(1), c(2), c(3), s) <= 0.0_wp) cycle
+              c(d) = c(d) + step
+              walked = 1
+              if (.not. grid%periodic(d) .and. (c(d) < 1 .or. c(d) > grid%ncells(d))) cycle
+              if (sum(frac(c(1), c(2), c(3), :)) >= wall_fraction) cycle
+            end if
+            rho = 0.0_wp
+            porosity = 1.0_wp
+            if (state%solid%present) porosity = 1.0_wp - state%solid%vfrac(c(1), c(2), c(3))
+            if (porosity > 0.0_wp) then
+              do m = 1, state%nfluids
+                rho = rho + state%fluid(m)%rho(c(1), c(2), c(3))
+              end do
+              rho = rho / porosity
+            end if
+            ! x_f - x_c = -step (1/2 + walked) dx
+            p = state%pressure(c(1), c(2), c(3)) - rho * gravity(d) * real(step, wp) * &
+              (0.5_wp + real(walked, wp)) * grid%dx(d)
+            force(d) = force(d) + p * jump * area
+          end do
+        end do
+      end do
+    end do
+  end function fluid_pressure_force
 end module mpmice_rigid_contact

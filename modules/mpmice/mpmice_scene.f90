@@ -59,7 +59,7 @@ module mpmice_scene
   use mpmice_solid_cells, only: solid_deposit, solid_cell_fields, solid_face_predictor, &
     solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, solid_pore_pressure, &
     fluid_face_blend, fluid_face_predictor_porous
-  use mpmice_rigid_contact, only: wall_fraction, contact_pressure_accel
+  use mpmice_rigid_contact, only: wall_fraction, contact_pressure_accel, fluid_pressure_force
   use mpmice_solid_heat, only: solid_conduction, solid_conduction_dt, solid_heat_to_particles
   implicit none
   private
@@ -91,6 +91,8 @@ module mpmice_scene
     real(wp), allocatable :: qscr(:, :, :, :)             !< one rigid body's P2G (nodes)
     real(wp), allocatable :: owner_m(:, :, :)             !< mass of a node's main rigid body
     integer, allocatable :: owner(:, :, :)                !< that body (solid index)
+    real(wp), allocatable :: body_frac(:, :, :, :)        !< each rigid body's own cell fraction
+                                                          !! (cells, solid; 0 for deformable)
     character(len=path_len) :: force_path = ''            !< contact-force series file
     logical :: force_started = .false.                    !< series opened this run
     logical :: owner_fixed = .false.                      !< owner map final (static bodies)
@@ -185,6 +187,8 @@ contains
         grid%lbn(3):grid%ubn(3)), source=0.0_wp)
       allocate(self%owner(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
         grid%lbn(3):grid%ubn(3)), source=0)
+      allocate(self%body_frac(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+        grid%lbc(3):grid%ubc(3), ns), source=0.0_wp)
       self%force_path = io_join_path(trim(cfg%run%output_dir), trim(cfg%run%name) // &
         '_contact_force.csv')
     end if
@@ -452,16 +456,19 @@ contains
 
   !> Sliding rigid bodies: append the force the soil exerts on each rigid body through the
   !! contact (sum over its contact nodes of m (v - v_contact) / dt at the end of the step, each
-  !! node counted for the rigid body with the most mass there) to
-  !! `<output_dir>/<name>_contact_force.csv` (rank 0 writes): time, then fx, fy, fz [N] per rigid
-  !! solid (per the grid's depth in an inactive dimension). The fluid's pressure on the body is
-  !! not included.
+  !! node counted for the rigid body with the most mass there) and the fluids' pressure force on
+  !! it (`mpmice_rigid_contact%fluid_pressure_force` with the step's pressure and the body's own
+  !! cell fraction from this step's deposit) to `<output_dir>/<name>_contact_force.csv` (rank 0
+  !! writes): time, then `<solid>_fx, _fy, _fz` (contact) per rigid solid, then
+  !! `<solid>_fluid_fx, _fluid_fy, _fluid_fz` per rigid solid [N] (per the grid's depth in an
+  !! inactive dimension). Like the owner map, the bodies' cell fractions are computed once when
+  !! none of the bodies moves.
   subroutine write_contact_force(self, dom, grid, time)
     class(mpmice_scene_t), intent(inout) :: self  !< scene
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
     real(wp), intent(in) :: time                  !< time [s]
-    real(wp) :: force(3, size(self%coupling))
+    real(wp) :: force(3, size(self%coupling)), fluid(3, size(self%coupling))
     integer :: s, i, j, k, unit
     character(len=:), allocatable :: header
     associate (so => self%so)
@@ -477,6 +484,10 @@ contains
             self%owner = s
             self%owner_m = self%qscr(8, :, :, :)
           end where
+          ! the body's grain volume deposited at the start of the step (deposit_solids), ghosts
+          ! from their owners
+          self%body_frac(:, :, :, s) = min(self%dep(2 + s, :, :, :) / grid%cell_volume, 1.0_wp)
+          call halo_exchange_cell(self%fl%halo, dom, grid, self%body_frac(:, :, :, s))
         end do
         self%owner_fixed = all(pack(rigid_is_static(so%motions(1:so%nsolids)), &
           so%mats(1:so%nsolids)%model == model_rigid))
@@ -490,8 +501,15 @@ contains
           end do
         end do
       end do
+      fluid = 0.0_wp
+      do s = 1, so%nsolids
+        if (so%mats(s)%model /= model_rigid) cycle
+        fluid(:, s) = fluid_pressure_force(self%fl%state, grid, self%body_frac, s, &
+          self%fl%gravity)
+      end do
       do s = 1, so%nsolids
         force(:, s) = global_sum(dom, force(:, s))
+        fluid(:, s) = global_sum(dom, fluid(:, s))
       end do
       if (dom%rank /= 0) return
       if (.not. self%force_started) then
@@ -506,6 +524,11 @@ contains
             header = header // ',' // trim(so%names(s)) // '_fx,' // trim(so%names(s)) // &
               '_fy,' // trim(so%names(s)) // '_fz'
           end do
+          do s = 1, so%nsolids
+            if (so%mats(s)%model /= model_rigid) cycle
+            header = header // ',' // trim(so%names(s)) // '_fluid_fx,' // &
+              trim(so%names(s)) // '_fluid_fy,' // trim(so%names(s)) // '_fluid_fz'
+          end do
           write(unit, '(a)') header
         end if
         self%force_started = .true.
@@ -517,6 +540,10 @@ contains
       do s = 1, so%nsolids
         if (so%mats(s)%model /= model_rigid) cycle
         write(unit, '(3(",", es24.16e3))', advance='no') force(:, s)
+      end do
+      do s = 1, so%nsolids
+        if (so%mats(s)%model /= model_rigid) cycle
+        write(unit, '(3(",", es24.16e3))', advance='no') fluid(:, s)
       end do
       write(unit, '(a)') ''
       close(unit)
@@ -727,7 +754,7 @@ contains
     call halo_free(self%halo)
     if (allocated(self%dep)) deallocate(self%dep, self%du, self%phi_p, self%uprev, self%nbuf, &
       self%temp_old, self%dtemp, self%contact_dv, self%contact_acc, self%contact_f)
-    if (allocated(self%qscr)) deallocate(self%qscr, self%owner_m, self%owner)
+    if (allocated(self%qscr)) deallocate(self%qscr, self%owner_m, self%owner, self%body_frac)
     if (allocated(self%coupling)) deallocate(self%coupling, self%loads)
   end subroutine mpmice_free
 end module mpmice_scene
