@@ -4,11 +4,13 @@ once as a saturated slide in air (namelists/mpmice_obstacle_air_2d.nml).
 
 Usage:  python -m postproc.mpmice_obstacle --dir RUN_DIR [--dir RUN_DIR ...] [--out DIR]
 
-Reads each run's `<name>_contact_force.csv` (the force the sand exerts through the contact on
-each rigid body, per step; per 0.04 m of depth; the fluid's pressure on the body not included)
-and its dumps (run-out: the largest x of the sand particles), prints the peak force on the block
-and the run-out per run, and writes obstacle_force.png (force on the block and front vs time)
-and, per run, obstacle_snapshots_<run>.png (the water's volume fraction, the sand's particles
+Reads each run's `<name>_contact_force.csv` (per step and rigid body, N per 0.04 m of depth:
+the force the sand exerts through the contact, `<solid>_fx/_fy/_fz`, and the fluids' pressure
+force, `<solid>_fluid_fx/_fy/_fz`; files written before the fluid force have no such columns,
+read as zero) and its dumps (run-out: the largest x of the sand particles), prints per run the
+horizontal force on the block - contact, fluid pressure and total: first contact, largest 10 ms
+mean, impulse over the run and over --window - and the run-out, and writes obstacle_force.png
+(horizontal force on the block, contact, fluid and total, and the front vs time) and, per run, obstacle_snapshots_<run>.png (the water's volume fraction, the sand's particles
 coloured by their excess pore pressure and the block at --times, default 0.5 1.0 1.5 2.0 s:
 the nearest dump of each).
 """
@@ -34,6 +36,40 @@ def contact_force(run_dir: str) -> dict[str, np.ndarray]:
     data = np.genfromtxt(os.path.join(run_dir, f"{NAME}_contact_force.csv"), delimiter=",",
                          names=True)
     return {key: np.atleast_1d(data[key]) for key in data.dtype.names}
+
+
+def block_forces(f: dict[str, np.ndarray], component: str = "fx") -> dict[str, np.ndarray]:
+    """The block's contact, fluid-pressure and total force component [N per 0.04 m] per step
+    (the fluid part zero where the file has no fluid columns)."""
+    contact = f[f"block_{component}"]
+    fluid = f.get(f"block_fluid_{component}", np.zeros_like(contact))
+    return {"contact": contact, "fluid": fluid, "total": contact + fluid}
+
+
+def impulse(time: np.ndarray, force: np.ndarray) -> np.ndarray:
+    """Cumulative impulse [N s] at the rows' times: each row's force held over its step (the
+    step from the previous row's time, the first from 0)."""
+    dt = np.diff(np.concatenate(([0.0], time)))
+    return np.cumsum(force * dt)
+
+
+def largest_mean(time: np.ndarray, force: np.ndarray, width: float = 0.01) -> tuple[float, float]:
+    """Largest mean of `force` over a window of `width` seconds (by its impulse) and the
+    window's end time [s]."""
+    cum = impulse(time, force)
+    before = np.interp(time - width, time, cum, left=0.0)
+    mean = (cum - before) / width
+    valid = time >= time[0] + width
+    if not np.any(valid):
+        return float("nan"), float("nan")
+    index = int(np.argmax(np.where(valid, mean, -np.inf)))
+    return float(mean[index]), float(time[index])
+
+
+def impulse_between(time: np.ndarray, force: np.ndarray, t0: float, t1: float) -> float:
+    """Impulse [N s] over [t0, t1]."""
+    cum = impulse(time, force)
+    return float(np.interp(t1, time, cum, left=0.0) - np.interp(t0, time, cum, left=0.0))
 
 
 def front_history(run_dir: str) -> tuple[np.ndarray, np.ndarray]:
@@ -79,6 +115,8 @@ def main(argv=None) -> int:
     parser.add_argument("--dir", action="append", required=True, help="run directory")
     parser.add_argument("--out", default=None)
     parser.add_argument("--times", type=float, nargs="+", default=[0.5, 1.0, 1.5, 2.0])
+    parser.add_argument("--window", type=float, nargs=2, default=[1.3, 2.0],
+                        help="impulse window [s] (default 1.3 2.0: the impact under water)")
     args = parser.parse_args(argv)
     out = args.out or args.dir[0]
     os.makedirs(out, exist_ok=True)
@@ -89,17 +127,28 @@ def main(argv=None) -> int:
     for run_dir in args.dir:
         f = contact_force(run_dir)
         t, front = front_history(run_dir)
-        fx = f["block_fx"] / DEPTH
+        time = f["time"]
+        parts = block_forces(f)
         label = os.path.basename(os.path.normpath(run_dir))
-        print(f"{label}: peak horizontal force on the block {np.max(np.abs(fx)):.1f} N/m "
-              f"(t = {f['time'][np.argmax(np.abs(fx))]:.3f} s); run-out (front) "
-              f"{front[-1]:.3f} m at t = {t[-1]:.2f} s")
-        top.plot(f["time"], fx, label=label)
+        touched = np.nonzero(parts["contact"] != 0.0)[0]
+        first = f"{time[touched[0]]:.3f} s" if touched.size else "none"
+        print(f"{label}: horizontal force on the block [N per {DEPTH} m of depth], first contact "
+              f"{first}")
+        t0, t1 = args.window
+        for name, fx in parts.items():
+            peak, end = largest_mean(time, fx)
+            print(f"  {name:8s} largest 10 ms mean {peak:9.2f} N ({end - 0.01:.3f}-{end:.3f} s), "
+                  f"single-step peak {fx[np.argmax(np.abs(fx))]:9.2f} N, impulse "
+                  f"{impulse(time, fx)[-1]:7.3f} N s ({t0}-{t1} s: "
+                  f"{impulse_between(time, fx, t0, t1):7.3f} N s)")
+        print(f"  run-out (front) {front[-1]:.3f} m at t = {t[-1]:.2f} s")
+        for name, style in (("total", "-"), ("contact", "--"), ("fluid", ":")):
+            top.plot(time, parts[name] / DEPTH, style, lw=1, label=f"{label} {name}")
         bottom.plot(t, front, "o-", label=label)
         shot = os.path.join(out, f"obstacle_snapshots_{label}.png")
         shown = snapshots(run_dir, args.times, shot, plt)
         print(f"snapshots at t = {', '.join(f'{t_s:.2f}' for t_s in shown)} s: {shot}")
-    top.set_ylabel("force on the block, x [N/m]")
+    top.set_ylabel("force on the block, x [N/m]\n(contact, fluid pressure, total)")
     top.legend(fontsize=8)
     bottom.set_ylabel("sand front x [m]")
     bottom.set_xlabel("t [s]")
