@@ -10,7 +10,8 @@ force, `<solid>_fluid_fx/_fy/_fz`; files written before the fluid force have no 
 read as zero) and its dumps (run-out: the largest x of the sand particles), prints per run the
 horizontal force on the block - contact, fluid pressure and total: first contact, largest 10 ms
 mean, impulse over the run and over --window - and the run-out, and writes obstacle_force.png
-(horizontal force on the block, contact, fluid and total, and the front vs time) and, per run, obstacle_snapshots_<run>.png (the water's volume fraction, the sand's particles
+(horizontal force on the block, contact, fluid and total, 10 ms means, and the front vs time)
+and, per run, obstacle_snapshots_<run>.png (the water's volume fraction, the sand's particles
 coloured by their excess pore pressure and the block at --times, default 0.5 1.0 1.5 2.0 s:
 the nearest dump of each).
 """
@@ -53,12 +54,16 @@ def impulse(time: np.ndarray, force: np.ndarray) -> np.ndarray:
     return np.cumsum(force * dt)
 
 
+def running_mean(time: np.ndarray, force: np.ndarray, width: float = 0.01) -> np.ndarray:
+    """Mean of `force` over the `width` seconds up to each row's time (by its impulse)."""
+    cum = impulse(time, force)
+    return (cum - np.interp(time - width, time, cum, left=0.0)) / width
+
+
 def largest_mean(time: np.ndarray, force: np.ndarray, width: float = 0.01) -> tuple[float, float]:
     """Largest mean of `force` over a window of `width` seconds (by its impulse) and the
     window's end time [s]."""
-    cum = impulse(time, force)
-    before = np.interp(time - width, time, cum, left=0.0)
-    mean = (cum - before) / width
+    mean = running_mean(time, force, width)
     valid = time >= time[0] + width
     if not np.any(valid):
         return float("nan"), float("nan")
@@ -142,13 +147,15 @@ def main(argv=None) -> int:
                   f"{impulse(time, fx)[-1]:7.3f} N s ({t0}-{t1} s: "
                   f"{impulse_between(time, fx, t0, t1):7.3f} N s)")
         print(f"  run-out (front) {front[-1]:.3f} m at t = {t[-1]:.2f} s")
+        # the fluid force's step-to-step noise (sound waves) hides everything: 10 ms means
         for name, style in (("total", "-"), ("contact", "--"), ("fluid", ":")):
-            top.plot(time, parts[name] / DEPTH, style, lw=1, label=f"{label} {name}")
+            top.plot(time, running_mean(time, parts[name]) / DEPTH, style, lw=1,
+                     label=f"{label} {name}")
         bottom.plot(t, front, "o-", label=label)
         shot = os.path.join(out, f"obstacle_snapshots_{label}.png")
         shown = snapshots(run_dir, args.times, shot, plt)
         print(f"snapshots at t = {', '.join(f'{t_s:.2f}' for t_s in shown)} s: {shot}")
-    top.set_ylabel("force on the block, x [N/m]\n(contact, fluid pressure, total)")
+    top.set_ylabel("force on the block, x [N/m]\n(10 ms means)")
     top.legend(fontsize=8)
     bottom.set_ylabel("sand front x [m]")
     bottom.set_xlabel("t [s]")
