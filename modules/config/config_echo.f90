@@ -88,6 +88,7 @@ contains
     call add('equilibration_tolerance', real_repr(cfg%ice%equilibration_tolerance))
     call add('max_equilibration_iterations', ints_repr([cfg%ice%max_equilibration_iterations]))
     call add('sound_speed_factor', real_repr(cfg%ice%sound_speed_factor))
+    call add('interface_compression', real_repr(cfg%ice%interface_compression))
     text = text // '/' // nl // '&mpm' // nl
     call add('flip_fraction', real_repr(cfg%mpm%flip_fraction))
     call add('gravity_ramp_time', real_repr(cfg%mpm%gravity_ramp_time))

@@ -78,6 +78,7 @@ module config_materials
     real(wp) :: equilibration_tolerance = 1.0e-10_wp !< pressure equilibration tolerance
     integer :: max_equilibration_iterations = 100    !< pressure equilibration iteration limit
     real(wp) :: sound_speed_factor = 0.0_wp          !< weight of c in the CFL limit (0: advective)
+    real(wp) :: interface_compression = 0.0_wp       !< C of the two fluids' interface compression
   end type ice_params_t
 
   !> `&mpm`: controls of the MPM solid solver.

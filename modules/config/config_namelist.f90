@@ -88,6 +88,7 @@ module config_namelist
     variable_info_t('ice', 'equilibration_tolerance', 'r', 1, 0), &
     variable_info_t('ice', 'max_equilibration_iterations', 'i', 1, 0), &
     variable_info_t('ice', 'sound_speed_factor', 'r', 1, 0), &
+    variable_info_t('ice', 'interface_compression', 'r', 1, 0), &
     variable_info_t('mpm', 'flip_fraction', 'r', 1, 0), &
     variable_info_t('mpm', 'gravity_ramp_time', 'r', 1, 0), &
     variable_info_t('mpm', 'local_damping', 'r', 1, 0), &

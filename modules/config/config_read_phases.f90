@@ -43,11 +43,12 @@ contains
     character(len=*), intent(inout) :: iomsg !< iomsg
     real(wp) :: outer_tolerance, exchange_coefficient, heat_exchange_coefficient
     real(wp) :: smagorinsky_constant, equilibration_tolerance, sound_speed_factor
+    real(wp) :: interface_compression
     integer :: max_outer_iterations, max_equilibration_iterations
     logical :: smagorinsky
     namelist /ice/ outer_tolerance, max_outer_iterations, exchange_coefficient, &
       heat_exchange_coefficient, smagorinsky, smagorinsky_constant, equilibration_tolerance, &
-      max_equilibration_iterations, sound_speed_factor
+      max_equilibration_iterations, sound_speed_factor, interface_compression
     outer_tolerance = p%outer_tolerance
     max_outer_iterations = p%max_outer_iterations
     exchange_coefficient = p%exchange_coefficient
@@ -57,6 +58,7 @@ contains
     equilibration_tolerance = p%equilibration_tolerance
     max_equilibration_iterations = p%max_equilibration_iterations
     sound_speed_factor = p%sound_speed_factor
+    interface_compression = p%interface_compression
     read(text, nml=ice, iostat=ios, iomsg=iomsg)
     if (ios /= 0) return
     p%outer_tolerance = outer_tolerance
@@ -68,6 +70,7 @@ contains
     p%equilibration_tolerance = equilibration_tolerance
     p%max_equilibration_iterations = max_equilibration_iterations
     p%sound_speed_factor = sound_speed_factor
+    p%interface_compression = interface_compression
   end subroutine read_ice
 
   !> `&mpm`.

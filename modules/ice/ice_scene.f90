@@ -31,6 +31,7 @@ module ice_scene
     ice_face_pressure
   use ice_lagrangian, only: ice_lagrangian_values
   use ice_advection, only: ice_advect
+  use ice_interface_compression, only: compress_interface
   use ice_bc, only: ice_bc_t, ice_bc_init, ice_bc_fill, bc_scalar, bc_temperature, bc_pressure, &
     bc_dp
   use ice_exchange, only: ice_exchange_faces, ice_exchange_cells
@@ -60,6 +61,7 @@ module ice_scene
     integer :: order = 2                      !< advection order
     real(wp) :: theta = 1.0_wp                !< implicit weight of the pressure change
     real(wp) :: smagorinsky = 0.0_wp          !< Smagorinsky constant C_s (0: no eddy viscosity)
+    real(wp) :: compression = 0.0_wp          !< interface compression C (0: off)
     integer :: steps = 0                      !< accepted steps
     integer :: total_outer = 0                !< outer iterations summed
     integer :: max_outer_seen = 0             !< largest outer-iteration count
@@ -121,6 +123,7 @@ contains
     self%order = cfg%numerics%advection_order
     self%theta = cfg%numerics%time_theta
     if (cfg%ice%smagorinsky) self%smagorinsky = cfg%ice%smagorinsky_constant
+    self%compression = cfg%ice%interface_compression
     if (cfg%nfluids < 1) call fatal('ice scene: no &fluid group')
 
     call ice_state_alloc(self%state, grid, cfg%nfluids)
@@ -262,6 +265,14 @@ contains
     call timer_start(timers, self%t_halo)
     call exchange_primitives(self, dom, grid)
     call timer_stop(timers, self%t_halo)
+    if (self%compression > 0.0_wp) then
+      call timer_start(timers, self%t_advect)
+      call compress_interface(self%state, grid, dt, self%compression)
+      call timer_stop(timers, self%t_advect)
+      call timer_start(timers, self%t_halo)
+      call exchange_primitives(self, dom, grid)
+      call timer_stop(timers, self%t_halo)
+    end if
     self%steps = self%steps + 1
     accepted = .true.
   end subroutine ice_scene_step

@@ -19,6 +19,7 @@
 !! `&fluid volume_fraction` is its share of the pore space. See docs/mpmice.md.
 module mpmice_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use ice_interface_compression, only: compress_interface
   use mpmice_geostatic, only: buoyant_geostatic_stress
   use mpmice_kinds, only: wp, name_len, path_len
   use mpmice_errors, only: fatal, int_text, real_short_text
@@ -408,6 +409,15 @@ contains
       call timer_start(timers, fl%t_halo)
       call exchange_primitives(fl, dom, grid)
       call timer_stop(timers, fl%t_halo)
+      if (fl%compression > 0.0_wp) then
+        ! the free surface's compression (free fluid only; ice_interface_compression)
+        call timer_start(timers, fl%t_advect)
+        call compress_interface(st, grid, dt, fl%compression)
+        call timer_stop(timers, fl%t_advect)
+        call timer_start(timers, fl%t_halo)
+        call exchange_primitives(fl, dom, grid)
+        call timer_stop(timers, fl%t_halo)
+      end if
 
       call timer_start(timers, self%t_cells)
       call solid_track_fraction(st, grid, dt, self%max_fraction)

@@ -136,6 +136,11 @@ BAD_PHASE_INPUTS = [
     ("inflow_fluid_on_wall", "&boundary face = 'x-', inflow_fluid = 'air' /", [],
      ["case.nml", "&boundary(2) inflow_fluid = 'air'", "fluid = 'wall'",
       "'pressure', 'inflow' or 'outflow'"]),
+    ("compression_three_fluids", "&fluid name = 'oil', eos = 'linear_water' /\n"
+     "&ice interface_compression = 1.0 /", [],
+     ["case.nml", "&ice interface_compression = 1.0", "0 with 3 &fluid groups"]),
+    ("compression_out_of_range", "", ["&ice interface_compression = 5 /"],
+     ["--set", "&ice interface_compression = 5.0", "0..4"]),
     ("set_selector_not_present", "", ["&fluid name = 'oil', viscosity = 2e-3 /"],
      ["--set", "&fluid name = 'oil'", "present: 'air', 'water'"]),
 ]
