@@ -72,6 +72,7 @@ if __package__ in (None, ""):
 from postproc import ice_sod, mpm_bar, mpmice_darcy, mpmice_terzaghi  # noqa: E402
 from postproc import mpmice_stiff_drag as stiff                        # noqa: E402
 from postproc import mpmice_thermal_cavity as cavity                   # noqa: E402
+from postproc.figures import pyplot, save_figure                      # noqa: E402
 from postproc.mpm_common import constrained_modulus, dump_paths, particles, series  # noqa: E402
 from postproc.mpmice_io import list_dumps, read_dump                   # noqa: E402
 from postproc.run_case import ROOT, run_mpmice                         # noqa: E402
@@ -582,15 +583,8 @@ def read_csv(path: str) -> list[dict]:
     return rows
 
 
-def _plt():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
 def plot_accuracy(rows: list[dict], path: str, title: str, ylabel: str) -> None:
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 5.2))
     methods = list(dict.fromkeys(r["method"] for r in rows))
     markers = "osD^v<>"
@@ -617,8 +611,7 @@ def plot_accuracy(rows: list[dict], path: str, title: str, ylabel: str) -> None:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 VERDICT_STYLE = {"ok": ("o", "tab:green"), "inaccurate": ("s", "tab:orange"),
@@ -647,7 +640,7 @@ def _verdict_points(ax, rows: list[dict], x: str, y: str, plot, note, xytext) ->
 
 
 def plot_drag(rows: list[dict], path: str) -> None:
-    plt = _plt()
+    plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
     for ax, scheme in zip(axes, stiff.SCHEMES):
         _verdict_points(ax, [r for r in rows if r["scheme"] == scheme], "beta_dt", "solid_cfl",
@@ -664,12 +657,11 @@ def plot_drag(rows: list[dict], path: str) -> None:
                  "dt_min = 0.75 dt); inaccurate: max |p - p_exact| / p0 below the top 5 cells > "
                  f"{DRAG_ERROR_LIMIT:.0%} (labels)", fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def plot_mpm_cfl(rows: list[dict], path: str) -> None:
-    plt = _plt()
+    plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
     for ax, shape in zip(axes, ("linear", "gimp")):
         _verdict_points(ax, [r for r in rows if r["shape"] == shape], "cfl", "amplitude_cells",
@@ -687,12 +679,11 @@ def plot_mpm_cfl(rows: list[dict], path: str) -> None:
                  f"{BAR_ERROR_LIMIT:.0%}\n(labels: energy growth reached, tip-history error)",
                  fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def plot_crossing(rows: list[dict], path: str) -> None:
-    plt = _plt()
+    plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
     for k, shape in enumerate(("linear", "gimp")):
         for j, cells in enumerate(sorted({r["cells"] for r in rows})):
@@ -720,8 +711,7 @@ def plot_crossing(rows: list[dict], path: str) -> None:
                  f"end 20 periods; noisy: oscillation > {NOISE_LIMIT:.0%} (dotted line); "
                  "red x: failed (exit status 3: particle lost or step collapsed)", fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 STABILITY_PLOTS = {"drag_map": plot_drag, "mpm_cfl_map": plot_mpm_cfl,

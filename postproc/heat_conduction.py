@@ -16,6 +16,7 @@ import h5py
 import numpy as np
 
 from postproc.analytic import heat_mode_solution
+from postproc.figures import pyplot, save_figure
 from postproc.namelist import parse_namelist_text
 
 
@@ -63,9 +64,7 @@ def relative_error(dump: dict) -> float:
 
 def plot_comparison(dump: dict, png: str) -> None:
     """Profile along x through the middle of the other dimensions: computed vs exact."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     exact = exact_temperature(dump)
     base = dump["nml"].get("heat", {}).get("base_temperature", 300.0)
@@ -93,8 +92,7 @@ def plot_comparison(dump: dict, png: str) -> None:
         axes[1].set_ylabel("T - T_exact [K]")
     axes[1].set_title(f"relative L2 error {relative_error(dump):.3e}")
     fig.tight_layout()
-    fig.savefig(png, dpi=110)
-    plt.close(fig)
+    save_figure(fig, png)
 
 
 def main(argv=None) -> int:

@@ -9,13 +9,13 @@ and writes CSV + PNG into --out.
 """
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import tempfile
 
 import numpy as np
 
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
 from postproc.heat_conduction import dump_files, read_temperature, relative_error
 from postproc.run_case import ROOT, run_mpmice
 
@@ -65,11 +65,9 @@ def rank_difference(workdir: str, n: int = 64, ranks=(1, 2, 4)) -> dict[int, flo
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
+    parser = study_parser(__doc__)
     parser.add_argument("--quick", action="store_true", help="three coarse resolutions only")
-    args = parser.parse_args(argv)
-    os.makedirs(args.out, exist_ok=True)
+    args = parse_study_args(parser, argv)
     res = [16, 32, 64] if args.quick else [32, 64, 128, 256]
     with tempfile.TemporaryDirectory() as work:
         studies = {dim: convergence(work, dim, res) for dim in (1, 2)}
@@ -85,9 +83,7 @@ def main(argv=None) -> int:
         print(f"2D, 64 x 32 cells: max |T({r} ranks) - T(1 rank)| / max|T| = {diff:.3e}")
     with open(os.path.join(args.out, "heat_convergence.csv"), "w", encoding="utf-8") as f:
         f.write("\n".join(lines) + "\n")
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(5.5, 4))
     for dim, rows in studies.items():
         n = np.array([r[0] for r in rows], dtype=float)
@@ -101,7 +97,7 @@ def main(argv=None) -> int:
     ax.legend()
     fig.tight_layout()
     png = os.path.join(args.out, "heat_convergence.png")
-    fig.savefig(png, dpi=110)
+    save_figure(fig, png)
     print(f"wrote {png}")
     return 0
 

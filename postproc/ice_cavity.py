@@ -11,12 +11,12 @@ for every dump (to show the approach to steady state) and compared with de Vahl 
 """
 from __future__ import annotations
 
-import argparse
 import os
 import tempfile
 
 import numpy as np
 
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
 from postproc.mpmice_io import list_dumps, read_dump
 from postproc.run_case import ROOT, run_mpmice
 
@@ -47,14 +47,12 @@ def run(workdir: str, ra: float, n: int, end: float, nranks: int = 1) -> list[di
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
+    parser = study_parser(__doc__)
     parser.add_argument("--ra", type=float, nargs="+", default=[1e3, 1e4, 1e5])
     parser.add_argument("--n", type=int, default=32)
     parser.add_argument("--end", type=float, default=100.0)
     parser.add_argument("--nranks", type=int, default=1)
-    args = parser.parse_args(argv)
-    os.makedirs(args.out, exist_ok=True)
+    args = parse_study_args(parser, argv)
     rows = []
     with tempfile.TemporaryDirectory() as work:
         for ra in args.ra:
@@ -73,17 +71,14 @@ def main(argv=None) -> int:
         f.write("ra,cells,nu,benchmark,rel_difference,last_change\n")
         for row in rows:
             f.write(",".join(f"{v:.6g}" for v in row) + "\n")
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(5, 4.5))
     im = ax.imshow(last["cell"]["air/temperature"][:, :, 0].T, origin="lower", extent=[0, 1, 0, 1],
                    cmap="coolwarm")
     fig.colorbar(im, label="T [K]")
     ax.set_title(f"Ra = {rows[-1][0]:.0e}, Nu = {rows[-1][2]:.3f} (benchmark {rows[-1][3]})")
     fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "ice_cavity.png"), dpi=110)
-    plt.close(fig)
+    save_figure(fig, os.path.join(args.out, "ice_cavity.png"))
     return 0
 
 

@@ -9,12 +9,12 @@ Writes ice_conservation.csv into --out.
 """
 from __future__ import annotations
 
-import argparse
 import os
 import tempfile
 
 import numpy as np
 
+from postproc.figures import parse_study_args, study_parser
 from postproc.mpmice_io import cell_centres, list_dumps, read_dump
 from postproc.run_case import ROOT, run_mpmice
 
@@ -58,11 +58,8 @@ def study(workdir: str, nranks: int = 1) -> list[dict]:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
-    parser.add_argument("--nranks", type=int, default=1)
-    args = parser.parse_args(argv)
-    os.makedirs(args.out, exist_ok=True)
+    parser = study_parser(__doc__, nranks=True)
+    args = parse_study_args(parser, argv)
     with tempfile.TemporaryDirectory() as work:
         rows = study(work, args.nranks)
     print("  step   mass change/step   energy change/step")

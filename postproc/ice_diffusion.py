@@ -13,13 +13,13 @@ errors at t = 1 s and the observed orders; writes ice_diffusion.png.
 """
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import tempfile
 
 import numpy as np
 
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
 from postproc.mpmice_io import cell_centres, list_dumps, read_dump
 from postproc.run_case import ROOT, run_mpmice
 
@@ -81,11 +81,9 @@ def error(dump: dict, case: str) -> float:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
+    parser = study_parser(__doc__)
     parser.add_argument("--cells", type=int, nargs="+", default=[32, 64, 128])
-    args = parser.parse_args(argv)
-    os.makedirs(args.out, exist_ok=True)
+    args = parse_study_args(parser, argv)
     rows = []
     with tempfile.TemporaryDirectory() as work:
         for n in args.cells:
@@ -97,9 +95,7 @@ def main(argv=None) -> int:
         ov = math.log(rows[i - 1][1] / ev) / math.log(n / rows[i - 1][0]) if i else float("nan")
         ot = math.log(rows[i - 1][2] / et) / math.log(n / rows[i - 1][0]) if i else float("nan")
         print(f"{n:7d}   {ev:17.3e}   {ov:5.2f}   {et:20.3e}   {ot:5.2f}")
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     x = cell_centres(dv)[0]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4))
     axes[0].plot(x, exact(dv, "velocity"), "k-", label="exact")
@@ -111,8 +107,7 @@ def main(argv=None) -> int:
     axes[1].set_title("temperature [K]")
     fig.suptitle(f"viscous shear layer and conduction, {args.cells[-1]} cells, t = 1 s")
     fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "ice_diffusion.png"), dpi=110)
-    plt.close(fig)
+    save_figure(fig, os.path.join(args.out, "ice_diffusion.png"))
     return 0
 
 

@@ -10,7 +10,6 @@ the finest run against the exact solution) into --out.
 """
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import tempfile
@@ -18,6 +17,7 @@ import tempfile
 import numpy as np
 
 from postproc import riemann
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
 from postproc.mpmice_io import cell_centres, list_dumps, read_dump
 from postproc.run_case import ROOT, run_mpmice
 
@@ -70,9 +70,7 @@ def study(workdir: str, cells, **kwargs) -> tuple[list[tuple[int, float, float]]
 
 def plot(dump: dict, path: str, title: str) -> None:
     """Density, velocity and pressure of a dump against the exact solution."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     x = cell_centres(dump)[0]
     fine = np.linspace(0.0, 1.0, 2001)
     ex = riemann.sample(riemann.SOD_LEFT, riemann.SOD_RIGHT, (fine - X0) / dump["time"])
@@ -87,21 +85,18 @@ def plot(dump: dict, path: str, title: str) -> None:
     axes[0].legend()
     fig.suptitle(title)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
+    parser = study_parser(__doc__)
     parser.add_argument("--cells", type=int, nargs="+", default=[100, 200, 400, 800])
     parser.add_argument("--cfl", type=float, default=0.5)
     parser.add_argument("--sound-speed-factor", type=float, default=None)
     parser.add_argument("--order", type=int, default=2)
     parser.add_argument("--nranks", type=int, default=1)
     parser.add_argument("--tag", default="ice_sod")
-    args = parser.parse_args(argv)
-    os.makedirs(args.out, exist_ok=True)
+    args = parse_study_args(parser, argv)
     with tempfile.TemporaryDirectory() as work:
         rows, dump = study(work, args.cells, cfl=args.cfl,
                            sound_speed_factor=args.sound_speed_factor, order=args.order,

@@ -19,7 +19,6 @@ the exact ones; writes ice_viscous_waves.png and ice_viscous_waves.csv into --ou
 """
 from __future__ import annotations
 
-import argparse
 import glob
 import math
 import os
@@ -28,6 +27,7 @@ import tempfile
 import h5py
 import numpy as np
 
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
 from postproc.mpmice_io import cell_centres, list_dumps, read_dump
 from postproc.run_case import ROOT, run_mpmice
 
@@ -154,11 +154,9 @@ def sound_viscous_rate(workdir: str, n: int) -> dict:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
+    parser = study_parser(__doc__)
     parser.add_argument("--cells", type=int, nargs="+", default=[32, 64])
-    args = parser.parse_args(argv)
-    os.makedirs(args.out, exist_ok=True)
+    args = parse_study_args(parser, argv)
     rows = []
     with tempfile.TemporaryDirectory() as work:
         for n in args.cells:
@@ -179,9 +177,7 @@ def main(argv=None) -> int:
             f.write(f"{r['case']},{r['rate']:.6g},{r['exact']:.6g},"
                     f"{r['rate'] / r['exact'] - 1.0:.3e}\n")
     try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        plt = pyplot()
     except ImportError:
         return 0
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
@@ -203,7 +199,7 @@ def main(argv=None) -> int:
     for ax in axes:
         ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "ice_viscous_waves.png"), dpi=120)
+    save_figure(fig, os.path.join(args.out, "ice_viscous_waves.png"), dpi=120)
     return 0
 
 

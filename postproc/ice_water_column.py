@@ -9,13 +9,13 @@ E3) at t = 0 and at the end, and writes ice_water_column.png (pressure and its e
 """
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import tempfile
 
 import numpy as np
 
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
 from postproc.mpmice_io import cell_centres, list_dumps, read_dump
 from postproc.run_case import ROOT, run_mpmice
 
@@ -72,9 +72,7 @@ def measures(first: dict, last: dict) -> dict:
 
 def plot(last: dict, path: str, title: str) -> None:
     """Pressure profile and its relative error against the exact profile."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     x = cell_centres(last)[0]
     p = last["cell"]["pressure"][:, 0, 0]
     fine = np.linspace(0.0, 1.0, 1001)
@@ -88,17 +86,14 @@ def plot(last: dict, path: str, title: str) -> None:
     axes[1].set_xlabel("relative pressure error")
     fig.suptitle(title)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
+    parser = study_parser(__doc__)
     parser.add_argument("--ny", type=int, default=1)
     parser.add_argument("--nranks", type=int, default=1)
-    args = parser.parse_args(argv)
-    os.makedirs(args.out, exist_ok=True)
+    args = parse_study_args(parser, argv)
     with tempfile.TemporaryDirectory() as work:
         first, last = run(work, args.ny, args.nranks)
     m = measures(first, last)

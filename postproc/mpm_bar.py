@@ -15,13 +15,13 @@ linear and GIMP shape functions. Writes mpm_bar.png and mpm_bar.csv.
 """
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import tempfile
 
 import numpy as np
 
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
 from postproc.mpm_common import dump_paths, particles, series
 from postproc.run_case import ROOT, run_mpmice
 
@@ -73,15 +73,11 @@ def order(rows: list[dict], key: str) -> list[float]:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
+    parser = study_parser(__doc__)
     parser.add_argument("--cells", type=int, nargs="+", default=[10, 20, 40])
-    args = parser.parse_args(argv)
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    args = parse_study_args(parser, argv)
+    plt = pyplot()
 
-    os.makedirs(args.out, exist_ok=True)
     results = {}
     with tempfile.TemporaryDirectory() as work:
         for shape in ("linear", "gimp"):
@@ -119,7 +115,7 @@ def main(argv=None) -> int:
     axes[1].legend(fontsize=8)
     fig.suptitle("Fixed-free elastic bar, first mode, 10 periods")
     fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "mpm_bar.png"), dpi=120)
+    save_figure(fig, os.path.join(args.out, "mpm_bar.png"), dpi=120)
     with open(os.path.join(args.out, "mpm_bar.csv"), "w", encoding="utf-8") as f:
         f.write("shape,cells,period_error,amplitude_error,history_error,energy_drift\n")
         for shape, rows in results.items():

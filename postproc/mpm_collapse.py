@@ -16,12 +16,12 @@ Writes mpm_collapse.png and mpm_collapse.csv.
 """
 from __future__ import annotations
 
-import argparse
 import os
 import tempfile
 
 import numpy as np
 
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
 from postproc.mpm_common import dump_paths, particles, series
 from postproc.run_case import ROOT, run_mpmice
 
@@ -76,16 +76,11 @@ def run_collapse(workdir: str, a: float, nranks: int = 1, cell: float = 0.01, ex
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
-    parser.add_argument("--nranks", type=int, default=1)
+    parser = study_parser(__doc__, nranks=True)
     parser.add_argument("--cell", type=float, default=0.01, help="cell size [m] (0.01)")
-    args = parser.parse_args(argv)
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    args = parse_study_args(parser, argv)
+    plt = pyplot()
 
-    os.makedirs(args.out, exist_ok=True)
     rows = []
     with tempfile.TemporaryDirectory() as work:
         for a in (0.5, 2.0):
@@ -113,7 +108,7 @@ def main(argv=None) -> int:
         ax.legend(fontsize=7, loc="upper right")
     axes[-1].set_xlabel("x [m]")
     fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "mpm_collapse.png"), dpi=120)
+    save_figure(fig, os.path.join(args.out, "mpm_collapse.png"), dpi=120)
     with open(os.path.join(args.out, "mpm_collapse.csv"), "w", encoding="utf-8") as f:
         f.write("a,cell,runout,runout_scaling_low,runout_scaling_high,body,height,"
                 "height_off_wall,height_scaling,kinetic_ratio\n")

@@ -13,12 +13,12 @@ oscillation after the linear ramp is compared with the single-mode estimate
 """
 from __future__ import annotations
 
-import argparse
 import os
 import tempfile
 
 import numpy as np
 
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
 from postproc.mpm_common import constrained_modulus, dump_paths, particles, series
 from postproc.run_case import ROOT, run_mpmice
 
@@ -65,15 +65,10 @@ def run_column(workdir: str, dim: int, nranks: int = 1, shape: str = "gimp",
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
-    parser.add_argument("--nranks", type=int, default=1)
-    args = parser.parse_args(argv)
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    parser = study_parser(__doc__, nranks=True)
+    args = parse_study_args(parser, argv)
+    plt = pyplot()
 
-    os.makedirs(args.out, exist_ok=True)
     rows = []
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.5))
     with tempfile.TemporaryDirectory() as work:
@@ -103,7 +98,7 @@ def main(argv=None) -> int:
     fig.suptitle("Elastic column under self-weight, t = 1 s (gravity ramped over 0.5 s, "
                  "local damping 0.1)")
     fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "mpm_column.png"), dpi=120)
+    save_figure(fig, os.path.join(args.out, "mpm_column.png"), dpi=120)
     with open(os.path.join(args.out, "mpm_column.csv"), "w", encoding="utf-8") as f:
         f.write("dim,damping,stress_error,disp_error,k0_ratio,oscillation\n")
         for r in rows:

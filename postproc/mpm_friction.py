@@ -13,12 +13,12 @@ for each mu and writes mpm_friction.png / .csv.
 """
 from __future__ import annotations
 
-import argparse
 import os
 import tempfile
 
 import numpy as np
 
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
 from postproc.mpmice_io import list_dumps, read_dump
 from postproc.run_case import ROOT, run_mpmice
 
@@ -68,15 +68,11 @@ def run(workdir: str, mu: float, ramp: float = 0.0, extra=()) -> tuple:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
+    parser = study_parser(__doc__)
     parser.add_argument("--mu", type=float, nargs="+", default=[0.0, 0.2, 0.4, 0.5, 0.7])
     parser.add_argument("--ramp", type=float, default=0.05)
-    args = parser.parse_args(argv)
-    os.makedirs(args.out, exist_ok=True)
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    args = parse_study_args(parser, argv)
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(5.5, 4))
     rows = []
     with tempfile.TemporaryDirectory() as work:
@@ -102,8 +98,7 @@ def main(argv=None) -> int:
                  fontsize=8)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "mpm_friction.png"), dpi=110)
-    plt.close(fig)
+    save_figure(fig, os.path.join(args.out, "mpm_friction.png"))
     return 0
 
 

@@ -13,14 +13,14 @@ Usage:  python -m postproc.mpm_mohr_coulomb [--out docs/validation]
 """
 from __future__ import annotations
 
-import argparse
 import os
 import subprocess
 import tempfile
 
 import numpy as np
 
-from postproc.run_case import ROOT, mpmice_executable
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
+from postproc.run_case import mpmice_executable
 
 P0, C, PHI, PSI = 1.0e5, 1.0e4, np.radians(30.0), np.radians(10.0)
 
@@ -62,14 +62,10 @@ def run(workdir: str) -> dict:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
-    args = parser.parse_args(argv)
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    parser = study_parser(__doc__)
+    args = parse_study_args(parser, argv)
+    plt = pyplot()
 
-    os.makedirs(args.out, exist_ok=True)
     with tempfile.TemporaryDirectory() as work:
         r = run(work)
     tri, shear, ref = r["triaxial"], r["shear"], r["ref"]
@@ -109,8 +105,7 @@ def main(argv=None) -> int:
     axes[2].set_title("plane-strain simple shear (dashed: Davis 1968)", fontsize=9)
     axes[2].legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "mpm_mohr_coulomb.png"), dpi=110)
-    plt.close(fig)
+    save_figure(fig, os.path.join(args.out, "mpm_mohr_coulomb.png"))
     return 0
 
 

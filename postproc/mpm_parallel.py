@@ -8,12 +8,12 @@ Usage:  python -m postproc.mpm_parallel [--out docs/validation]
 """
 from __future__ import annotations
 
-import argparse
 import os
 import tempfile
 
 import numpy as np
 
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
 from postproc.mpm_common import dump_paths, particles
 from postproc.run_case import ROOT, run_mpmice
 
@@ -45,14 +45,10 @@ def differences(ref: dict, other: dict) -> dict:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
-    args = parser.parse_args(argv)
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    parser = study_parser(__doc__)
+    args = parse_study_args(parser, argv)
+    plt = pyplot()
 
-    os.makedirs(args.out, exist_ok=True)
     rows = []
     with tempfile.TemporaryDirectory() as work:
         for flip in (0.0, 0.99):
@@ -96,8 +92,7 @@ def main(argv=None) -> int:
     ax1.set_title(f"decomposition invariance (bars at {floor:g}: identical)", fontsize=9)
     ax1.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "mpm_parallel.png"), dpi=110)
-    plt.close(fig)
+    save_figure(fig, os.path.join(args.out, "mpm_parallel.png"))
     return 0
 
 

@@ -16,13 +16,13 @@ mpmice_darcy.png (U_f against dp, exact lines and numeric markers per phi_s) and
 """
 from __future__ import annotations
 
-import argparse
 import os
 import tempfile
 
 import numpy as np
 
 from postproc.analytic import darcy_pore_velocity
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
 from postproc.mpmice_io import cell_centres, read_run_dumps
 from postproc.run_case import ROOT, run_mpmice
 
@@ -136,9 +136,7 @@ def write_csv(results: list[dict], path: str) -> None:
 
 
 def plot(results: list[dict], path: str) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, ax = plt.subplots(figsize=(6.5, 4.8))
     dp = np.linspace(0.0, max(PRESSURE_DROPS_ATM), 100)
@@ -155,16 +153,12 @@ def plot(results: list[dict], path: str) -> None:
                  fontsize=10)
     ax.legend()
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
-    parser.add_argument("--nranks", type=int, default=1)
-    args = parser.parse_args(argv)
-    os.makedirs(args.out, exist_ok=True)
+    parser = study_parser(__doc__, nranks=True)
+    args = parse_study_args(parser, argv)
     with tempfile.TemporaryDirectory() as work:
         results = run_darcy(work, nranks=args.nranks)
     print_table(results)

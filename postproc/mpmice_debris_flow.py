@@ -16,6 +16,7 @@ import os
 
 import numpy as np
 
+from postproc.figures import pyplot, save_figure
 from postproc.mpmice_io import cell_centres, parse_run_dir
 
 NAME = "debris"
@@ -67,9 +68,7 @@ def main(argv=None) -> int:
         change = max(abs(m[k] / m0[k] - 1.0) for k in m0 if m0[k] > 0.0)
         print(f"{d['time']:8.3f} {slide_front(d):11.4f} {np.nanmax(eta):13.4f} "
               f"{np.nanmin(eta):13.4f} {change:14.2e}")
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
     for d in dumps[1:]:
         x, eta = free_surface(d)
@@ -85,8 +84,7 @@ def main(argv=None) -> int:
     bottom.set_aspect("equal")
     fig.tight_layout()
     path = os.path.join(args.out or args.dir, "debris_flow.png")
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
     print(f"plot: {path}")
     return 0
 

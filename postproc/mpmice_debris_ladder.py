@@ -47,6 +47,7 @@ import os
 
 import numpy as np
 
+from postproc.figures import pyplot, save_figure
 from postproc.mpmice_debris_flow import NAME, SAND, STILL_LEVEL, free_surface, masses, slide_front
 from postproc.mpmice_io import list_dumps, read_attrs, read_dump
 
@@ -201,9 +202,7 @@ def print_table(runs: list[dict], times, study: dict) -> None:
 
 def plot(runs: list[dict], times, out: str) -> list[str]:
     """The three PNGs; returns their paths."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     paths = []
 
@@ -231,8 +230,7 @@ def plot(runs: list[dict], times, out: str) -> list[str]:
         bottom.set_aspect("equal")
     fig.tight_layout()
     paths.append(os.path.join(out, "debris_ladder_eta.png"))
-    fig.savefig(paths[-1], dpi=110)
-    plt.close(fig)
+    save_figure(fig, paths[-1])
 
     fig, ax = plt.subplots(figsize=(6, 4))
     for k, r in enumerate(runs):
@@ -243,8 +241,7 @@ def plot(runs: list[dict], times, out: str) -> list[str]:
     ax.legend(fontsize=7)
     fig.tight_layout()
     paths.append(os.path.join(out, "debris_ladder_front.png"))
-    fig.savefig(paths[-1], dpi=110)
-    plt.close(fig)
+    save_figure(fig, paths[-1])
 
     shown = [r["at"][t]["excess"] for t in times for r in runs if r["at"][t] is not None]
     limit = float(np.percentile(np.abs(np.concatenate(shown)), 98)) / 1e3 if shown else 1.0
@@ -268,8 +265,7 @@ def plot(runs: list[dict], times, out: str) -> list[str]:
     fig.suptitle("excess pore pressure (colour scale: 98th percentile of |value|)", fontsize=9)
     fig.tight_layout()
     paths.append(os.path.join(out, "debris_ladder_pore.png"))
-    fig.savefig(paths[-1], dpi=110)
-    plt.close(fig)
+    save_figure(fig, paths[-1])
     return paths
 
 

@@ -24,6 +24,7 @@ import os
 
 import numpy as np
 
+from postproc.figures import pyplot, save_figure
 from postproc.mpmice_debris_flow import masses  # noqa: F401  (also used by the test)
 from postproc.mpmice_io import cell_centres, parse_run_dir
 
@@ -129,9 +130,7 @@ def analyse(dumps: list[dict]) -> list[dict]:
 
 def plot(dumps: list[dict], rows: list[dict], out: str) -> list[str]:
     """Snapshot and history figures; returns their paths."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     pick = sorted({0, len(rows) // 3, (2 * len(rows)) // 3, len(rows) - 1})
     fig, axes = plt.subplots(len(pick), 3, figsize=(15, 2.2 * len(pick)), squeeze=False)
     for r, i in enumerate(pick):
@@ -159,8 +158,7 @@ def plot(dumps: list[dict], rows: list[dict], out: str) -> list[str]:
             fig.colorbar(sc, ax=ax, fraction=0.02)
     fig.tight_layout()
     snap = os.path.join(out, "earthquake_slope.png")
-    fig.savefig(snap, dpi=100)
-    plt.close(fig)
+    save_figure(fig, snap, dpi=100)
     t = np.array([r["time"] for r in rows])
     fig, (a1, a2, a3) = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
     a1.plot(t, [r["base_dx"] for r in rows], "o", label="base (particles)")
@@ -180,8 +178,7 @@ def plot(dumps: list[dict], rows: list[dict], out: str) -> list[str]:
     a3.legend(fontsize=8)
     fig.tight_layout()
     hist = os.path.join(out, "earthquake_slope_history.png")
-    fig.savefig(hist, dpi=100)
-    plt.close(fig)
+    save_figure(fig, hist, dpi=100)
     return [snap, hist]
 
 

@@ -22,6 +22,7 @@ import os
 
 import numpy as np
 
+from postproc.figures import pyplot, save_figure
 from postproc.mpmice_io import cell_centres, list_dumps, read_dump
 
 NAME = "obstacle"
@@ -110,8 +111,7 @@ def snapshots(run_dir: str, times: list[float], path: str, plt) -> list[float]:
         ax.set_title(f"t = {d['time']:.2f} s", fontsize=9)
         fig.colorbar(sc, ax=ax, label="excess pore pressure [kPa]", fraction=0.03)
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+    save_figure(fig, path, dpi=100)
     return [dumps_t[i] for i in chosen]
 
 
@@ -125,9 +125,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     out = args.out or args.dir[0]
     os.makedirs(out, exist_ok=True)
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
     for run_dir in args.dir:
         f = contact_force(run_dir)
@@ -162,8 +160,7 @@ def main(argv=None) -> int:
     bottom.axhline(2.8, color="k", lw=0.8, ls="--")
     fig.tight_layout()
     path = os.path.join(out, "obstacle_force.png")
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
     print(f"plot: {path}")
     return 0
 

@@ -14,12 +14,12 @@ writes mpmice_porous_heat.csv / .png.
 """
 from __future__ import annotations
 
-import argparse
 import os
 import tempfile
 
 import numpy as np
 
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
 from postproc.mpmice_io import cell_centres, list_dumps, read_dump
 from postproc.run_case import ROOT, run_mpmice
 
@@ -65,11 +65,9 @@ def run(workdir: str, cells: int, nranks: int = 1, extra=()) -> list[dict]:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
+    parser = study_parser(__doc__)
     parser.add_argument("--cells", type=int, nargs="+", default=[10, 20, 40, 80])
-    args = parser.parse_args(argv)
-    os.makedirs(args.out, exist_ok=True)
+    args = parse_study_args(parser, argv)
     rows, last = [], {}
     with tempfile.TemporaryDirectory() as work:
         for n in args.cells:
@@ -90,9 +88,7 @@ def main(argv=None) -> int:
         for n, e in rows:
             f.write(f"{n},{e['time']:.6g},{e['max_fluid']:.6g},{e['max_solid']:.6g},"
                     f"{e['l2_fluid']:.6g},{e['phase_difference']:.6g}\n")
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(5.5, 4))
     xs = np.linspace(0.0, LENGTH, 400)
     ax.plot(xs, exact(xs, last[max(last)]["time"]) - T0, "k-", lw=0.8, label="series solution")
@@ -105,8 +101,7 @@ def main(argv=None) -> int:
     ax.legend(fontsize=7)
     ax.set_title("porous column conduction: cells vs series solution", fontsize=9)
     fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "mpmice_porous_heat.png"), dpi=110)
-    plt.close(fig)
+    save_figure(fig, os.path.join(args.out, "mpmice_porous_heat.png"))
     return 0
 
 

@@ -56,7 +56,6 @@ marker: filled = stable, colour = log10 error; hollow = stable but not steady; r
 """
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import tempfile
@@ -66,8 +65,9 @@ import numpy as np
 
 from postproc import mpmice_darcy, mpmice_terzaghi
 from postproc.analytic import carman_kozeny_conductivity, darcy_pore_velocity
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
 from postproc.mpmice_io import list_dumps, read_dump
-from postproc.run_case import ROOT, run_mpmice
+from postproc.run_case import run_mpmice
 
 GRAIN_SIZES = (1.0e-3, 1.0e-4, 1.0e-5, 1.0e-6)      # m
 SCHEMES = ("implicit", "explicit")
@@ -418,9 +418,7 @@ def print_table(rows: list[dict]) -> None:
 
 
 def plot(rows: list[dict], path: str) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     from matplotlib.colors import Normalize
     from matplotlib.lines import Line2D
 
@@ -476,20 +474,16 @@ def plot(rows: list[dict], path: str) -> None:
     sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
     fig.colorbar(sm, cax=fig.add_axes([0.9, 0.2, 0.015, 0.68]), label="log10 |error|")
     fig.suptitle("Stiff drag: implicit vs explicit momentum exchange (paper eq. 22, errata E8)")
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
-    parser.add_argument("--nranks", type=int, default=1)
+    parser = study_parser(__doc__, nranks=True)
     parser.add_argument("--max-steps", type=int, default=MAX_STEPS,
                         help="cap of the steps of one Darcy run (default %(default)s)")
     parser.add_argument("--from-csv", metavar="CSV",
                         help="no runs: print and plot the rows of a CSV of an earlier study")
-    args = parser.parse_args(argv)
-    os.makedirs(args.out, exist_ok=True)
+    args = parse_study_args(parser, argv)
     if args.from_csv:
         rows = read_csv(args.from_csv)
         print_table(rows)

@@ -31,7 +31,6 @@ the comparison then measures the discretisation alone (mpmice_terzaghi_quasi_sta
 """
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import tempfile
@@ -41,6 +40,7 @@ import numpy as np
 
 from postproc.analytic import (carman_kozeny_conductivity, oedometer_modulus,
                                terzaghi_degree_of_consolidation, terzaghi_excess_pressure)
+from postproc.figures import pyplot, save_figure, study_parser
 from postproc.mpmice_io import cell_centres, read_run_dumps
 from postproc.run_case import ROOT, run_mpmice
 
@@ -266,9 +266,7 @@ def write_csv(study: dict, path: str) -> None:
 
 
 def plot(study: dict, path: str, profile_cells: int = 100) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     cells = study["cells"]
     shown = min(cells, key=lambda n: abs(n - profile_cells))
@@ -318,8 +316,7 @@ def plot(study: dict, path: str, profile_cells: int = 100) -> None:
     ax.legend(fontsize=8)
     fig.suptitle(f"Isothermal consolidation (MPMICE), c_v = {c_v:.3f} m^2/s, p0 = {p0:.0f} Pa")
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)
 
 
 def report_directory(output_dir: str) -> dict:
@@ -342,8 +339,7 @@ def report_directory(output_dir: str) -> dict:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
+    parser = study_parser(__doc__)
     parser.add_argument("--cells", type=int, nargs="+", default=[25, 50, 100, 200])
     parser.add_argument("--nranks", type=int, default=1)
     parser.add_argument("--dir", help="only compare the dumps of a finished run in DIR")

@@ -25,12 +25,12 @@ with the benchmarks and their 3 % band (mpmice_thermal_cavity_nusselt.png).
 """
 from __future__ import annotations
 
-import argparse
 import os
 import tempfile
 
 import numpy as np
 
+from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
 from postproc.mpmice_io import list_dumps, read_dump
 from postproc.run_case import ROOT, run_mpmice
 
@@ -101,9 +101,7 @@ def run(workdir: str, grain: float, n: int, end: float, nranks: int = 1,
 
 def plot(runs: list[tuple[str, dict]], path: str) -> None:
     """Temperature with velocity arrows, one panel per (title, dump)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     fig, axes = plt.subplots(1, len(runs), figsize=(4.2 * len(runs), 4.0), squeeze=False)
     for ax, (title, dump) in zip(axes[0], runs):
         t = dump["cell"][f"{FLUID}/temperature"][:, :, 0]
@@ -121,15 +119,12 @@ def plot(runs: list[tuple[str, dict]], path: str) -> None:
         fig.colorbar(im, ax=ax, label="T - T0 [K]", shrink=0.8)
     axes[0][0].set_ylabel("y [m]")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def plot_summary(csv_paths: list[str], path: str) -> None:
     """Nu against cells per Ra from the CSVs written by main, with the benchmarks (3 % band)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     rows = []
     for csv in csv_paths:
         data = np.genfromtxt(csv, delimiter=",", names=True)
@@ -149,13 +144,11 @@ def plot_summary(csv_paths: list[str], path: str) -> None:
         ax.legend(fontsize=7)
     axes[0][0].set_ylabel("mean Nusselt number")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=os.path.join(ROOT, "docs", "validation"))
+    parser = study_parser(__doc__)
     parser.add_argument("--ra", type=float, nargs="+", default=[10.0, 100.0, 1000.0])
     parser.add_argument("--paper", action="store_true", help="the paper's d = 1 mm only")
     parser.add_argument("--n", type=int, nargs="+", default=[20, 40])
@@ -165,8 +158,7 @@ def main(argv=None) -> int:
     parser.add_argument("--tag", default="mpmice_thermal_cavity")
     parser.add_argument("--summary", nargs="+", metavar="CSV",
                         help="only draw Nu against cells from these CSVs")
-    args = parser.parse_args(argv)
-    os.makedirs(args.out, exist_ok=True)
+    args = parse_study_args(parser, argv)
     if args.summary:
         plot_summary(args.summary, os.path.join(args.out, "mpmice_thermal_cavity_nusselt.png"))
         return 0
