@@ -73,7 +73,7 @@ from postproc import ice_sod, mpm_bar, mpmice_darcy, mpmice_terzaghi  # noqa: E4
 from postproc import mpmice_stiff_drag as stiff                        # noqa: E402
 from postproc import mpmice_thermal_cavity as cavity                   # noqa: E402
 from postproc.figures import pyplot, save_figure                      # noqa: E402
-from postproc.mpm_common import constrained_modulus, dump_paths, particles, series  # noqa: E402
+from postproc.mpm_common import constrained_modulus, particles, series  # noqa: E402
 from postproc.mpmice_io import list_dumps, read_dump                   # noqa: E402
 from postproc.run_case import ROOT, run_mpmice                         # noqa: E402
 
@@ -312,7 +312,7 @@ def run_bar(work: str, cells: int, shape: str, nranks: int = 1, e_ratio: float =
            "energy_drift": math.nan, "amplitude": math.nan}
     if not os.path.isfile(os.path.join(out, "bar1d_mpm_series.csv")):
         return res
-    paths = dump_paths(out, "bar1d")
+    paths = list_dumps(out, "bar1d")
     _, p0 = particles(paths[0], "bar")
     _, p1 = particles(paths[-1], "bar")
     res["particles_lost"] = lost_particles(run, p0, p1)
@@ -514,7 +514,7 @@ def run_column(work: str, cells: int, shape: str, youngs: float) -> dict:
                     out, "column1d", 1, work)
     res = {"run": run, "u_top_cells": rho * g * height**2 / (2.0 * m) * cells / height,
            "oscillation": math.nan, "stress_error": math.nan}
-    paths = dump_paths(out, "column1d")
+    paths = list_dumps(out, "column1d")
     _, p0 = particles(paths[0], "soil")
     _, p1 = particles(paths[-1], "soil")
     res["particles_lost"] = lost_particles(run, p0, p1)

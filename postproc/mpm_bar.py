@@ -22,7 +22,8 @@ import tempfile
 import numpy as np
 
 from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
-from postproc.mpm_common import dump_paths, particles, series
+from postproc.mpm_common import particles, series
+from postproc.mpmice_io import list_dumps
 from postproc.run_case import ROOT, run_mpmice
 
 NAMELIST = os.path.join(ROOT, "namelists", "mpm_bar_1d.nml")
@@ -47,7 +48,7 @@ def run_bar(workdir: str, cells: int, shape: str, nranks: int = 1, v0: float = V
                 "--set", f"&numerics shape_function = '{shape}' /",
                 "--set", f"&solid name = 'bar', velocity = {v0!r}, 0.0, 0.0 /",
                 "--set", f"&run output_dir = '{out}' /"], nranks=nranks, cwd=workdir)
-    _, p0 = particles(dump_paths(out, "bar1d")[0], "bar")
+    _, p0 = particles(list_dumps(out, "bar1d")[0], "bar")
     x_tip = float(np.max(p0["x"]))
     s = series(out, "bar1d")
     t = np.concatenate([[0.0], s["time"]])

@@ -22,7 +22,8 @@ import tempfile
 import numpy as np
 
 from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
-from postproc.mpm_common import dump_paths, particles, series
+from postproc.mpm_common import particles, series
+from postproc.mpmice_io import list_dumps
 from postproc.run_case import ROOT, run_mpmice
 
 NAMELIST = os.path.join(ROOT, "namelists", "mpm_collapse_2d.nml")
@@ -55,7 +56,7 @@ def run_collapse(workdir: str, a: float, nranks: int = 1, cell: float = 0.01, ex
     run_mpmice([NAMELIST, "--set", f"&solid name = 'sand', upper = {L0}, {a * L0!r}, 1.0 /",
                 "--set", grid, "--set", f"&run output_dir = '{out}' /", *extra], nranks=nranks,
                cwd=workdir, timeout=timeout)
-    paths = dump_paths(out, "collapse2d")
+    paths = list_dumps(out, "collapse2d")
     _, p0 = particles(paths[0], "sand")
     time, p1 = particles(paths[-1], "sand")
     s = series(out, "collapse2d")

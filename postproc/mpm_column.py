@@ -19,7 +19,8 @@ import tempfile
 import numpy as np
 
 from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
-from postproc.mpm_common import constrained_modulus, dump_paths, particles, series
+from postproc.mpm_common import constrained_modulus, particles, series
+from postproc.mpmice_io import list_dumps
 from postproc.run_case import ROOT, run_mpmice
 
 NAMELISTS = os.path.join(ROOT, "namelists")
@@ -42,7 +43,7 @@ def run_column(workdir: str, dim: int, nranks: int = 1, shape: str = "gimp",
                 "--set", f"&run output_dir = '{out}' /",
                 "--set", f"&mpm local_damping = {damping!r} /",
                 "--set", f"&numerics shape_function = '{shape}' /"], nranks=nranks, cwd=workdir)
-    paths = dump_paths(out, name)
+    paths = list_dumps(out, name)
     _, p0 = particles(paths[0], "soil")
     time, p1 = particles(paths[-1], "soil")
     y0 = p0["y"]

@@ -2,18 +2,16 @@
 file written by the 'mpm' scene, elastic constants."""
 from __future__ import annotations
 
-import glob
 import os
 
 import numpy as np
 
-from postproc.mpmice_io import read_dump
+from postproc.mpmice_io import list_dumps, read_dump
 
 
-def dump_paths(output_dir: str, name: str) -> list[str]:
-    """Dumps <name>_<step>.h5 of a run, in step order (checkpoints and failed dumps excluded)."""
-    paths = glob.glob(os.path.join(output_dir, f"{name}_[0-9]*.h5"))
-    return sorted(paths, key=lambda p: int(os.path.basename(p)[len(name) + 1:-3]))
+#: Dumps <name>_<step>.h5 of a run in step order: :func:`postproc.mpmice_io.list_dumps` (the one
+#: implementation; this name is kept for older callers).
+dump_paths = list_dumps
 
 
 def particles(path: str, solid: str) -> tuple[float, dict[str, np.ndarray]]:

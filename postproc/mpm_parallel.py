@@ -14,7 +14,8 @@ import tempfile
 import numpy as np
 
 from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
-from postproc.mpm_common import dump_paths, particles
+from postproc.mpm_common import particles
+from postproc.mpmice_io import list_dumps
 from postproc.run_case import ROOT, run_mpmice
 
 NAMELIST = os.path.join(ROOT, "namelists", "mpm_slide_2d.nml")
@@ -25,7 +26,7 @@ def run(workdir: str, nranks: int, flip: float) -> tuple[dict, dict]:
     out = os.path.join(workdir, f"r{nranks}_f{flip}")
     run_mpmice([NAMELIST, "--set", f"&run output_dir = '{out}' /",
                 "--set", f"&mpm flip_fraction = {flip} /"], nranks=nranks, cwd=workdir)
-    paths = dump_paths(out, "slide2d")
+    paths = list_dumps(out, "slide2d")
     return particles(paths[0], "block")[1], particles(paths[-1], "block")[1]
 
 

@@ -40,14 +40,15 @@ def test_column_3d_neo_hookean(tmp_path):
 
     import numpy as np
 
-    from postproc.mpm_common import constrained_modulus, dump_paths, particles
+    from postproc.mpm_common import constrained_modulus, particles
+    from postproc.mpmice_io import list_dumps
     from postproc.run_case import ROOT, run_mpmice
 
     for nranks in (1, 2):
         out = tmp_path / f"r{nranks}"
         run_mpmice([os.path.join(ROOT, "namelists", "mpm_column_3d.nml"),
                     "--set", f"&run output_dir = '{out}' /"], nranks=nranks, cwd=str(tmp_path))
-        paths = dump_paths(str(out), "column3d")
+        paths = list_dumps(str(out), "column3d")
         _, p0 = particles(paths[0], "soil")
         _, p1 = particles(paths[-1], "soil")
         rho_g, m = 2000.0 * 9.81, constrained_modulus(1.0e7, 0.3)

@@ -6,7 +6,8 @@ import h5py
 import numpy as np
 import pytest
 
-from postproc.mpm_common import dump_paths, particles, series
+from postproc.mpm_common import particles, series
+from postproc.mpmice_io import list_dumps
 from postproc.run_case import ROOT, run_mpmice
 
 NAMELIST = os.path.join(ROOT, "namelists", "mpm_slide_2d.nml")
@@ -32,7 +33,7 @@ def test_rank_invariance_with_crossing_particles(tmp_path, flip):
     ~3e-16 m, 5e-15 m/s, 1.5e-14); more than 50 particles cross x = 0.5 and more than 10 cross
     y = 0.5 (the block boundaries of 2 and 4 ranks), and the block hits the x+ wall."""
     ref_dir = _run(tmp_path, 1, flip)
-    paths = dump_paths(str(ref_dir), "slide2d")
+    paths = list_dumps(str(ref_dir), "slide2d")
     _, start = particles(paths[0], "block")
     _, ref = particles(paths[-1], "block")
     assert np.sum((start["x"] < 0.5) & (ref["x"] > 0.5)) > 50
@@ -40,10 +41,10 @@ def test_rank_invariance_with_crossing_particles(tmp_path, flip):
     assert np.max(series(str(ref_dir), "slide2d")["xmax"]) > 0.97  # reached the wall
     scale = max(np.max(np.abs(ref[f"stress_{c}"])) for c in ("xx", "yy", "xy"))
     for nranks in (2, 4):
-        _, other = particles(dump_paths(str(_run(tmp_path, nranks, flip)), "slide2d")[-1], "block")
+        _, other = particles(list_dumps(str(_run(tmp_path, nranks, flip)), "slide2d")[-1], "block")
         assert np.array_equal(ref["id"], other["id"])
         # cell averages: the particle volume per cell sums to the total particle volume
-        with h5py.File(dump_paths(str(tmp_path / f"r{nranks}_f{flip}"), "slide2d")[-1]) as f:
+        with h5py.File(list_dumps(str(tmp_path / f"r{nranks}_f{flip}"), "slide2d")[-1]) as f:
             fraction = f["cell/block/volume_fraction"][...]
             assert abs(fraction.sum() * 0.05 ** 2 - np.sum(other["volume"])) < 1e-12
         for c in ("x", "y"):
@@ -66,7 +67,7 @@ def test_restart_is_bitwise_identical(tmp_path, nranks):
     assert checkpoint.is_file()
     run_mpmice(["--restart", str(checkpoint), "--set", "&run max_steps = 0 /"], nranks=nranks,
                cwd=str(tmp_path))
-    full_dumps = dump_paths(str(full), "slide2d")
+    full_dumps = list_dumps(str(full), "slide2d")
     assert len(full_dumps) == 3  # t = 0, 0.06, 0.12
     for path in full_dumps:
         other = half / os.path.basename(path)

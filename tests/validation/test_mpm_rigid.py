@@ -6,7 +6,8 @@ import os
 import numpy as np
 import pytest
 
-from postproc.mpm_common import dump_paths, particles, series
+from postproc.mpm_common import particles, series
+from postproc.mpmice_io import list_dumps
 from postproc.run_case import ROOT, run_mpmice
 
 NAMELIST = os.path.join(ROOT, "namelists", "mpm_shaking_1d.nml")
@@ -28,7 +29,7 @@ def test_shaking_table(tmp_path, nranks):
                cwd=str(tmp_path))
     a, f, c, length = 1.0, 5.0, 100.0, 0.8
     w = 2.0 * math.pi * f
-    paths = dump_paths(str(out), "shaking1d")
+    paths = list_dumps(str(out), "shaking1d")
     _, start = particles(paths[0], "table")
     for path in paths[1:]:
         time, now = particles(path, "table")
@@ -56,7 +57,7 @@ def test_shaking_table_stops_after_its_duration(tmp_path, duration):
     a, f = 1.0, 5.0
     w = 2.0 * math.pi * f
     v_end = -a / w + a * (1.0 - math.cos(w * duration)) / w
-    paths = dump_paths(str(out), "shaking1d")
+    paths = list_dumps(str(out), "shaking1d")
     assert len(paths) == 5
     _, start = particles(paths[0], "table")
     for path in paths[1:]:
