@@ -1,13 +1,13 @@
 """Coupled scene (`mpmice`) on several ranks and in more dimensions than the physics needs:
 decomposition invariance (1, 2, 4 ranks), a 2D column equal to the 1D one, and a bitwise-identical
 continuation from a checkpoint."""
-import glob
 import os
 
 import h5py
 import numpy as np
 import pytest
 
+from postproc.mpmice_io import list_dumps
 from postproc.run_case import ROOT, run_mpmice
 
 TERZAGHI = os.path.join(ROOT, "namelists", "mpmice_terzaghi_1d.nml")
@@ -33,10 +33,6 @@ SIDE_WALLS = """
 @pytest.fixture(autouse=True)
 def _executable(mpmice_exe, monkeypatch):
     monkeypatch.setenv("MPMICE_EXE", str(mpmice_exe))
-
-
-def _dumps(out, name):
-    return sorted(p for p in glob.glob(os.path.join(out, f"{name}_[0-9]*.h5")))
 
 
 def _run(tmp_path, namelist, label, nranks, *sets):
@@ -65,8 +61,8 @@ def test_terzaghi_rank_invariance(tmp_path, nranks):
     solves the tridiagonal system directly, more ranks with hypre PCG: their difference is the
     solver tolerance), particle positions to 1e-13 m, effective stress to 1e-9 p0."""
     sets = ("&grid ncells = 1, 40, 1 /", "&run end_time = 0.02, output_interval = 0.01 /")
-    one = _dumps(_run(tmp_path, TERZAGHI, "r1", 1, *sets), "terzaghi")
-    many = _dumps(_run(tmp_path, TERZAGHI, f"r{nranks}", nranks, *sets), "terzaghi")
+    one = list_dumps(_run(tmp_path, TERZAGHI, "r1", 1, *sets), "terzaghi")
+    many = list_dumps(_run(tmp_path, TERZAGHI, f"r{nranks}", nranks, *sets), "terzaghi")
     assert len(one) == len(many) == 3
     c1, p1 = _fields(one[-1], "soil")
     cn, pn = _fields(many[-1], "soil")
@@ -83,8 +79,8 @@ def test_darcy_rank_invariance(tmp_path, nranks):
     """20-cell Darcy channel to t = 0.02 s on 2 and 4 ranks (blocks split inside the porous
     column) equals 1 rank: pressure to 1e-9 of the drop, velocities to 1e-12 m/s."""
     sets = ("&run end_time = 0.02, output_interval = 0.01 /",)
-    one = _dumps(_run(tmp_path, DARCY, "r1", 1, *sets), "darcy")[-1]
-    many = _dumps(_run(tmp_path, DARCY, f"r{nranks}", nranks, *sets), "darcy")[-1]
+    one = list_dumps(_run(tmp_path, DARCY, "r1", 1, *sets), "darcy")[-1]
+    many = list_dumps(_run(tmp_path, DARCY, f"r{nranks}", nranks, *sets), "darcy")[-1]
     with h5py.File(one) as a, h5py.File(many) as b:
         dp = 0.5 * P_REF
         assert np.max(np.abs(a["cell/pressure"][...] - b["cell/pressure"][...])) < 1e-9 * dp
@@ -101,13 +97,13 @@ def test_terzaghi_2d_equals_1d(tmp_path, nranks, dims):
     with open(TERZAGHI) as src:
         nml.write_text(src.read() + SIDE_WALLS)
     sets = ("&run end_time = 0.02, output_interval = 0.02 /",)
-    ref = _dumps(_run(tmp_path, TERZAGHI, "r1d", 1, "&grid ncells = 1, 40, 1 /", *sets),
-                 "terzaghi")[-1]
+    ref = list_dumps(_run(tmp_path, TERZAGHI, "r1d", 1, "&grid ncells = 1, 40, 1 /", *sets),
+                     "terzaghi")[-1]
     out = _run(tmp_path, str(nml), f"2d_r{nranks}", nranks,
                f"&grid ncells = 4, 40, 1, upper = 0.1, 1.0, 0.01, dims = {dims} /",
                "&solid name='soil', upper = 0.1, 1.0, 0.01, particles_per_cell = 2, 1, 1 /",
                *sets)
-    two = _dumps(out, "terzaghi")[-1]
+    two = list_dumps(out, "terzaghi")[-1]
     with h5py.File(ref) as a, h5py.File(two) as b:
         p1 = a["cell/pressure"][...].reshape(40)
         p2 = b["cell/pressure"][...].reshape(40, 4)
@@ -121,13 +117,13 @@ def test_restart_is_bitwise_identical(tmp_path, nranks):
     """Run to t = 0.012 s; run 100 steps (checkpoint at the stop), restart, finish: the last
     dump's fields are bitwise equal (cells, particles and the solid fraction the fluids see)."""
     sets = ("&grid ncells = 1, 40, 1 /", "&run end_time = 0.012 /")
-    full = _dumps(_run(tmp_path, TERZAGHI, f"full{nranks}", nranks, *sets), "terzaghi")[-1]
+    full = list_dumps(_run(tmp_path, TERZAGHI, f"full{nranks}", nranks, *sets), "terzaghi")[-1]
     half_dir = _run(tmp_path, TERZAGHI, f"half{nranks}", nranks, *sets, "&run max_steps = 100 /")
     checkpoint = os.path.join(half_dir, "terzaghi_checkpoint_000100.h5")
     assert os.path.isfile(checkpoint)
     run_mpmice(["--restart", checkpoint, "--set", "&run max_steps = 0 /"], nranks=nranks,
                cwd=str(tmp_path))
-    cont = _dumps(half_dir, "terzaghi")[-1]
+    cont = list_dumps(half_dir, "terzaghi")[-1]
     assert os.path.basename(cont) == os.path.basename(full)
     c1, p1 = _fields(full, "soil")
     c2, p2 = _fields(cont, "soil")
@@ -147,7 +143,7 @@ def test_submerged_block_2d(tmp_path):
     field finite, the water velocity below 0.2 m/s away from the free surface, and the 2-rank
     run equal to the 1-rank one (pressure to 1e-9 of its range, particle positions to 1e-12 m)."""
     sets = ("&run end_time = 0.1, output_interval = 0.05 /",)
-    runs = [_dumps(_run(tmp_path, BLOCK, f"r{n}", n, *sets), "block2d") for n in (1, 2)]
+    runs = [list_dumps(_run(tmp_path, BLOCK, f"r{n}", n, *sets), "block2d") for n in (1, 2)]
     with h5py.File(runs[0][0]) as first, h5py.File(runs[0][-1]) as last:
         w0 = first["cell/water/density"][...].sum()
         assert abs(last["cell/water/density"][...].sum() / w0 - 1.0) < 1e-12
