@@ -89,9 +89,7 @@ contains
       do j = grid%lo(2), grid%hi(2)
         do i = grid%lo(1), grid%hi(1)
           cell = [i, j, k]
-          do d = 1, 3
-            xc(d) = cell_centre(grid, d, cell(d))
-          end do
+          xc = cell_centre(grid, [1, 2, 3], cell)
           diag(i, j, k) = reaction
           rhs(i, j, k) = mms_source(grid, xc, reaction)
           do d = 1, 3
@@ -127,15 +125,12 @@ contains
     real(wp), intent(in) :: x(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)  !< discrete solution
     real(wp) :: error
     real(wp) :: sums(2), xc(3)
-    integer :: i, j, k, d, cell(3)
+    integer :: i, j, k
     sums = 0.0_wp
     do k = grid%lo(3), grid%hi(3)
       do j = grid%lo(2), grid%hi(2)
         do i = grid%lo(1), grid%hi(1)
-          cell = [i, j, k]
-          do d = 1, 3
-            xc(d) = cell_centre(grid, d, cell(d))
-          end do
+          xc = cell_centre(grid, [1, 2, 3], [i, j, k])
           sums(1) = sums(1) + grid%cell_volume * (x(i, j, k) - mms_exact(grid, xc))**2
           sums(2) = sums(2) + grid%cell_volume
         end do
