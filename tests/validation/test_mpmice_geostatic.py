@@ -10,7 +10,6 @@ import os
 
 import h5py
 import numpy as np
-import pytest
 
 from postproc.mpmice_io import list_dumps
 from postproc.run_case import ROOT, run_mpmice
