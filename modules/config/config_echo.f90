@@ -175,6 +175,7 @@ contains
       call add('conductivity', real_repr(p%conductivity))
       call add('porosity', real_repr(p%porosity))
       call add('max_porosity', real_repr(p%max_porosity))
+      call add('min_porosity', real_repr(p%min_porosity))
       call add('grain_size', real_repr(p%grain_size))
       call add('prescribed_velocity', reals_repr(p%prescribed_velocity))
       call add('acceleration_amplitude', reals_repr(p%acceleration_amplitude))

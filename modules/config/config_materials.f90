@@ -162,6 +162,8 @@ module config_materials
     real(wp) :: conductivity = 0.4_wp                    !< thermal conductivity [W/m/K]
     real(wp) :: porosity = 0.0_wp                        !< porosity n
     real(wp) :: max_porosity = 1.0_wp                    !< loosest packing (1: never loose)
+    real(wp) :: min_porosity = 0.0_wp                    !< densest packing: a contractant sand
+                                                         !< (dilation_angle < 0) stops compacting
     real(wp) :: grain_size = 1.0e-3_wp                   !< grain diameter [m]
     real(wp) :: prescribed_velocity(3) = [0.0_wp, 0.0_wp, 0.0_wp]    !< rigid velocity [m/s]
     real(wp) :: acceleration_amplitude(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< rigid A [m/s^2]

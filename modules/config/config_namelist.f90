@@ -142,6 +142,7 @@ module config_namelist
     variable_info_t('solid', 'conductivity', 'r', 1, 0), &
     variable_info_t('solid', 'porosity', 'r', 1, 0), &
     variable_info_t('solid', 'max_porosity', 'r', 1, 0), &
+    variable_info_t('solid', 'min_porosity', 'r', 1, 0), &
     variable_info_t('solid', 'grain_size', 'r', 1, 0), &
     variable_info_t('solid', 'prescribed_velocity', 'r', 3, 0), &
     variable_info_t('solid', 'acceleration_amplitude', 'r', 3, 0), &

@@ -210,14 +210,14 @@ contains
     real(wp) :: plane_point(3), plane_normal(3), rotation_deg, velocity(3), temperature
     real(wp) :: heat_capacity, conductivity, porosity, grain_size, prescribed_velocity(3)
     real(wp) :: acceleration_amplitude(3), acceleration_frequency, velocity_wavenumber(3)
-    real(wp) :: acceleration_duration, max_porosity
+    real(wp) :: acceleration_duration, max_porosity, min_porosity
     integer :: npoints, particles_per_cell(3)
     logical :: tension_cutoff, geostatic
     namelist /solid/ name, model, density, youngs_modulus, poisson_ratio, cohesion, &
       friction_angle, dilation_angle, tension_cutoff, tensile_strength, k0, geostatic, shape, &
       lower, upper, npoints, polygon_x, polygon_y, plane_point, plane_normal, rotation_deg, &
       particles_per_cell, velocity, temperature, heat_capacity, conductivity, porosity, &
-      max_porosity, grain_size, prescribed_velocity, acceleration_amplitude, &
+      max_porosity, min_porosity, grain_size, prescribed_velocity, acceleration_amplitude, &
       acceleration_frequency, acceleration_duration, velocity_wavenumber, drag_law, &
       drag_coefficient, grain_bulk_modulus, traction, traction_lower, traction_upper, &
       traction_ramp_time
@@ -249,6 +249,7 @@ contains
     conductivity = p%conductivity
     porosity = p%porosity
     max_porosity = p%max_porosity
+    min_porosity = p%min_porosity
     grain_size = p%grain_size
     prescribed_velocity = p%prescribed_velocity
     acceleration_amplitude = p%acceleration_amplitude
@@ -292,6 +293,7 @@ contains
     p%conductivity = conductivity
     p%porosity = porosity
     p%max_porosity = max_porosity
+    p%min_porosity = min_porosity
     p%grain_size = grain_size
     p%prescribed_velocity = prescribed_velocity
     p%acceleration_amplitude = acceleration_amplitude

@@ -231,8 +231,9 @@ contains
       call check_real(err, g, 'friction_angle', p%friction_angle, '0..89 [deg]', &
         min_value=0.0_wp, max_value=89.0_wp)
       if (err%found) return
-      call check_real(err, g, 'dilation_angle', p%dilation_angle, '0..friction_angle (' // &
-        real_repr(p%friction_angle) // ') [deg]', min_value=0.0_wp, max_value=p%friction_angle)
+      call check_real(err, g, 'dilation_angle', p%dilation_angle, '-friction_angle..' // &
+        'friction_angle (' // real_repr(p%friction_angle) // ') [deg]', &
+        min_value=-p%friction_angle, max_value=p%friction_angle)
       call non_negative(err, g, 'tensile_strength', p%tensile_strength, ' [Pa]')
       if (err%found) return
       if (p%friction_angle > 0.0_wp) then
@@ -264,6 +265,7 @@ contains
             max_value=1.0_wp, min_open=.true.)
         end if
       end if
+      call check_min_porosity(p, g, err)
       call positive_real(err, g, 'grain_size', p%grain_size, ' [m]')
       call check_finite(err, g, 'prescribed_velocity', p%prescribed_velocity, ' [m/s]')
       call check_finite(err, g, 'acceleration_amplitude', p%acceleration_amplitude, ' [m/s^2]')
@@ -455,6 +457,25 @@ contains
       call check_velocity_history(p, g, err)
     end associate
   end subroutine check_boundary
+
+  !> `min_porosity` of one `&solid` (label `g`): 0 (off), or for a contractant Mohr-Coulomb
+  !! solid (dilation_angle < 0, which then needs it) 0 < value < porosity.
+  subroutine check_min_porosity(p, g, err)
+    type(solid_params_t), intent(in) :: p       !< the group
+    character(len=*), intent(in) :: g           !< group label
+    type(config_error_t), intent(inout) :: err  !< problem record
+    if (err%found) return
+    if (trim(p%model) == 'mohr_coulomb' .and. p%dilation_angle < 0.0_wp) then
+      call check_real(err, g, 'min_porosity', p%min_porosity, '0 < value < porosity (' // &
+        real_repr(p%porosity) // '): a contractant sand (dilation_angle < 0) needs its ' // &
+        'densest packing', min_value=0.0_wp, max_value=p%porosity, min_open=.true., &
+        max_open=.true.)
+    else if (p%min_porosity /= 0.0_wp) then
+      call check_real(err, g, 'min_porosity', p%min_porosity, '0 (only a mohr_coulomb ' // &
+        'solid with dilation_angle < 0 compacts plastically)', min_value=0.0_wp, &
+        max_value=0.0_wp)
+    end if
+  end subroutine check_min_porosity
 
   !> `inflow_fluid` of one `&boundary` (label `g`): empty, or the name of a `&fluid` on a face
   !! that fluid can enter (fluid = 'pressure', 'inflow' or 'outflow').

@@ -31,6 +31,9 @@ module mpm_constitutive
     !> Mohr-Coulomb: J = det F beyond which the grains lose contact (the porosity
     !! 1 - (1 - n0) / J passes `&solid max_porosity`): no effective stress, no stiffness
     real(wp) :: j_loose = huge(1.0_wp)
+    !> J at which a contractant Mohr-Coulomb particle (psi < 0) reaches its densest packing
+    !! (porosity `&solid min_porosity`): from there it flows at psi = 0 (no further compaction)
+    real(wp) :: j_dense = 0.0_wp
   end type material_t
 
 contains
@@ -121,6 +124,7 @@ contains
     real(wp), intent(inout) :: stress(6)             !< Cauchy stress [Pa]
     real(wp), intent(inout) :: plastic_strain        !< equivalent plastic strain [-]
     real(wp) :: r(3, 3), deps(6), dep
+    type(mc_params_t) :: dense
     select case (mat%model)
     case (model_neo_hookean)
       stress = neo_hookean_stress(mat%lambda, mat%mu, f)
@@ -138,7 +142,14 @@ contains
       deps = rotate_to(r, mat_to_sym(l) * dt)                ! eq. 14
       stress_unrot = stress_unrot + elastic_increment(mat%lambda, mat%mu, deps)
       if (mat%model == model_mohr_coulomb) then
-        call mc_return(mat%mc, stress_unrot, dep)            ! eq. 17
+        if (mat%mc%psi < 0.0_wp .and. det3(f) <= mat%j_dense) then
+          ! contractant sand at its densest packing: plastic flow without volume change
+          dense = mat%mc
+          dense%psi = 0.0_wp
+          call mc_return(dense, stress_unrot, dep)
+        else
+          call mc_return(mat%mc, stress_unrot, dep)          ! eq. 17
+        end if
         plastic_strain = plastic_strain + dep
       end if
       stress = rotate_from(r, stress_unrot)                  ! eq. 15

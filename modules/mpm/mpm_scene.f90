@@ -112,6 +112,8 @@ contains
           sp%dilation_angle, sp%tension_cutoff, sp%tensile_strength)
         if (sp%max_porosity < 1.0_wp) self%mats(s)%j_loose = (1.0_wp - sp%porosity) / &
           (1.0_wp - sp%max_porosity)
+        if (sp%min_porosity > 0.0_wp) self%mats(s)%j_dense = (1.0_wp - sp%porosity) / &
+          (1.0_wp - sp%min_porosity)
         self%motions(s) = rigid_motion_t(sp%prescribed_velocity, sp%acceleration_amplitude, &
           sp%acceleration_frequency, sp%acceleration_duration)
         call seed_solid(self%parts(s), sp, grid, self%gravity)

@@ -171,6 +171,15 @@ BAD_MPMICE_INPUTS = [
     ("traction_box_empty", "&solid name = 's2', upper = 1, 1, 1, traction = 5, 0, 0 /", [],
      ["case.nml", "&solid(2) traction_upper = 0.0, 0.0, 0.0", "traction_lower",
       "(5.0, 0.0, 0.0)"]),
+    ("contractant_without_min_porosity", "", ["&solid name = 'soil', model = 'mohr_coulomb', "
+                                               "friction_angle = 30, dilation_angle = -5 /"],
+     ["case.nml", "&solid(1) min_porosity = 0.0", "0 < value < porosity (0.3)",
+      "densest packing"]),
+    ("min_porosity_not_contractant", "", ["&solid name = 'soil', min_porosity = 0.2 /"],
+     ["--set", "&solid(1) min_porosity = 0.2", "dilation_angle < 0"]),
+    ("dilation_below_minus_friction", "", ["&solid name = 'soil', model = 'mohr_coulomb', "
+                                            "friction_angle = 30, dilation_angle = -40 /"],
+     ["--set", "&solid(1) dilation_angle = -40.0", "-friction_angle..friction_angle (30.0)"]),
     ("traction_ramp_time_negative", "", ["&solid name = 'soil', traction_ramp_time = -1 /"],
      ["--set", "&solid(1) traction_ramp_time = -1.0", ">= 0 [s]"]),
     ("grain_size_zero_rigid",
