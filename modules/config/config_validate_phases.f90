@@ -84,10 +84,11 @@ contains
         min_value=0.0_wp, max_value=10.0_wp)
       call check_real(err, 'ice', 'interface_compression', p%interface_compression, &
         '0..4 (0: off; > 0 needs exactly two &fluid groups)', min_value=0.0_wp, max_value=4.0_wp)
-      if (.not. err%found .and. p%interface_compression > 0.0_wp .and. cfg%nfluids /= 2) &
+      if (.not. err%found .and. p%interface_compression > 0.0_wp .and. cfg%nfluids /= 2) then
         call set_error(err, 'ice', 'interface_compression', real_repr(p%interface_compression), &
         '0 with ' // ints_repr([cfg%nfluids]) // ' &fluid groups (compression acts between ' // &
         'exactly two)')
+      end if
     end associate
     associate (p => cfg%mpm)
       call check_real(err, 'mpm', 'flip_fraction', p%flip_fraction, &

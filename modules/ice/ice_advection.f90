@@ -109,8 +109,9 @@ contains
               if (state%solid%present .and. order > 1) then
                 do i = i1, i2
                   cu = [i, j, k] - merge(o, 0 * o, pos(i))
-                  if (soil_surface(state%solid%vfrac, grid, cu, o)) &
+                  if (soil_surface(state%solid%vfrac, grid, cu, o)) then
                     qf(i) = f%rho(cu(1), cu(2), cu(3))
+                  end if
                 end do
               end if
               do i = i1, i2
@@ -314,8 +315,9 @@ contains
       r = state%inflow_fluid(face)
       u = inward * state%fluid(m)%uface(i, j, k, d)
       if (r == 0) then
-        if (state%solid%present .and. .not. state%closed(face) .and. u > 0.0_wp) &
+        if (state%solid%present .and. .not. state%closed(face) .and. u > 0.0_wp) then
           mflux(i) = state%fluid(m)%rho(c(1), c(2), c(3)) * (inward * u * dt * area)
+        end if
         cycle
       end if
       if (u > 0.0_wp) mflux(i) = 0.0_wp

@@ -69,8 +69,9 @@ contains
     do f = 1, 6
       b = boundary_for_face(cfg, f)
       do m = 1, cfg%nfluids
-        if (cfg%fluids(m)%name == b%inflow_fluid .and. len_trim(b%inflow_fluid) > 0) &
+        if (cfg%fluids(m)%name == b%inflow_fluid .and. len_trim(b%inflow_fluid) > 0) then
           bc%inflow_fluid(f) = m
+        end if
       end do
       bc%no_slip(f) = .false.
       select case (trim(b%fluid))

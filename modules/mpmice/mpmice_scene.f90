@@ -226,9 +226,10 @@ contains
     ! geostatic stress: the skeleton carries the grains' submerged weight (a restart has it)
     if (.not. self%so%restored) then
       do s = 1, ns
-        if (cfg%solids(s)%geostatic .and. .not. self%coupling(s)%rigid) &
+        if (cfg%solids(s)%geostatic .and. .not. self%coupling(s)%rigid) then
           call buoyant_geostatic_stress(self%so%parts(s), self%fl%state, grid, &
           cfg%solids(s)%density)
+        end if
       end do
     end if
     call log_info('mpmice: ' // int_text(ns) // ' solids, ' // int_text(cfg%nfluids) // &
@@ -605,8 +606,9 @@ contains
           do m = 1, nf
             associate (f => state%fluid(m))
               if (f%rho(i, j, k) >= trace * total) cycle
-              if (f%rho(i, j, k) < 0.0_wp .and. f%rho(i, j, k) >= -trace * total) &
+              if (f%rho(i, j, k) < 0.0_wp .and. f%rho(i, j, k) >= -trace * total) then
                 f%rho(i, j, k) = 0.0_wp
+              end if
               f%temp(i, j, k) = t_mix / total
               f%vel(i, j, k, :) = u_mix / total
             end associate
