@@ -98,6 +98,9 @@ contains
     else
       clock%time = clock%time + dt
     end if
+    ! the end time too: a checkpoint series may land round-off short of it (3 x 0.15 =
+    ! 0.45 - 6e-17 s), which left a last step of 6e-17 s (below dt_min: the run failed at its end)
+    if (reached(clock%end_time, clock%time, dt)) clock%time = max(clock%time, clock%end_time)
     ! an event counts as reached within the same round-off: the output and checkpoint series
     ! hit "the same" time by different products (60 x 0.01 = 0.6 but 6 x 0.1 = 0.6 + 1e-16),
     ! which left a step of 1e-16 s to the second one (below dt_min: the run stopped)
