@@ -32,7 +32,7 @@ module mpmice_solid_cells
   use ice_state, only: ice_state_t
   use ice_face_velocity, only: face_range, closed_face, face_index, upwind
   use ice_pressure, only: solid_face_fraction
-  use exchange_drag, only: drag_reduced_coefficient
+  use exchange_drag, only: drag_reduced_coefficient, drag_impermeable
   use mpmice_solid_coupling, only: solid_coupling_t, surface_body_fraction
   use mpmice_rigid_contact, only: wall_fraction, body_face, wall_neighbours, wall_plane, &
     partner_fields
@@ -275,7 +275,8 @@ contains
     real(wp), intent(in) :: max_fraction        !< largest solid fraction [-]
     real(wp), intent(out) :: phi_p(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< particle fraction
     integer :: i, j, k, s, m, ns
-    real(wp) :: vol, phi, cs, rho_f, slip, wsum, phi_body, scale
+    real(wp) :: vol, phi, cs, rho_f, slip, wsum, phi_body, scale, vol_imp, phi_imp
+    logical :: mixed
     ns = size(solids)
     associate (sp => state%solid)
       sp%face_fraction = 0.0_wp
@@ -321,10 +322,30 @@ contains
               cycle
             end if
             sp%spvol(i, j, k) = vol / dep(1, i, j, k)
-            ! a cell crossed by the soil's surface: the drag of the body's fraction over the
-            ! share phi / phi_body of the cell the body fills (series resistance, below)
-            phi_body = surface_body_fraction(grid, dep, ns, [i, j, k], phi, max_fraction)
-            scale = (1.0_wp - phi) / (1.0_wp - phi_body)
+            ! impermeable solids share the cell with permeable ones (a soil on a structure whose
+            ! face cuts the cell): the pore fluid lies in the permeable part, (1 - phi_imp) of
+            ! the cell, at its own fraction phi_k = phi_perm / (1 - phi_imp); the drag is the
+            ! permeable solids' c(phi_k) / (1 - phi_imp) per phi_perm, the impermeable ones only
+            ! take volume (the same pressure drop per length as that part: phi_perm c = phi_k
+            ! c(phi_k)). Weighted by the impermeable solids' share too, the drag was theirs,
+            ! 1e15: it sealed the soil's pores in the cell, whose water then kept every volume
+            ! change as pressure (+0.65 MPa stuck in the layer over the shaking base).
+            vol_imp = 0.0_wp
+            do s = 1, ns
+              if (solids(s)%drag_law == drag_impermeable) vol_imp = vol_imp + dep(2 + s, i, j, k)
+            end do
+            mixed = vol_imp > 0.0_wp .and. vol_imp < vol
+            if (mixed) then
+              phi_imp = min(vol_imp / grid%cell_volume, max_fraction)
+              phi_body = min((vol - vol_imp) / grid%cell_volume / (1.0_wp - phi_imp), &
+                max_fraction)
+              scale = 1.0_wp / (1.0_wp - phi_imp)
+            else
+              ! a cell crossed by the soil's surface: the drag of the body's fraction over the
+              ! share phi / phi_body of the cell the body fills (series resistance, below)
+              phi_body = surface_body_fraction(grid, dep, ns, [i, j, k], phi, max_fraction)
+              scale = (1.0_wp - phi) / (1.0_wp - phi_body)
+            end if
             do m = 1, state%nfluids
               associate (f => state%fluid(m))
                 rho_f = 1.0_wp / max(f%spvol(i, j, k), tiny(1.0_wp))
@@ -333,10 +354,11 @@ contains
                 wsum = 0.0_wp
                 do s = 1, ns
                   if (dep(2 + s, i, j, k) <= 0.0_wp) cycle
+                  wsum = wsum + dep(2 + s, i, j, k)
+                  if (mixed .and. solids(s)%drag_law == drag_impermeable) cycle
                   cs = cs + dep(2 + s, i, j, k) * scale * drag_reduced_coefficient( &
                     solids(s)%drag_law, phi_body, solids(s)%grain_size, f%viscosity, rho_f, &
                     slip, solids(s)%drag_coefficient)
-                  wsum = wsum + dep(2 + s, i, j, k)
                 end do
                 sp%drag(i, j, k, m) = cs / wsum
               end associate
