@@ -95,6 +95,7 @@ contains
     call add('local_damping', real_repr(cfg%mpm%local_damping))
     call add('rigid_contact', quoted(cfg%mpm%rigid_contact))
     call add('contact_friction', real_repr(cfg%mpm%contact_friction))
+    call add('cache_static_rigid', logicals_repr([cfg%mpm%cache_static_rigid]))
     text = text // '/' // nl // '&coupling' // nl
     call add('drag_scheme', quoted(cfg%coupling%drag_scheme))
     call add('heat_exchange_coefficient', real_repr(cfg%coupling%heat_exchange_coefficient))

@@ -88,6 +88,8 @@ module config_materials
     real(wp) :: local_damping = 0.0_wp               !< local (Cundall) damping factor 0..1
     character(len=name_len) :: rigid_contact = 'no_slip' !< one of rigid_contact_names
     real(wp) :: contact_friction = 0.0_wp            !< Coulomb coefficient of 'friction' [-]
+    logical :: cache_static_rigid = .true.           !< keep the grid share of static rigid
+                                                     !! solids (.false.: recompute every step)
   end type mpm_params_t
 
   !> `&coupling`: fluid-solid coupling of scene 'mpmice'.

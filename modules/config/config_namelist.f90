@@ -94,6 +94,7 @@ module config_namelist
     variable_info_t('mpm', 'local_damping', 'r', 1, 0), &
     variable_info_t('mpm', 'rigid_contact', 'c', 1, name_len), &
     variable_info_t('mpm', 'contact_friction', 'r', 1, 0), &
+    variable_info_t('mpm', 'cache_static_rigid', 'l', 1, 0), &
     variable_info_t('coupling', 'drag_scheme', 'c', 1, name_len), &
     variable_info_t('coupling', 'heat_exchange_coefficient', 'r', 1, 0), &
     variable_info_t('coupling', 'max_solid_fraction', 'r', 1, 0), &

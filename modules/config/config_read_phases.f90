@@ -81,9 +81,11 @@ contains
     character(len=*), intent(inout) :: iomsg !< iomsg
     real(wp) :: flip_fraction, gravity_ramp_time, local_damping, contact_friction
     character(len=name_len) :: rigid_contact
+    logical :: cache_static_rigid
     namelist /mpm/ flip_fraction, gravity_ramp_time, local_damping, rigid_contact, &
-      contact_friction
+      contact_friction, cache_static_rigid
     flip_fraction = p%flip_fraction
+    cache_static_rigid = p%cache_static_rigid
     rigid_contact = p%rigid_contact
     contact_friction = p%contact_friction
     gravity_ramp_time = p%gravity_ramp_time
@@ -95,6 +97,7 @@ contains
     p%local_damping = local_damping
     p%rigid_contact = rigid_contact
     p%contact_friction = contact_friction
+    p%cache_static_rigid = cache_static_rigid
   end subroutine read_mpm
 
   !> `&coupling`.

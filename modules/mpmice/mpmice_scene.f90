@@ -47,10 +47,10 @@ module mpmice_scene
   use ice_bc, only: ice_bc_fill, bc_pressure, bc_scalar, bc_temperature, bc_wall, bc_free_slip
   use ice_exchange, only: ice_exchange_faces, ice_exchange_cells
   use ice_viscous, only: ice_viscous_sources
-  use mpm_scene, only: mpm_scene_t, move_rigid, mpm_migrate_all
+  use mpm_scene, only: mpm_scene_t, move_rigid, mpm_migrate_all, p2g_solids
   use mpm_constitutive, only: model_rigid
   use mpm_rigid, only: rigid_is_static
-  use mpm_p2g, only: p2g_accumulate, p2g_accumulate_rigid, p2g_complete
+  use mpm_p2g, only: p2g_accumulate_rigid, p2g_complete
   use mpm_nodal, only: nodal_solve, nodal_finish, nodal_bc_at_time, bc_traction
   use mpm_g2p, only: g2p_update
   use mpm_loads, only: surface_load_t, surface_load_init, surface_load_scatter, &
@@ -80,6 +80,9 @@ module mpmice_scene
     type(surface_load_t), allocatable :: loads(:)         !< surface load per solid
     type(halo_t) :: halo                                  !< buffers for the cell deposits
     real(wp), allocatable :: dep(:, :, :, :)              !< particle deposits (comp, cells)
+    real(wp), allocatable :: static_dep(:, :, :, :)       !< the static rigid solids' share of
+                                                          !! dep, kept (`mpm_scene_t%static`)
+    logical :: static_dep_ready = .false.                 !< static_dep holds that share
     real(wp), allocatable :: phi_p(:, :, :)               !< particles' solid fraction
     real(wp), allocatable :: du(:, :, :, :)               !< face increments, rigid-face flags
                                                           !! (6, nodes)
@@ -175,6 +178,7 @@ contains
     self%fl%state%solid%h_exchange = cfg%coupling%heat_exchange_coefficient
     allocate(self%dep(deposit_size(ns), grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
+    if (any(self%so%static)) allocate(self%static_dep, mold=self%dep)
     allocate(self%du(6, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
       grid%lbn(3):grid%ubn(3)), source=0.0_wp)
     allocate(self%contact_dv(3, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
@@ -245,8 +249,23 @@ contains
     real(wp), intent(in), optional :: dt          !< step [s]: face-plane fractions swept over it
     integer :: s, ns
     ns = size(self%coupling)
-    self%dep = 0.0_wp
+    ! a static rigid solid deposits the same every step (no motion, no sweep; its heat only
+    ! when the solid's conduction changed its temperature): kept in static_dep
+    if (allocated(self%static_dep)) then
+      if (.not. self%static_dep_ready) then
+        self%static_dep = 0.0_wp
+        do s = 1, ns
+          if (self%so%static(s)) call solid_deposit(self%so%parts(s), s, ns, &
+            self%coupling(s), grid, self%static_dep, self%fl%state%solid%sliding)
+        end do
+        self%static_dep_ready = .true.
+      end if
+      self%dep = self%static_dep
+    else
+      self%dep = 0.0_wp
+    end if
     do s = 1, ns
+      if (self%so%static(s)) cycle
       call solid_deposit(self%so%parts(s), s, ns, self%coupling(s), grid, self%dep, &
         self%fl%state%solid%sliding, self%fl%state%solid%frac_rigid, dt)
     end do
@@ -286,15 +305,11 @@ contains
     associate (fl => self%fl, so => self%so, st => self%fl%state)
       ! MPM: P2G with the effective stress and the loads, nodal v^{L-}
       call timer_start(timers, so%t_p2g)
-      so%nodes%q = 0.0_wp
+      call p2g_solids(so, grid)
       do s = 1, so%nsolids
-        if (so%mats(s)%model == model_rigid) then
-          call p2g_accumulate_rigid(so%parts(s), so%nodes%q, so%shape_kind, grid)
-        else
-          call p2g_accumulate(so%parts(s), so%nodes%q, so%shape_kind, grid)
-          call surface_load_scatter(self%loads(s), so%parts(s), so%nodes%q, so%shape_kind, &
-            grid, time + dt)
-        end if
+        if (so%mats(s)%model == model_rigid) cycle
+        call surface_load_scatter(self%loads(s), so%parts(s), so%nodes%q, so%shape_kind, &
+          grid, time + dt)
       end do
       call p2g_complete(so%nodes, dom, grid, so%halo)
       call timer_stop(timers, so%t_p2g)
@@ -393,6 +408,7 @@ contains
         do s = 1, so%nsolids
           call solid_heat_to_particles(so%parts(s), grid, self%dtemp)
         end do
+        self%static_dep_ready = .false.  ! the static solids' heat deposit changed
       end if
       if (fl%theta /= 1.0_wp) st%pressure = st%p_eq + st%dp_total
       call timer_stop(timers, fl%t_lagrange)
@@ -430,7 +446,7 @@ contains
       call timer_start(timers, so%t_g2p)
       do s = 1, so%nsolids
         if (so%mats(s)%model == model_rigid) then
-          call move_rigid(so, s, grid, time, dt)
+          if (.not. so%static(s)) call move_rigid(so, s, grid, time, dt)
         else
           call g2p_update(so%parts(s), so%nodes, so%mats(s), so%shape_kind, grid, dt, so%flip)
         end if
@@ -697,6 +713,7 @@ contains
     integer :: d, m
     call self%fl%restore(file, dom, grid)
     call self%so%restore(file, dom, grid)
+    self%static_dep_ready = .false.  ! from the restored particles, as the continuing run had it
     associate (sp => self%fl%state%solid)
       call h5_read_cell_field(file, 'checkpoint/cell/solid_volume_fraction', grid, sp%vfrac)
       call halo_exchange_cell(self%fl%halo, dom, grid, sp%vfrac)
@@ -767,6 +784,8 @@ contains
     if (allocated(self%dep)) deallocate(self%dep, self%du, self%phi_p, self%uprev, self%nbuf, &
       self%temp_old, self%dtemp, self%contact_dv, self%contact_acc, self%contact_f)
     if (allocated(self%qscr)) deallocate(self%qscr, self%owner_m, self%owner, self%body_frac)
+    if (allocated(self%static_dep)) deallocate(self%static_dep)
+    self%static_dep_ready = .false.
     if (allocated(self%coupling)) deallocate(self%coupling, self%loads)
   end subroutine mpmice_free
 end module mpmice_scene
