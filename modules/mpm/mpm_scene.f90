@@ -230,6 +230,7 @@ contains
     real(wp), intent(in) :: time               !< time after the step [s]
     integer :: s, removed
     do s = 1, self%nsolids
+      if (self%static(s)) cycle  ! never moves: stays on its rank and in the domain
       call migrate_particles(self%mig, self%parts(s), dom, grid, removed)
       removed = global_sum(dom, removed)
       if (removed > 0) then
