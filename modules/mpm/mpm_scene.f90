@@ -53,7 +53,6 @@ module mpm_scene
                                                             !! cache_static_rigid)
     real(wp), allocatable :: static_q(:, :, :, :)           !< the static rigid solids' share of
                                                             !! the node fields (8-14), kept
-    logical :: static_q_ready = .false.                     !< static_q holds that share
     integer(i8), allocatable :: global_np(:)                !< particles per solid, all ranks
     type(mpm_nodes_t) :: nodes                              !< shared node fields
     type(halo_t) :: halo                                    !< halo buffers
@@ -149,7 +148,7 @@ contains
     self%bc%friction_contact = trim(cfg%mpm%rigid_contact) == 'friction'
     self%bc%friction = cfg%mpm%contact_friction
     call nodes_init(self%nodes, grid)
-    if (any(self%static)) allocate(self%static_q, mold=self%nodes%q)
+    call keep_static_share(self, grid)
     call halo_init(self%halo, dom, grid, nq)
     call migration_init(self%mig, dom, grid)
     self%series_path = io_join_path(trim(cfg%run%output_dir), trim(cfg%run%name) // &
@@ -263,24 +262,14 @@ contains
   !> P2G of every solid into the zeroed node fields (before the halo sum): the deformable ones'
   !! mass, momentum and internal force (components 1-7), the rigid ones' mass, momentum and mass
   !! gradient (8-14). A static rigid solid (`static`: no velocity, no shaking) cannot change its
-  !! share, so it is accumulated once and added from `static_q` on every later step (the bed of
-  !! the debris flow: 92 % of its particles).
+  !! share, so it comes from `static_q` (`keep_static_share`; the bed of the debris flow: 92 % of
+  !! its particles).
   subroutine p2g_solids(self, grid)
     class(mpm_scene_t), intent(inout) :: self  !< scene
     type(grid_t), intent(in) :: grid           !< block geometry
     integer :: s
     self%nodes%q(:, :, :, :) = 0.0_wp
-    if (allocated(self%static_q)) then
-      if (.not. self%static_q_ready) then
-        self%static_q = 0.0_wp
-        do s = 1, self%nsolids
-          if (self%static(s)) call p2g_accumulate_rigid(self%parts(s), self%static_q, &
-            self%shape_kind, grid)
-        end do
-        self%static_q_ready = .true.
-      end if
-      self%nodes%q(8:14, :, :, :) = self%static_q(8:14, :, :, :)
-    end if
+    if (allocated(self%static_q)) self%nodes%q(8:14, :, :, :) = self%static_q(8:14, :, :, :)
     do s = 1, self%nsolids
       if (self%static(s)) cycle
       if (self%mats(s)%model == model_rigid) then
@@ -290,6 +279,21 @@ contains
       end if
     end do
   end subroutine p2g_solids
+
+  !> `static_q`: the static rigid solids' node share from their particles, at the start and
+  !! after a restart (allocated when there is any such solid).
+  subroutine keep_static_share(self, grid)
+    class(mpm_scene_t), intent(inout) :: self  !< scene (particles seeded or restored)
+    type(grid_t), intent(in) :: grid           !< block geometry
+    integer :: s
+    if (.not. any(self%static)) return
+    if (.not. allocated(self%static_q)) allocate(self%static_q, mold=self%nodes%q)
+    self%static_q = 0.0_wp
+    do s = 1, self%nsolids
+      if (self%static(s)) call p2g_accumulate_rigid(self%parts(s), self%static_q, &
+        self%shape_kind, grid)
+    end do
+  end subroutine keep_static_share
 
   !> This rank's kinetic energy and elastic strain energy of the solids [J] (the strain energy
   !! from the stress with the solid's elastic constants: sigma : C^-1 : sigma / 2 per volume).
@@ -432,7 +436,7 @@ contains
     end do
     call h5_read_attribute(file, 'mpm_removed_particles', self%removed)
     self%restored = .true.
-    self%static_q_ready = .false.  ! from the restored particles, as the continuing run had it
+    call keep_static_share(self, grid)  ! from the restored particles, as the continuing run
   end subroutine mpm_restore
 
   !> Cell averages and one particle set per solid.
@@ -488,7 +492,6 @@ contains
       deallocate(self%parts, self%mats, self%names, self%global_np, self%motions, self%static)
     end if
     if (allocated(self%static_q)) deallocate(self%static_q)
-    self%static_q_ready = .false.
     call nodes_free(self%nodes)
     call halo_free(self%halo)
     self%nsolids = 0
