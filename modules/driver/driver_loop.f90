@@ -101,10 +101,18 @@ contains
         dt = 0.5_wp * dt
         dt_limit = min(dt_limit, dt)
       end do
-      if (dt < cfg%time%dt_min .or. .not. accepted) then
-        status%exit_code = 3
-        status%reason = 'time step ' // real_short_text(dt) // ' s fell below &time dt_min = ' // &
-          real_short_text(cfg%time%dt_min) // ' s at t = ' // real_short_text(clock%time) // ' s'
+      if (dt < cfg%time%dt_min) then
+        call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, 'time step ' // &
+          real_short_text(dt) // ' s fell below &time dt_min = ' // &
+          real_short_text(cfg%time%dt_min) // ' s at t = ' // real_short_text(clock%time) // &
+          ' s', status)
+        exit
+      else if (.not. accepted) then
+        ! every retry down to 2 dt was rejected; the state is the last accepted one
+        call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, 'step ' // &
+          int_text(clock%step + 1) // ' rejected ' // int_text(max_step_retries + 1) // &
+          ' times, the last at dt = ' // real_short_text(2.0_wp * dt) // ' s, at t = ' // &
+          real_short_text(clock%time) // ' s', status)
         exit
       end if
 
