@@ -9,15 +9,17 @@
 !! sum phi = 1 at the end of the step) is below the outer tolerance.
 !! Face pressure (eq. 37): p_f = (p_L rho_R + p_R rho_L)/(rho_L + rho_R), rho = sum_m rho_bar_m.
 module ice_pressure
+  use, intrinsic :: iso_fortran_env, only: error_unit
   use mpmice_kinds, only: wp
-  use grid_layout, only: grid_t
+  use mpmice_errors, only: real_short_text
+  use grid_layout, only: grid_t, cell_centre
   use ice_state, only: ice_state_t
   use ice_face_velocity, only: face_range
   implicit none
   private
 
   public :: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, ice_face_pressure
-  public :: solid_face_fraction, platen_fluid_faces
+  public :: solid_face_fraction, platen_fluid_faces, report_pressure_failure
 
   real(wp), parameter :: pore_min = 1.0e-3_wp  !< smallest pore fraction in the face weights
 
@@ -208,6 +210,38 @@ contains
       end do
     end do
   end function ice_pressure_rhs
+
+  !> A failed outer iteration: the rank that holds the cell of the largest |rhs|/V (`residual`,
+  !! the global maximum) writes one line on standard error with the cell's centre [m], its
+  !! residual, the fractions of the solid (tracked, and the particles' excess as `source`) and
+  !! of each fluid, the pressure [Pa], dp_total [Pa] and the operator's diagonal: where and why
+  !! the volume constraint could not be met.
+  subroutine report_pressure_failure(state, grid, residual)
+    type(ice_state_t), intent(in) :: state  !< fields after the last outer iteration
+    type(grid_t), intent(in) :: grid        !< block geometry
+    real(wp), intent(in) :: residual        !< global max |rhs|/V
+    character(len=:), allocatable :: text
+    integer :: c(3), d, m
+    c = maxloc(abs(state%rhs(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), &
+      grid%lo(3):grid%hi(3)))) + grid%lo - 1
+    if (abs(state%rhs(c(1), c(2), c(3))) / grid%cell_volume < residual) return
+    text = 'mpmice: warning: pressure constraint worst in the cell at'
+    do d = 1, grid%ndim
+      text = text // ' ' // real_short_text(cell_centre(grid, d, c(d)))
+    end do
+    text = text // ' m: |rhs|/V ' // real_short_text(residual) // ','
+    if (state%solid%present) text = text // ' solid fraction ' // &
+      real_short_text(state%solid%vfrac(c(1), c(2), c(3))) // ' source ' // &
+      real_short_text(state%solid%source(c(1), c(2), c(3))) // ','
+    do m = 1, state%nfluids
+      text = text // ' ' // trim(state%fluid(m)%name) // ' fraction ' // &
+        real_short_text(state%fluid(m)%vfrac(c(1), c(2), c(3))) // ','
+    end do
+    text = text // ' pressure ' // real_short_text(state%pressure(c(1), c(2), c(3))) // &
+      ' Pa, dp_total ' // real_short_text(state%dp_total(c(1), c(2), c(3))) // &
+      ' Pa, diagonal ' // real_short_text(state%diag(c(1), c(2), c(3)))
+    write(error_unit, '(a)') text
+  end subroutine report_pressure_failure
 
   !> After a solve (dp valid in one ghost layer): p += dp, dp_total += dp on the owned cells and
   !! u_m,f -= dt v_m,f (dp_R - dp_L)/dx on the faces of the owned cells; on a loading platen the

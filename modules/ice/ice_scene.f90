@@ -28,7 +28,7 @@ module ice_scene
   use ice_equilibration, only: ice_equilibrate, report_equilibration_failure
   use ice_face_velocity, only: ice_face_velocities
   use ice_pressure, only: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, &
-    ice_face_pressure
+    ice_face_pressure, report_pressure_failure
   use ice_lagrangian, only: ice_lagrangian_values
   use ice_advection, only: ice_advect
   use ice_interface_compression, only: compress_interface
@@ -40,7 +40,8 @@ module ice_scene
   implicit none
   private
 
-  public :: ice_scene_t, exchange_primitives, exchange_lagrangian, ice_pressure_iteration
+  public :: ice_scene_t, exchange_primitives, exchange_lagrangian, ice_pressure_iteration, &
+    ice_step_begin, ice_step_reject
 
   !> Multi-fluid ICE with implicit pressure.
   type, extends(scene_t) :: ice_scene_t
@@ -49,6 +50,8 @@ module ice_scene
     type(struct_solver_t) :: solver           !< hypre PCG + PFMG for eq. 35
     type(ice_bc_t) :: bc                      !< conditions of the domain faces
     real(wp), allocatable :: sources(:, :, :, :, :) !< viscous momentum and heat (i,j,k,4,fluid)
+    !> cell pressure at the start of the step [Pa], put back when the step is rejected
+    real(wp), allocatable :: p_start(:, :, :)
     real(wp) :: gravity(3) = 0.0_wp           !< [m/s^2]
     real(wp) :: k_exchange = 0.0_wp           !< momentum exchange coefficient [kg/m^3/s]
     real(wp) :: h_exchange = 0.0_wp           !< heat exchange coefficient [W/m^3/K]
@@ -146,6 +149,7 @@ contains
     self%state%inflow_fluid = self%bc%inflow_fluid
     allocate(self%sources(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3), 4, cfg%nfluids), source=0.0_wp)
+    allocate(self%p_start, mold=self%state%pressure)
 
     call halo_init(self%halo, dom, grid, 1)
     call struct_solver_init(self%solver, dom, grid, cfg%solver%tolerance, &
@@ -211,6 +215,7 @@ contains
     integer :: its, failed, negative, m, bad_cell(3)
 
     accepted = .false.
+    call ice_step_begin(self)
     call timer_start(timers, self%t_equil)
     call ice_equilibrate(self%state, grid, self%eq_tolerance, self%eq_max, its, failed, bad_cell)
     call ice_bc_fill(grid, self%bc, self%state%pressure, bc_pressure)
@@ -218,6 +223,7 @@ contains
     call report_equilibration_failure(self%state, grid, failed, bad_cell)
     if (global_sum(dom, failed) > 0) then
       call log_warning('ICE equilibration failed at t = ' // real_short_text(time) // ' s')
+      call ice_step_reject(self)
       return
     end if
 
@@ -229,7 +235,10 @@ contains
     call ice_exchange_faces(self%state, grid, self%theta * dt, self%k_exchange)
     call timer_stop(timers, self%t_face)
 
-    if (.not. ice_pressure_iteration(self, dom, grid, time, dt, timers, self%theta)) return
+    if (.not. ice_pressure_iteration(self, dom, grid, time, dt, timers, self%theta)) then
+      call ice_step_reject(self)
+      return
+    end if
 
     ! forces and work with p_eq + theta dp_total (theta = 1: p^{n+1}, backward Euler)
     if (self%theta /= 1.0_wp) self%state%pressure = self%state%p_eq + &
@@ -276,6 +285,22 @@ contains
     self%steps = self%steps + 1
     accepted = .true.
   end subroutine ice_scene_step
+
+  !> Keep what a rejected step must put back: the cell pressure, the equilibration's initial
+  !! guess (a failed outer iteration leaves it at any value, up to 1e32 Pa).
+  subroutine ice_step_begin(self)
+    class(ice_scene_t), intent(inout) :: self  !< scene
+    self%p_start = self%state%pressure
+  end subroutine ice_step_begin
+
+  !> A rejected step: the cell pressure of the step's start again, so the retry with a shorter
+  !! step starts from the accepted state and a failure dump shows it. The other fields a step
+  !! writes before it can be rejected (p_eq, specific volumes, face velocities) are recomputed
+  !! from the primitive fields by the retry.
+  subroutine ice_step_reject(self)
+    class(ice_scene_t), intent(inout) :: self  !< scene
+    self%state%pressure = self%p_start
+  end subroutine ice_step_reject
 
   !> Outer iteration of eq. 35 (module header): solve for dp (hypre PCG + PFMG, or the direct
   !! tridiagonal solve of a 1D block), correct p, dp_total and the face velocities, until
@@ -326,6 +351,7 @@ contains
     call timer_stop(timers, self%t_pressure)
     ok = residual <= self%outer_tolerance
     if (.not. ok) then
+      call report_pressure_failure(self%state, grid, residual)
       call log_warning('ICE pressure outer iteration: max |rhs|/V = ' // &
         real_short_text(residual) // ' after ' // int_text(outer) // ' iterations at t = ' // &
         real_short_text(time) // ' s')
@@ -497,5 +523,6 @@ contains
     call halo_free(self%halo)
     call ice_state_free(self%state)
     if (allocated(self%sources)) deallocate(self%sources)
+    if (allocated(self%p_start)) deallocate(self%p_start)
   end subroutine ice_scene_free
 end module ice_scene

@@ -38,7 +38,7 @@ module mpmice_scene
   use driver_scene, only: scene_t, scene_health_t
   use ice_state, only: ice_state_t, ice_solid_alloc
   use ice_scene, only: ice_scene_t, exchange_primitives, exchange_lagrangian, &
-    ice_pressure_iteration
+    ice_pressure_iteration, ice_step_begin, ice_step_reject
   use ice_equilibration, only: ice_equilibrate, report_equilibration_failure
   use ice_face_velocity, only: ice_face_velocities
   use ice_pressure, only: ice_face_pressure, platen_fluid_faces
@@ -288,8 +288,9 @@ contains
       self%fl%cfl * global_min(dom, solid_conduction_dt(self%fl%state, grid)))
   end function mpmice_stable_dt
 
-  !> One coupled step (module header); rejected with the state unchanged when the pressure
-  !! iteration or the equilibration fails.
+  !> One coupled step (module header); rejected when the pressure iteration or the
+  !! equilibration fails, with the state it had changed by then (the cell pressure, the fluids'
+  !! final face velocities) put back, so the retry starts from the accepted state.
   subroutine mpmice_step(self, dom, grid, time, dt, timers, accepted)
     class(mpmice_scene_t), intent(inout) :: self  !< scene
     type(domain_t), intent(in) :: dom             !< decomposition
@@ -302,6 +303,7 @@ contains
     real(wp) :: ramp
 
     accepted = .false.
+    call ice_step_begin(self%fl)
     associate (fl => self%fl, so => self%so, st => self%fl%state)
       ! MPM: P2G with the effective stress and the loads, nodal v^{L-}
       call timer_start(timers, so%t_p2g)
@@ -345,6 +347,7 @@ contains
       call report_equilibration_failure(st, grid, failed, bad_cell)
       if (global_sum(dom, failed) > 0) then
         call log_warning('MPMICE equilibration failed at t = ' // real_short_text(time) // ' s')
+        call ice_step_reject(fl)
         return
       end if
 
@@ -363,7 +366,17 @@ contains
       call timer_stop(timers, fl%t_face)
 
       ! eq. 35 with the solid's volume flux and coefficient (ice_pressure)
-      if (.not. ice_pressure_iteration(fl, dom, grid, time, dt, timers)) return
+      if (.not. ice_pressure_iteration(fl, dom, grid, time, dt, timers)) then
+        ! the retry's porous predictor reads the last accepted final face velocities
+        do m = 1, st%nfluids
+          do s = 1, 3
+            st%fluid(m)%uface(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+              grid%lbc(3):grid%ubc(3), s) = self%uprev(s, :, :, :, m)
+          end do
+        end do
+        call ice_step_reject(fl)
+        return
+      end if
 
       if (fl%theta /= 1.0_wp) st%pressure = st%p_eq + fl%theta * st%dp_total
       call timer_start(timers, fl%t_halo)
