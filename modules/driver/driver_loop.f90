@@ -108,7 +108,8 @@ contains
           ' s', status)
         exit
       else if (.not. accepted) then
-        ! every retry down to 2 dt was rejected; the dump shows what the last attempt left
+        ! every retry down to 2 dt was rejected; each put back its changes (scene%step), so the
+        ! dump shows the last accepted state
         call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, 'step ' // &
           int_text(clock%step + 1) // ' rejected ' // int_text(max_step_retries + 1) // &
           ' times, the last at dt = ' // real_short_text(2.0_wp * dt) // ' s, at t = ' // &

@@ -35,7 +35,7 @@ contains
     integer, intent(out) :: failed                 !< cells that did not converge
     integer, intent(out), optional :: first_failed(3) !< the first such cell (0 when none)
     integer :: i, j, k, m, it, n
-    real(wp) :: p, rho_m, porosity
+    real(wp) :: p, p_full, rho_m, porosity
     logical :: active(state%nfluids), converged
 
     n = state%nfluids
@@ -58,8 +58,17 @@ contains
             call newton_pressure(state, i, j, k, porosity, active, tolerance, max_iterations, &
               p, it, converged)
             max_iterations_used = max(max_iterations_used, it)
-            if (.not. converged) call trace_fallback(state, i, j, k, porosity, tolerance, &
-              max_iterations, p, converged)
+            if (.not. converged) then
+              call trace_fallback(state, i, j, k, porosity, tolerance, max_iterations, p, &
+                converged)
+            else if (p < trace_pressure) then
+              ! a root below 1 Pa is a trace filling the others' deficit (trace_fallback)
+              p_full = p
+              call trace_fallback(state, i, j, k, porosity, tolerance, max_iterations, p, &
+                converged)
+              if (.not. converged) p = p_full
+              converged = .true.
+            end if
             if (.not. converged) then
               failed = failed + 1
               if (present(first_failed) .and. failed == 1) first_failed = [i, j, k]
@@ -200,13 +209,17 @@ contains
     end do
   end function pressure_floor
 
-  !> When the Newton iteration fails, solve again without the trace fluids: those whose volume
-  !! at `trace_pressure` (1 Pa) would still be below `tolerance` of the pores (e.g. 1e-100
-  !! kg/m^3 of air numerically left in water-filled pores). Their volume cannot matter to the
-  !! sum within the tolerance at any pressure above 1 Pa, but where the others' pressure falls
-  !! toward zero (water under tension in a moving porous body) the full sum has its root at an
-  !! absurd pressure (1e-90 Pa) that the iteration cannot reach. Left with one fluid, the
-  !! pressure comes from its equation of state directly (it may then be negative: tension).
+  !> When the Newton iteration fails, or converges below `trace_pressure` (1 Pa), solve again
+  !! without the trace fluids: those whose volume at 1 Pa would still be below `tolerance` of
+  !! the pores (e.g. 1e-100 kg/m^3 of air numerically left in water-filled pores). Their volume
+  !! cannot matter to the sum within the tolerance at any pressure above 1 Pa, but where the
+  !! others' pressure falls toward zero (water under tension in a moving porous body) the full
+  !! sum has its root at an absurd pressure: 1e-90 Pa, which the iteration cannot reach, or
+  !! 1e-11 Pa (4e-20 kg/m^3 of air), which it reaches, the trace then filling 3e-4 of the cell
+  !! with a compressibility of 1e25 /Pa that no pressure solve can balance (the 5 mm debris
+  !! flow's failure, docs/applications.md). Left with one fluid, the pressure comes from its
+  !! equation of state directly (it may then be negative: tension). Not converged when there
+  !! is no trace to leave out (or nothing else).
   pure subroutine trace_fallback(state, i, j, k, porosity, tolerance, max_iterations, p, &
       converged)
     type(ice_state_t), intent(in) :: state  !< fluids

@@ -73,7 +73,7 @@ def test_energy_growth_stops_the_unstable_bar(run_mpmice, tmp_case_dir):
     first step whose energy exceeds twice E(0) (step 24; the bar has no gravity or load: the
     reference is E(0))."""
     result, status = run_case(run_mpmice, tmp_case_dir, "free", BAR, UNSTABLE_BAR)
-    # the late failure (step below dt_min) also dumps the state its last attempt left
+    # the late failure (step below dt_min) also dumps its last accepted state
     assert_failed(result, status, tmp_case_dir, "free", "bar1d", "time step")
     s = series(str(tmp_case_dir / "free"), "bar1d")
     energy = s["kinetic_energy"] + s["strain_energy"]
