@@ -102,18 +102,17 @@ contains
         dt_limit = min(dt_limit, dt)
       end do
       if (dt < cfg%time%dt_min) then
-        call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, 'time step ' // &
-          real_short_text(dt) // ' s fell below &time dt_min = ' // &
-          real_short_text(cfg%time%dt_min) // ' s at t = ' // real_short_text(clock%time) // &
-          ' s', status)
-        exit
+        stop_reason = 'time step ' // real_short_text(dt) // ' s fell below &time dt_min = ' // &
+          real_short_text(cfg%time%dt_min) // ' s at t = ' // real_short_text(clock%time) // ' s'
       else if (.not. accepted) then
         ! every retry down to 2 dt was rejected; each put back its changes (scene%step), so the
         ! dump shows the last accepted state
-        call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, 'step ' // &
-          int_text(clock%step + 1) // ' rejected ' // int_text(max_step_retries + 1) // &
-          ' times, the last at dt = ' // real_short_text(2.0_wp * dt) // ' s, at t = ' // &
-          real_short_text(clock%time) // ' s', status)
+        stop_reason = 'step ' // int_text(clock%step + 1) // ' rejected ' // &
+          int_text(max_step_retries + 1) // ' times, the last at dt = ' // &
+          real_short_text(2.0_wp * dt) // ' s, at t = ' // real_short_text(clock%time) // ' s'
+      end if
+      if (len_trim(stop_reason) > 0) then
+        call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, stop_reason, status)
         exit
       end if
 

@@ -36,7 +36,7 @@ contains
     integer, intent(out), optional :: first_failed(3) !< the first such cell (0 when none)
     integer :: i, j, k, m, it, n
     real(wp) :: p, p_full, rho_m, porosity
-    logical :: active(state%nfluids), converged
+    logical :: active(state%nfluids), converged, full_converged
 
     n = state%nfluids
     max_iterations_used = 0
@@ -58,16 +58,17 @@ contains
             call newton_pressure(state, i, j, k, porosity, active, tolerance, max_iterations, &
               p, it, converged)
             max_iterations_used = max(max_iterations_used, it)
-            if (.not. converged) then
-              call trace_fallback(state, i, j, k, porosity, tolerance, max_iterations, p, &
-                converged)
-            else if (p < trace_pressure) then
-              ! a root below 1 Pa is a trace filling the others' deficit (trace_fallback)
+            ! a failed iteration, or a root below 1 Pa (a trace filling the others' deficit):
+            ! without the traces (trace_fallback), else the full sum's root stands
+            if (.not. converged .or. p < trace_pressure) then
               p_full = p
+              full_converged = converged
               call trace_fallback(state, i, j, k, porosity, tolerance, max_iterations, p, &
                 converged)
-              if (.not. converged) p = p_full
-              converged = .true.
+              if (full_converged .and. .not. converged) then
+                p = p_full
+                converged = .true.
+              end if
             end if
             if (.not. converged) then
               failed = failed + 1

@@ -14,13 +14,11 @@ and dumps its state: that dump must equal the initial dump in every dataset, bit
 from __future__ import annotations
 
 import pathlib
-import sys
 
 import h5py
 import numpy as np
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(REPO))
 BLOCK = str(REPO / "namelists" / "mpmice_submerged_block_2d.nml")
 
 
