@@ -101,15 +101,16 @@ contains
               end do
               call row_face_values(f%rho, grid%lbc, i1, i2, j, k, o, order, pos, dist, &
                 grid%dx(d), qf)
-              ! a solid phase: where the upwind cell's stencil holds the soil's surface (solid
-              ! next to none) the mass leaves with the upwind cell's bulk density, i.e. the
-              ! pressure equation's volume flux (upwind phi_f u_f) times the intrinsic density;
-              ! the porosity jump in a reconstructed bulk density made the pore water's volume
-              ! differ from it (docs/mpmice.md, departure 16)
+              ! a solid phase: where the upwind cell's stencil holds solid the mass leaves with
+              ! the upwind cell's bulk density, i.e. the pressure equation's volume flux (upwind
+              ! phi_f u_f) times the intrinsic density; a reconstructed bulk density carries the
+              ! porosity's slope (the soil's surface, and the varying porosity inside a moving
+              ! soil), so the pore water's volume differed from it and the stiff water kept the
+              ! difference as pressure (docs/mpmice.md, departure 16)
               if (state%solid%present .and. order > 1) then
                 do i = i1, i2
                   cu = [i, j, k] - merge(o, 0 * o, pos(i))
-                  if (soil_surface(state%solid%vfrac, grid, cu, o)) then
+                  if (porous_stencil(state%solid%vfrac, grid, cu, o)) then
                     qf(i) = f%rho(cu(1), cu(2), cu(3))
                   end if
                 end do
@@ -178,29 +179,22 @@ contains
     end function potential
   end subroutine ice_advect
 
-  !> The cells c - o, c, c + o inside the domain hold solid and solid-free cells together (the
-  !! soil's surface; the free-fluid ghosts beyond an open face of a soil that reaches it are not).
-  pure logical function soil_surface(phi_s, grid, c, o) result(surface)
+  !> One of the cells c - o, c, c + o inside the domain holds solid (the free-fluid ghosts beyond
+  !! an open face of a soil that reaches it do not count).
+  pure logical function porous_stencil(phi_s, grid, c, o) result(porous)
     type(grid_t), intent(in) :: grid        !< block geometry
     real(wp), intent(in) :: phi_s(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< solid fraction [-]
     integer, intent(in) :: c(3)             !< upwind cell
     integer, intent(in) :: o(3)             !< unit offset along the face normal
-    logical :: any_solid, any_free
     integer :: s, d, n(3)
-    any_solid = .false.
-    any_free = .false.
+    porous = .false.
     d = maxloc(o, 1)
     do s = -1, 1
       n = c + s * o
       if (.not. grid%periodic(d) .and. (n(d) < 1 .or. n(d) > grid%ncells(d))) cycle
-      if (phi_s(n(1), n(2), n(3)) > 0.0_wp) then
-        any_solid = .true.
-      else
-        any_free = .true.
-      end if
+      if (phi_s(n(1), n(2), n(3)) > 0.0_wp) porous = .true.
     end do
-    surface = any_solid .and. any_free
-  end function soil_surface
+  end function porous_stencil
 
   !> Upwind face values of `q` on the faces (i1..i2, j, k) of direction o (unit offset): the
   !! upwind cell's value (face - o where `pos`, else the face's own cell) plus `dist` times its

@@ -310,20 +310,29 @@ def test_darcy_all_cases(darcy_scene, tmp_path):
 def test_terzaghi_100_cells(terzaghi_scene, tmp_path):
     """The paper's column (100 cells, step load, the paper's densities) to t = 0.25 s
     (T_v = 1.03) against eq. 78 with the fluid compressibility: relative L2 error of the excess
-    pore pressure < 1.5 % at every dump with 0.1 <= T_v <= 0.6 (measured at most 1.27 %, at
-    T_v = 0.1), < 2 % up to T_v = 1.03 (measured 1.75 %: Biot's inertia, ~0.35 % of c_v, where
-    the pressure is 8 % of p0), and the degree of consolidation within 0.005 of U(T_v) at every
-    dump with T_v >= 0.05. Earlier dumps hold the ringing of the column's undrained P-wave that
-    the quasi-static eq. 78 lacks."""
-    study = mpmice_terzaghi.run_terzaghi(str(tmp_path), 100)
+    pore pressure < 1.5 % at every dump with 0.1 <= T_v <= 0.6 (measured at most 1.30 %, at
+    T_v = 0.1), < 2.5 % up to T_v = 1.03 (measured 2.16 %, where the pressure is 8 % of p0:
+    Biot's inertia, ~0.35 % of c_v, and the first-order upwind pore fraction of the pressure
+    equation's water flux, which the water's mass flux follows inside the soil since
+    docs/mpmice.md departure 16 was extended to it; 1.75 % before), and the degree of
+    consolidation within 0.005 of U(T_v) at every dump with T_v >= 0.05. Earlier dumps hold the
+    ringing of the column's undrained P-wave that the quasi-static eq. 78 lacks. The late error
+    converges: 200 cells (~3 s) < 1.2 % from T_v = 0.1 to 1.03 (measured 0.96 %; 0.61 % before)
+    and at most 0.55 of the 100-cell error at T_v >= 0.6 (measured 0.44)."""
+    study = mpmice_terzaghi.run_terzaghi(str(tmp_path), (100, 200))
     r = study["runs"][100]
     mid = (r["tv"] >= 0.1) & (r["tv"] <= 0.6)
     late = r["tv"] >= 0.1
     assert np.count_nonzero(mid) >= 8, r["tv"]
     assert np.max(r["l2_error"][mid]) < 1.5e-2, dict(zip(r["tv"], r["l2_error"]))
-    assert np.max(r["l2_error"][late]) < 2e-2, dict(zip(r["tv"], r["l2_error"]))
+    assert np.max(r["l2_error"][late]) < 2.5e-2, dict(zip(r["tv"], r["l2_error"]))
     ok = r["tv"] >= 0.05
     assert np.max(np.abs(r["u_numeric"][ok] - r["u_exact"][ok])) < 5e-3
+    fine = study["runs"][200]
+    assert np.allclose(fine["tv"], r["tv"])
+    assert np.max(fine["l2_error"][late]) < 1.2e-2, dict(zip(fine["tv"], fine["l2_error"]))
+    tail = r["tv"] >= 0.6
+    assert np.max(fine["l2_error"][tail] / r["l2_error"][tail]) < 0.55
 
 
 def test_terzaghi_quasi_static_100_cells(terzaghi_scene, tmp_path):
