@@ -100,14 +100,14 @@ contains
               ! exchange-modified face specific volume
               call exchange_explicit(nm, beta, rhs(:, 1:1), 1)
             else
+              ! one elimination for the velocities (column 1) and the specific volumes (2)
               if (rigid) then
-                call exchange_solve(nm, beta, rhs(:, 1:1), 1)
+                call exchange_solve(nm, beta, rhs, 2)
               else
                 ! the masses per volume phi / v (a material absent at the face: v = 0, none)
                 w(1:nm) = merge(phi(1:nm) / max(v(1:nm), tiny(1.0_wp)), 0.0_wp, v(1:nm) > 0.0_wp)
-                call exchange_solve(nm, beta, rhs(:, 1:1), 1, w)
+                call exchange_solve(nm, beta, rhs, 2, w, weighted_columns=1)
               end if
-              call exchange_solve(nm, beta, rhs(:, 2:2), 1)
             end if
             do m = 1, nf
               state%fluid(m)%uface(i, j, k, d) = rhs(m, 1)
@@ -517,15 +517,17 @@ contains
   !! like quantity, i.e. x_new = A^-1 x_old for every column (A = I + diag(rowsum beta) - beta).
   !! Closed form for n = 2, elimination without pivoting for n = 3 (`solve_3`), LAPACK dgesv
   !! otherwise. `beta` has a zero diagonal.
-  subroutine exchange_solve(n, beta, x, nrhs, weight)
+  subroutine exchange_solve(n, beta, x, nrhs, weight, weighted_columns)
     integer, intent(in) :: n                      !< number of fluids
     real(wp), intent(in) :: beta(max_n, max_n)    !< beta_mn, zero diagonal
     real(wp), intent(inout) :: x(max_n, *)        !< values in, exchanged values out
     integer, intent(in) :: nrhs                   !< columns
     real(wp), intent(in), optional :: weight(max_n) !< masses per volume phi/v (n > 2: restore
                                                     !! sum weight x, which LU round-off breaks)
+    !> the weight restores columns 1 .. weighted_columns (default: all)
+    integer, intent(in), optional :: weighted_columns
     real(wp) :: a(max_n, max_n), det, x1, x2, x_old(max_n, 3), defect
-    integer :: m, c, ipiv(max_n), info
+    integer :: m, c, ipiv(max_n), info, nweighted
 
     if (n == 2) then
       ! A = [1 + b12, -b12; -b21, 1 + b21]; A^-1 = [1 + b21, b12; b21, 1 + b12] / det
@@ -556,8 +558,10 @@ contains
     if (present(weight)) then
       ! with weights w_m beta_mn symmetric, A conserves sum w x exactly; dgesv's round-off
       ! (condition ~ beta) does not: remove the defect by a uniform shift
+      nweighted = nrhs
+      if (present(weighted_columns)) nweighted = weighted_columns
       if (sum(weight(1:n)) > 0.0_wp) then
-        do c = 1, nrhs
+        do c = 1, nweighted
           defect = sum(weight(1:n) * (x(1:n, c) - x_old(1:n, c))) / sum(weight(1:n))
           x(1:n, c) = x(1:n, c) - defect
         end do

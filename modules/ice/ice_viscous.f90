@@ -42,7 +42,9 @@ contains
 
   !> Add dt times the viscous force [kg m/s] to `mom(:,:,:,1:3)` and dt times the conducted
   !! heat [J] to `heat(:,:,:)` of fluid m (owned cells). `smagorinsky`: C_s of the eddy
-  !! viscosity (absent or <= 0: none).
+  !! viscosity (absent or <= 0: none). Each face's stress is computed once: a cell's low-face
+  !! stress is its low neighbour's high-face stress, carried along the row (normal 1) or from
+  !! the previous row (normal 2); normal 3 computes both faces of a cell.
   subroutine ice_viscous_sources(state, grid, m, dt, mom, heat, smagorinsky)
     type(ice_state_t), intent(in) :: state     !< fluids
     type(grid_t), intent(in) :: grid           !< block geometry
@@ -52,8 +54,10 @@ contains
     real(wp), intent(inout) :: heat(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)   !< energy [J]
     real(wp), intent(in), optional :: smagorinsky  !< Smagorinsky constant C_s [-]
     integer :: d, i, j, k, o(3), c
-    real(wp) :: area, k_lo, k_hi, phi_lo, phi_hi, cs, flux_lo(3), flux_hi(3)
-    real(wp), allocatable :: coef(:, :, :), nu_t(:, :, :)
+    real(wp) :: area, k_lo, k_hi, phi_lo, phi_hi, cs, flux_lo(3), flux_hi(3), mu_lo, mu_hi
+    ! the high-face stresses of the previous row (normal 2)
+    real(wp) :: row_flux(3, grid%lo(1):grid%hi(1))
+    real(wp), allocatable :: nu_t(:, :, :)
     logical :: momentum
 
     cs = 0.0_wp
@@ -61,13 +65,10 @@ contains
     associate (f => state%fluid(m))
       momentum = f%viscosity > 0.0_wp .or. cs > 0.0_wp
       if (.not. momentum .and. f%conductivity <= 0.0_wp) return
-      ! cell coefficient phi mu_e = phi mu + phi v^-1 nu_t
-      allocate(coef(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), grid%lbc(3):grid%ubc(3)))
-      coef = f%vfrac * f%viscosity
+      ! the eddy viscosity (opt-in model) needs the strain rate of every cell first
       if (cs > 0.0_wp) then
-        allocate(nu_t, mold=coef)
+        allocate(nu_t(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), grid%lbc(3):grid%ubc(3)))
         call ice_eddy_viscosity(state, grid, m, cs, nu_t)
-        where (f%spvol > 0.0_wp) coef = coef + f%vfrac * nu_t / f%spvol
       end if
       do d = 1, 3
         if (.not. grid%active(d)) cycle
@@ -78,8 +79,21 @@ contains
           do j = grid%lo(2), grid%hi(2)
             do i = grid%lo(1), grid%hi(1)
               if (momentum) then
-                call stress_flux(d, [i, j, k], flux_lo)
-                call stress_flux(d, [i + o(1), j + o(2), k + o(3)], flux_hi)
+                if (d == 1 .and. i > grid%lo(1)) then
+                  flux_lo = flux_hi
+                else if (d == 2 .and. j > grid%lo(2)) then
+                  flux_lo = row_flux(:, i)
+                else
+                  mu_lo = cell_coefficient(i - o(1), j - o(2), k - o(3))
+                  mu_hi = cell_coefficient(i, j, k)
+                  flux_lo = face_stress(f%vel, grid, d, [i - o(1), j - o(2), k - o(3)], &
+                    [i, j, k], face_mean(mu_lo, mu_hi))
+                end if
+                mu_lo = cell_coefficient(i, j, k)
+                mu_hi = cell_coefficient(i + o(1), j + o(2), k + o(3))
+                flux_hi = face_stress(f%vel, grid, d, [i, j, k], [i + o(1), j + o(2), k + o(3)], &
+                  face_mean(mu_lo, mu_hi))
+                if (d == 2) row_flux(:, i) = flux_hi
                 do c = 1, 3
                   mom(i, j, k, c) = mom(i, j, k, c) + dt * area * (flux_hi(c) - flux_lo(c))
                 end do
@@ -100,48 +114,55 @@ contains
 
   contains
 
-    !> tau_c,dn (c = 1..3) [Pa] on the low face in direction `dn` of cell `idx` (module header).
-    subroutine stress_flux(dn, idx, tau)
-      integer, intent(in) :: dn        !< face normal
-      integer, intent(in) :: idx(3)    !< the face's high cell
-      real(wp), intent(out) :: tau(3)  !< stress components tau_c,dn [Pa]
-      integer :: l(3), e
-      real(wp) :: mu_f, normal(3), transverse(3), div
-      l = idx
-      l(dn) = idx(dn) - 1
-      mu_f = face_mean(coef(l(1), l(2), l(3)), coef(idx(1), idx(2), idx(3)))
-      tau = 0.0_wp
-      if (mu_f <= 0.0_wp) return
-      associate (v => state%fluid(m)%vel)
-        ! normal(c) = d u_c / d x_dn; transverse(e) = d u_dn / d x_e (e /= dn, active)
-        normal = (v(idx(1), idx(2), idx(3), :) - v(l(1), l(2), l(3), :)) / grid%dx(dn)
-        transverse = 0.0_wp
-        div = normal(dn)
-        do e = 1, 3
-          if (e == dn .or. .not. grid%active(e)) cycle
-          transverse(e) = face_central(v(:, :, :, dn), e, l, idx)
-          div = div + face_central(v(:, :, :, e), e, l, idx)
-        end do
+    !> The cell coefficient phi mu_e = phi mu + phi v^-1 nu_t [Pa s] of cell (ic, jc, kc).
+    real(wp) function cell_coefficient(ic, jc, kc)
+      integer, intent(in) :: ic, jc, kc  !< cell
+      associate (f => state%fluid(m))
+        cell_coefficient = f%vfrac(ic, jc, kc) * f%viscosity
+        if (cs > 0.0_wp) then
+          if (f%spvol(ic, jc, kc) > 0.0_wp) cell_coefficient = cell_coefficient + &
+            f%vfrac(ic, jc, kc) * nu_t(ic, jc, kc) / f%spvol(ic, jc, kc)
+        end if
       end associate
-      ! tau_c,dn = mu (d u_c/d x_dn + d u_dn/d x_c) - (2/3) mu div u delta_c,dn
-      tau = mu_f * (normal + transverse)
-      tau(dn) = mu_f * (2.0_wp * normal(dn) - 2.0_wp / 3.0_wp * div)
-    end subroutine stress_flux
+    end function cell_coefficient
+  end subroutine ice_viscous_sources
 
-    !> d q / d x_e on the face between cells `l` and `h`: the mean of their central differences.
-    real(wp) function face_central(q, e, l, h)
-      real(wp), intent(in) :: q(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)  !< cell field
-      integer, intent(in) :: e     !< axis of the derivative
-      integer, intent(in) :: l(3)  !< low cell
-      integer, intent(in) :: h(3)  !< high cell
-      integer :: oe(3)
+  !> tau_c,dn (c = 1..3) [Pa] on the face of normal `dn` between cells `l` and `h` with the face
+  !! coefficient `mu_f` [Pa s] (module header): the normal derivatives from the compact
+  !! difference, those along another active axis e from the mean of the two cells' central
+  !! differences.
+  pure function face_stress(vel, grid, dn, l, h, mu_f) result(tau)
+    type(grid_t), intent(in) :: grid  !< block geometry
+    real(wp), intent(in) :: vel(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :) !< cell velocity [m/s]
+    integer, intent(in) :: dn         !< face normal
+    integer, intent(in) :: l(3)       !< the face's low cell
+    integer, intent(in) :: h(3)       !< the face's high cell
+    real(wp), intent(in) :: mu_f      !< face coefficient [Pa s]
+    real(wp) :: tau(3)                !< stress components tau_c,dn [Pa]
+    integer :: e, oe(3)
+    real(wp) :: normal(3), transverse(3), div, central(3)
+    tau = 0.0_wp
+    if (mu_f <= 0.0_wp) return
+    ! normal(c) = d u_c / d x_dn; transverse(e) = d u_dn / d x_e (e /= dn, active)
+    normal = (vel(h(1), h(2), h(3), :) - vel(l(1), l(2), l(3), :)) / grid%dx(dn)
+    transverse = 0.0_wp
+    div = normal(dn)
+    do e = 1, 3
+      if (e == dn .or. .not. grid%active(e)) cycle
       oe = 0
       oe(e) = 1
-      face_central = 0.25_wp * (q(h(1) + oe(1), h(2) + oe(2), h(3) + oe(3)) - &
-        q(h(1) - oe(1), h(2) - oe(2), h(3) - oe(3)) + q(l(1) + oe(1), l(2) + oe(2), l(3) + oe(3)) - &
-        q(l(1) - oe(1), l(2) - oe(2), l(3) - oe(3))) / grid%dx(e)
-    end function face_central
-  end subroutine ice_viscous_sources
+      ! d u / d x_e on the face: the mean of the two cells' central differences
+      central = 0.25_wp * (vel(h(1) + oe(1), h(2) + oe(2), h(3) + oe(3), :) - &
+        vel(h(1) - oe(1), h(2) - oe(2), h(3) - oe(3), :) + &
+        vel(l(1) + oe(1), l(2) + oe(2), l(3) + oe(3), :) - &
+        vel(l(1) - oe(1), l(2) - oe(2), l(3) - oe(3), :)) / grid%dx(e)
+      transverse(e) = central(dn)
+      div = div + central(e)
+    end do
+    ! tau_c,dn = mu (d u_c/d x_dn + d u_dn/d x_c) - (2/3) mu div u delta_c,dn
+    tau = mu_f * (normal + transverse)
+    tau(dn) = mu_f * (2.0_wp * normal(dn) - 2.0_wp / 3.0_wp * div)
+  end function face_stress
 
   !> Kinematic Smagorinsky eddy viscosity nu_t = (C_s Delta)^2 |S| [m^2/s] of fluid m on the owned
   !! cells and one ghost layer (0 beyond), from the central differences of the cell velocities
