@@ -3,6 +3,10 @@ front, slide shape and mass balance (namelists/mpmice_debris_flow_2d.nml, issue 
 
 Usage:  python -m postproc.mpmice_debris_flow --dir output/mpmice_debris_flow_2d [--out DIR]
 
+Entrained air [m^2 per metre of depth]: the air's volume (sum phi_air dx dy) in the cells whose
+centre lies below the shelf's level y = 1.5 m, where the tank holds water only at rest (the air
+drawn into the wake over the slope, docs/mpmice.md "Known problems").
+
 Free-surface elevation eta(x) [m above the still level 1.6 m]: in every column of cells, from the
 top down, the height where the water's share of the fluid volume phi_w / (phi_w + phi_air)
 first reaches 0.5 (linear between cell centres). Slide front: the largest x of the sand
@@ -21,6 +25,7 @@ from postproc.mpmice_io import cell_centres, parse_run_dir
 
 NAME = "debris"
 STILL_LEVEL = 1.6            # m
+SHELF_LEVEL = 1.5            # m: the crest plateau's top
 WATER, AIR, SAND = "water", "air", "sand"
 
 
@@ -39,6 +44,14 @@ def free_surface(dump: dict) -> tuple[np.ndarray, np.ndarray]:
                 eta[i] = y[j] + f * (y[j - 1] - y[j]) - STILL_LEVEL
                 break
     return x, eta
+
+
+def entrained_air(dump: dict) -> float:
+    """Air volume [m^2 per metre of depth] in the cells whose centre lies below SHELF_LEVEL."""
+    _, y, _ = cell_centres(dump)
+    dx = np.asarray(dump["attrs"]["dx"]).reshape(3)
+    a = dump["cell"][f"{AIR}/volume_fraction"][:, :, 0]
+    return float(np.sum(a[:, y < SHELF_LEVEL])) * float(dx[0] * dx[1])
 
 
 def masses(dump: dict) -> dict[str, float]:

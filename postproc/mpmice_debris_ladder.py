@@ -16,6 +16,8 @@ left out of that time's comparison. Per run and time it prints:
   offset that depends on the cell size h);
 * the largest relative mass change of water, sand and bed since the first dump
   (mpmice_debris_flow.masses);
+* the air entrained below the shelf's level y = 1.5 m [m^2 per metre of depth]
+  (mpmice_debris_flow.entrained_air);
 * against the next coarser run (runs ordered by cell size): the difference of eta(x), the coarser
   eta interpolated linearly onto the finer run's column centres where both are defined, as an
   RMS ("L2": sqrt of the mean square over those columns) and a max norm, in cm;
@@ -49,7 +51,8 @@ import os
 import numpy as np
 
 from postproc.figures import pyplot, save_figure
-from postproc.mpmice_debris_flow import NAME, SAND, STILL_LEVEL, free_surface, masses, slide_front
+from postproc.mpmice_debris_flow import (NAME, SAND, STILL_LEVEL, entrained_air, free_surface,
+                                         masses, slide_front)
 from postproc.mpmice_io import list_dumps, read_attrs, read_dump
 
 P_ATM = 101325.0             # Pa
@@ -142,6 +145,7 @@ def read_run(directory: str, times) -> dict:
             "front": slide_front(d), "advance": slide_front(d) - fronts[0], "px": p["x"], "py": p["y"],
             "excess": excess_pore_pressure(p["y"], p["pore_pressure"]),
             "mass_change": max(abs(m[k] / m0[k] - 1.0) for k in CONSERVED if m0.get(k, 0.0) > 0.0),
+            "air": entrained_air(d),
         }
     return run
 
@@ -175,7 +179,8 @@ def print_table(runs: list[dict], times, study: dict) -> None:
         print(f"{r['label']}: {r['dir']}, {len(r['times'])} dumps to t = {r['times'][-1]:.3f} s")
     print("published eta(x) at 0.4 / 0.8 s: none stated in text or tables (module docstring)")
     head = (f"{'t req':>5} {'run':<22} {'dump t':>6} {'eta max [cm] @ x':>17} "
-            f"{'eta min [cm] @ x':>17} {'front':>6} {'adv.':>6} {'dmass':>8} {'L2 d [cm]':>9} "
+            f"{'eta min [cm] @ x':>17} {'front':>6} {'adv.':>6} {'dmass':>8} {'air m2':>7} "
+            f"{'L2 d [cm]':>9} "
             f"{'max d':>6} {'n':>4} {'excess pore p min/p1/med/p99/max [kPa]':>54}")
     for t in times:
         print(head)
@@ -194,7 +199,7 @@ def print_table(runs: list[dict], times, study: dict) -> None:
             print(f"{t:5.2f} {r['label']:<22} {a['time']:6.3f} "
                   f"{a['eta'][i] * 100:+7.2f} @ {a['x'][i]:5.3f}  "
                   f"{a['eta'][j] * 100:+7.2f} @ {a['x'][j]:5.3f}  {a['front']:6.3f} {a['advance']:6.3f} "
-                  f"{a['mass_change']:8.1e} {d:>21} "
+                  f"{a['mass_change']:8.1e} {a['air']:7.4f} {d:>21} "
                   f"{ex.min():10.1f} {np.percentile(ex, 1):10.1f} {np.median(ex):10.2f} "
                   f"{np.percentile(ex, 99):10.1f} {ex.max():10.1f}")
         for labels, p_rms, p_max, p_front in entry["orders"]:

@@ -95,3 +95,15 @@ def test_observed_order_uneven_ratio_and_undefined():
     assert abs(ladder.observed_order(h, e) - 1.5) < 1e-9
     assert abs(ladder.observed_order((0.4, 0.2, 0.1), (1.0, 1.0))) < 1e-12
     assert math.isnan(ladder.observed_order((0.4, 0.2, 0.1), (1.0, 0.0)))
+
+
+def test_entrained_air_counts_the_air_below_the_shelf(tmp_path):
+    """On the 0.2 m fake run the water share ramps over +-2 cells around eta = 1.65 + 0.005 x,
+    so the only cells below the shelf (centres below 1.5 m) holding air are those at y = 1.3 m,
+    with air 0.0625 - 0.00625 x: over the 20 columns (sum x = 40 m) 1.25 - 0.25 = 1.0, times the
+    cell area 0.04 m^2 gives 0.04 m^2 per metre."""
+    from postproc.mpmice_debris_flow import entrained_air
+    from postproc.mpmice_io import read_dump
+    path = tmp_path / "debris_000000.h5"
+    _write_dump(path, 0.2, 0.0, with_hole=False)
+    assert math.isclose(entrained_air(read_dump(str(path))), 0.04, rel_tol=1e-12)
