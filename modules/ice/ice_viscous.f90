@@ -54,7 +54,7 @@ contains
     real(wp), intent(inout) :: heat(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)   !< energy [J]
     real(wp), intent(in), optional :: smagorinsky  !< Smagorinsky constant C_s [-]
     integer :: d, i, j, k, o(3), c
-    real(wp) :: area, k_lo, k_hi, phi_lo, phi_hi, cs, flux_lo(3), flux_hi(3), mu_lo, mu_hi
+    real(wp) :: area, k_lo, k_hi, phi_lo, phi_hi, cs, flux_lo(3), flux_hi(3)
     ! the high-face stresses of the previous row (normal 2)
     real(wp) :: row_flux(3, grid%lo(1):grid%hi(1))
     real(wp), allocatable :: nu_t(:, :, :)
@@ -84,15 +84,9 @@ contains
                 else if (d == 2 .and. j > grid%lo(2)) then
                   flux_lo = row_flux(:, i)
                 else
-                  mu_lo = cell_coefficient(i - o(1), j - o(2), k - o(3))
-                  mu_hi = cell_coefficient(i, j, k)
-                  flux_lo = face_stress(f%vel, grid, d, [i - o(1), j - o(2), k - o(3)], &
-                    [i, j, k], face_mean(mu_lo, mu_hi))
+                  flux_lo = stress_between(d, [i - o(1), j - o(2), k - o(3)], [i, j, k])
                 end if
-                mu_lo = cell_coefficient(i, j, k)
-                mu_hi = cell_coefficient(i + o(1), j + o(2), k + o(3))
-                flux_hi = face_stress(f%vel, grid, d, [i, j, k], [i + o(1), j + o(2), k + o(3)], &
-                  face_mean(mu_lo, mu_hi))
+                flux_hi = stress_between(d, [i, j, k], [i + o(1), j + o(2), k + o(3)])
                 if (d == 2) row_flux(:, i) = flux_hi
                 do c = 1, 3
                   mom(i, j, k, c) = mom(i, j, k, c) + dt * area * (flux_hi(c) - flux_lo(c))
@@ -113,6 +107,17 @@ contains
     end associate
 
   contains
+
+    !> tau_c,dn [Pa] on the face of normal `dn` between cells `l` and `h`, with the harmonic
+    !! mean of their cell coefficients.
+    function stress_between(dn, l, h) result(tau)
+      integer, intent(in) :: dn    !< face normal
+      integer, intent(in) :: l(3)  !< low cell
+      integer, intent(in) :: h(3)  !< high cell
+      real(wp) :: tau(3)           !< stress components [Pa]
+      tau = face_stress(state%fluid(m)%vel, grid, dn, l, h, &
+        face_mean(cell_coefficient(l(1), l(2), l(3)), cell_coefficient(h(1), h(2), h(3))))
+    end function stress_between
 
     !> The cell coefficient phi mu_e = phi mu + phi v^-1 nu_t [Pa s] of cell (ic, jc, kc).
     real(wp) function cell_coefficient(ic, jc, kc)
