@@ -222,10 +222,11 @@ contains
     type(grid_t), intent(in) :: grid        !< block geometry
     real(wp), intent(in), optional :: smagorinsky  !< Smagorinsky constant C_s [-] (<= 0: none)
     real(wp) :: dt
-    real(wp) :: diffusivity, s, rho_min, cs, nu_max
+    real(wp) :: diffusivity, s_all, s_free, rho_min, cs, nu_max
     real(wp), allocatable :: nu_t(:, :, :)
-    logical, allocatable :: present_cells(:, :, :)
-    integer :: m
+    logical :: any_free, with_solid
+    integer :: m, i, j, k
+    with_solid = state%solid%present
     cs = 0.0_wp
     if (present(smagorinsky)) cs = smagorinsky
     if (cs > 0.0_wp) allocate(nu_t(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
@@ -238,24 +239,44 @@ contains
         ! cells where the fluid is present, not a trace: the specific volume of a trace
         ! (advected m v over a vanishing m) is not a physical one and must not set the step
         rho_min = 1.0e-6_wp * maxval(f%rho(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-        present_cells = f%rho(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) > rho_min
-        s = maxval(f%spvol(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), mask=present_cells)
-        diffusivity = max(diffusivity, f%conductivity * s / f%eos%cv)
-        if (state%solid%present) then
-          ! in cells holding solid the coupled step replaces the fluid's cell velocity by the
-          ! mean of its face velocities (mpmice_solid_cells%fluid_face_blend): the explicit
-          ! viscous update there cannot grow, only the free fluid limits the step
-          present_cells = present_cells .and. &
-            state%solid%vfrac(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) <= 0.0_wp
-          s = max(0.0_wp, maxval(f%spvol(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), &
-            mask=present_cells))
-        end if
+        ! s_all: largest specific volume where the fluid is present (heat); s_free: the same
+        ! without the cells holding solid of a coupled scene (momentum): there the coupled step
+        ! replaces the fluid's cell velocity by the mean of its face velocities
+        ! (mpmice_solid_cells%fluid_face_blend), the explicit viscous update cannot grow, only
+        ! the free fluid limits the step
+        s_all = 0.0_wp
+        s_free = 0.0_wp
+        any_free = .false.
+        do k = lo(3), hi(3)
+          do j = lo(2), hi(2)
+            do i = lo(1), hi(1)
+              if (f%rho(i, j, k) <= rho_min) cycle
+              s_all = max(s_all, f%spvol(i, j, k))
+              if (with_solid) then
+                if (state%solid%vfrac(i, j, k) > 0.0_wp) cycle
+              end if
+              s_free = max(s_free, f%spvol(i, j, k))
+              any_free = .true.
+            end do
+          end do
+        end do
+        diffusivity = max(diffusivity, f%conductivity * s_all / f%eos%cv)
         nu_max = 0.0_wp
-        if (cs > 0.0_wp .and. any(present_cells)) then
+        if (cs > 0.0_wp .and. any_free) then
           call ice_eddy_viscosity(state, grid, m, cs, nu_t)
-          nu_max = maxval(nu_t(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), mask=present_cells)
+          do k = lo(3), hi(3)
+            do j = lo(2), hi(2)
+              do i = lo(1), hi(1)
+                if (f%rho(i, j, k) <= rho_min) cycle
+                if (with_solid) then
+                  if (state%solid%vfrac(i, j, k) > 0.0_wp) cycle
+                end if
+                nu_max = max(nu_max, nu_t(i, j, k))
+              end do
+            end do
+          end do
         end if
-        diffusivity = max(diffusivity, stress_factor * (f%viscosity * s + nu_max))
+        diffusivity = max(diffusivity, stress_factor * (f%viscosity * s_free + nu_max))
       end associate
     end do
     if (diffusivity > 0.0_wp) then

@@ -120,8 +120,9 @@ module solver_pressure
     integer :: reuse = 1                  !< PFMG set-up kept for up to this many solves (>= 1)
     integer :: uses = 0                   !< hypre solves done with the current PFMG set-up
     integer :: setups = 0                 !< PFMG set-ups done since init (diagnostics)
-    integer :: setup_iterations = 0       !< PCG iterations of the first solve after the set-up
-    integer :: last_iterations = 0        !< PCG iterations of the last hypre solve
+    integer :: setup_iterations = 0       !< PCG iterations of the first full-tolerance solve
+                                          !! after the set-up (0: none yet)
+    integer :: last_iterations = 0        !< PCG iterations of the last full-tolerance solve
     ! direct path: one tridiagonal line on this rank
     logical :: direct = .false.           !< the operator is one line on this rank
     logical :: direct_ready = .false.     !< the factorisation of the current operator is valid
@@ -340,8 +341,12 @@ contains
   !> Solve A x = rhs by PCG + PFMG with `x` as initial guess (owned cells read and written,
   !! ghosts untouched). `converged` is false when the relative residual ||r||_2/||b||_2 did not
   !! reach the tolerance within `max_iterations`; a warning naming the iterations and the residual
-  !! is then logged. A zero right-hand side gives x = 0 without iterating. Collective.
-  subroutine struct_solver_solve(solver, grid, rhs, x, iterations, relative_residual, converged)
+  !! is then logged. A zero right-hand side gives x = 0 without iterating. With
+  !! `absolute_tolerance` the PCG also stops once ||r||_2 <= absolute_tolerance (global 2-norm, in
+  !! the units of `rhs`): its relative tolerance for this solve is then
+  !! max(tolerance, absolute_tolerance / ||b||_2), and `converged` refers to that. Collective.
+  subroutine struct_solver_solve(solver, grid, rhs, x, iterations, relative_residual, converged, &
+      absolute_tolerance)
     type(struct_solver_t), intent(inout) :: solver  !< solver with an operator set
     type(grid_t), intent(in) :: grid                !< block geometry (as at init)
     real(wp), intent(in) :: rhs(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)  !< right-hand side
@@ -349,9 +354,11 @@ contains
     integer, intent(out) :: iterations             !< PCG iterations done
     real(wp), intent(out) :: relative_residual     !< final ||r||_2/||b||_2
     logical, intent(out) :: converged              !< tolerance reached
+    !> stop also at ||r||_2 <= this (units of `rhs`; default 0: the relative tolerance alone)
+    real(wp), intent(in), optional :: absolute_tolerance
     integer(c_int) :: ierr, its
     real(c_double) :: norm
-    real(wp) :: bb(1)
+    real(wp) :: bb(1), tolerance
     character(len=msg_len) :: text
 
     call check_ready(solver, grid, 'struct_solver_solve', .true.)
@@ -359,6 +366,7 @@ contains
     call check_bounds(grid, ubound(x), 'x')
 
     if (solver%direct_ready) then
+      ! the direct solve is exact to round-off: no looser tolerance needed
       call solve_line(solver, grid, rhs, x, relative_residual)
       iterations = 0
       converged = relative_residual <= solver%tolerance   ! false for NaN as well
@@ -393,12 +401,17 @@ contains
     if (.not. solver%setup_done) then
       call setup_krylov(solver)
     else if (solver%operator_changed .and. (solver%uses >= solver%reuse .or. &
-      2 * solver%last_iterations > 3 * solver%setup_iterations)) then
+      (solver%setup_iterations > 0 .and. &
+      2 * solver%last_iterations > 3 * solver%setup_iterations))) then
       ! reuse spent, or the stale hierarchy already cost 1.5 times the iterations of its first
       ! solve (deterministic: iteration counts only)
       call setup_krylov(solver)
     end if
     solver%uses = solver%uses + 1
+    tolerance = solver%tolerance
+    if (present(absolute_tolerance)) tolerance = max(tolerance, absolute_tolerance / sqrt(bb(1)))
+    call hypre_check(HYPRE_StructPCGSetTol(solver%pcg, real(tolerance, c_double)), &
+      'HYPRE_StructPCGSetTol')
 
     ! hypre flags a PCG that stopped short of the tolerance with HYPRE_ERROR_CONV: not fatal
     ! here, it is reported below from the residual; any other bit is.
@@ -417,13 +430,16 @@ contains
 
     iterations = int(its)
     relative_residual = real(norm, wp)
-    solver%last_iterations = iterations
-    if (solver%uses == 1) solver%setup_iterations = iterations
-    converged = relative_residual <= solver%tolerance   ! false for NaN as well
+    if (tolerance == solver%tolerance) then
+      ! the reuse test compares full-tolerance solves only (a looser solve stops earlier)
+      solver%last_iterations = iterations
+      if (solver%setup_iterations == 0) solver%setup_iterations = iterations
+    end if
+    converged = relative_residual <= tolerance   ! false for NaN as well
     if (.not. converged) then
       write(text, '(a,i0,a,es10.3,a,es10.3)') 'struct solver (PCG+PFMG) did not converge: ', &
         iterations, ' iterations, relative residual ', relative_residual, ' > tolerance ', &
-        solver%tolerance
+        tolerance
       call log_warning(trim(text))
     end if
   end subroutine struct_solver_solve
@@ -506,6 +522,7 @@ contains
     solver%setup_done = .true.
     solver%operator_changed = .false.
     solver%uses = 0
+    solver%setup_iterations = 0
     solver%setups = solver%setups + 1
   end subroutine setup_krylov
 
