@@ -13,6 +13,7 @@ module config_echo
   use config_types, only: config_t, fluid_params_t, solid_params_t, region_params_t, &
     boundary_params_t, history_unset
   use config_text, only: real_repr, reals_repr, ints_repr, logicals_repr, quoted
+  use parallel_domain, only: blocks_given
   implicit none
   private
 
@@ -50,6 +51,9 @@ contains
     call add('periodic', logicals_repr(cfg%grid%periodic))
     call add('ghost_width', ints_repr([cfg%grid%ghost_width]))
     call add('dims', ints_repr(cfg%grid%dims))
+    call add('block_cells_x', blocks_repr(cfg%grid%block_cells(:, 1)))
+    call add('block_cells_y', blocks_repr(cfg%grid%block_cells(:, 2)))
+    call add('block_cells_z', blocks_repr(cfg%grid%block_cells(:, 3)))
     text = text // '/' // nl // '&time' // nl
     call add('cfl', real_repr(cfg%time%cfl))
     call add('dt_init', real_repr(cfg%time%dt_init))
@@ -273,4 +277,17 @@ contains
       if (.not. present(stat)) call fatal('cannot write ' // trim(path) // ': ' // trim(iomsg))
     end if
   end subroutine config_write_used
+
+  !> The entries of a `block_cells` column up to its last non-zero one ('0' when all are zero).
+  function blocks_repr(cells) result(text)
+    integer, intent(in) :: cells(:)  !< cells per block, zero-padded
+    character(len=:), allocatable :: text
+    integer :: n
+    n = blocks_given(cells)
+    if (n == 0) then
+      text = '0'
+    else
+      text = ints_repr(cells(1:n))
+    end if
+  end function blocks_repr
 end module config_echo

@@ -12,7 +12,7 @@ module config_namelist
   use mpmice_kinds, only: wp, name_len, path_len, msg_len
   use config_types, only: config_t, run_params_t, grid_params_t, time_params_t, &
     numerics_params_t, solver_params_t, output_params_t, heat_params_t, max_polygon_points, &
-    max_history_points
+    max_history_points, max_blocks_per_dim
   use config_occurrences, only: is_repeated_group, occurrence_count
   use config_read_phases, only: read_physics, read_ice, read_mpm, read_coupling, read_fluid, &
     read_solid, read_region, read_boundary
@@ -57,6 +57,9 @@ module config_namelist
     variable_info_t('grid', 'periodic', 'l', 3, 0), &
     variable_info_t('grid', 'ghost_width', 'i', 1, 0), &
     variable_info_t('grid', 'dims', 'i', 3, 0), &
+    variable_info_t('grid', 'block_cells_x', 'i', max_blocks_per_dim, 0), &
+    variable_info_t('grid', 'block_cells_y', 'i', max_blocks_per_dim, 0), &
+    variable_info_t('grid', 'block_cells_z', 'i', max_blocks_per_dim, 0), &
     variable_info_t('time', 'cfl', 'r', 1, 0), &
     variable_info_t('time', 'dt_init', 'r', 1, 0), &
     variable_info_t('time', 'dt_max', 'r', 1, 0), &
@@ -358,15 +361,21 @@ contains
     integer, intent(out) :: ios             !< iostat
     character(len=*), intent(inout) :: iomsg !< iomsg
     integer :: ncells(3), ghost_width, dims(3)
+    integer :: block_cells_x(max_blocks_per_dim), block_cells_y(max_blocks_per_dim), &
+      block_cells_z(max_blocks_per_dim)
     real(wp) :: lower(3), upper(3)
     logical :: periodic(3)
-    namelist /grid/ ncells, lower, upper, periodic, ghost_width, dims
+    namelist /grid/ ncells, lower, upper, periodic, ghost_width, dims, block_cells_x, &
+      block_cells_y, block_cells_z
     ncells = p%ncells
     lower = p%lower
     upper = p%upper
     periodic = p%periodic
     ghost_width = p%ghost_width
     dims = p%dims
+    block_cells_x = p%block_cells(:, 1)
+    block_cells_y = p%block_cells(:, 2)
+    block_cells_z = p%block_cells(:, 3)
     read(text, nml=grid, iostat=ios, iomsg=iomsg)
     if (ios /= 0) return
     p%ncells = ncells
@@ -375,6 +384,9 @@ contains
     p%periodic = periodic
     p%ghost_width = ghost_width
     p%dims = dims
+    p%block_cells(:, 1) = block_cells_x
+    p%block_cells(:, 2) = block_cells_y
+    p%block_cells(:, 3) = block_cells_z
   end subroutine read_grid
 
   !> `&time`.

@@ -28,6 +28,10 @@ module config_types
   public :: drag_law_names, drag_scheme_names, rigid_contact_names
   public :: particles_per_cell_used, boundary_for_face
   public :: max_history_points, history_unset, history_points_used
+  public :: max_blocks_per_dim
+
+  !> Most blocks along one dimension that `&grid block_cells_x/y/z` can give.
+  integer, parameter :: max_blocks_per_dim = 256
 
   !> Scenes the driver knows (the allowed values of `&run scene`). Later issues append to it.
   !! 'ice': fluids only (>= 1 `&fluid`, no `&solid`); 'mpm': solids only (>= 1 `&solid`, no
@@ -65,6 +69,8 @@ module config_types
     logical :: periodic(3) = [.false., .false., .false.]   !< periodic dimensions
     integer :: ghost_width = 2                             !< ghost layers in active dimensions
     integer :: dims(3) = [0, 0, 0]                         !< ranks per dimension (0: automatic)
+    !> cells of each block along x, y, z (`block_cells_x/y/z`; all zero: an even split)
+    integer :: block_cells(max_blocks_per_dim, 3) = 0
   end type grid_params_t
 
   !> `&time`: time-step control.

@@ -9,7 +9,7 @@
 module config_validate
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use mpmice_kinds, only: wp, i8
-  use parallel_domain, only: choose_dims
+  use parallel_domain, only: choose_dims, blocks_given
   use config_types, only: config_t, scene_names, shape_function_names
   use config_text, only: real_repr, reals_repr, ints_repr, quoted
   use config_check_tools, only: config_error_t, set_error, check_real, check_int, check_choice
@@ -18,6 +18,9 @@ module config_validate
   private
 
   public :: config_error_t, config_check, ghost_width_needed
+
+  !> Axis letters of the per-dimension variables (`block_cells_x`, ...).
+  character(len=3), parameter :: axis_names = 'xyz'
 
 contains
 
@@ -107,9 +110,9 @@ contains
     integer, intent(in) :: nranks               !< number of ranks
     type(config_error_t), intent(inout) :: err  !< problem record
     logical :: active(3)
-    integer :: dims(3), d, requested, need
+    integer :: dims(3), d, requested, need, request(3)
     logical :: ok
-    character(len=:), allocatable :: ranks_text
+    character(len=:), allocatable :: ranks_text, rank_variable, rank_value, rank_rule
 
     ok = .false.
     associate (p => cfg%grid)
@@ -146,15 +149,28 @@ contains
           'each entry >= 0 (0: automatic), 0 or 1 where ncells is 1')
         return
       end if
-      requested = product(merge(p%dims, 1, active .and. p%dims > 0))
-      if (all(.not. active .or. p%dims > 0) .and. requested /= nranks .and. any(active)) then
-        call set_error(err, 'grid', 'dims', ints_repr(p%dims), &
-          'product over active dimensions = number of ranks (' // ranks_text // ')')
+      call check_block_cells(p%ncells, p%ghost_width, p%dims, p%block_cells, err, request)
+      if (err%found) return
+      ! a rank-count mismatch is blamed on dims, or on the first given block list
+      rank_variable = 'dims'
+      rank_value = ints_repr(p%dims)
+      rank_rule = 'product of the non-zero entries'
+      do d = 3, 1, -1
+        if (blocks_given(p%block_cells(:, d)) > 0) then
+          rank_variable = 'block_cells_' // axis_names(d:d)
+          rank_value = ints_repr(p%block_cells(1:blocks_given(p%block_cells(:, d)), d))
+          rank_rule = 'number of entries (blocks) times the given blocks of the other dimensions'
+        end if
+      end do
+      requested = product(merge(request, 1, active .and. request > 0))
+      if (all(.not. active .or. request > 0) .and. requested /= nranks .and. any(active)) then
+        call set_error(err, 'grid', rank_variable, rank_value, rank_rule // &
+          ' = number of ranks (' // ranks_text // ')')
         return
       end if
       if (mod(nranks, requested) /= 0) then
-        call set_error(err, 'grid', 'dims', ints_repr(p%dims), &
-          'product of the non-zero entries divides the number of ranks (' // ranks_text // ')')
+        call set_error(err, 'grid', rank_variable, rank_value, rank_rule // &
+          ' divides the number of ranks (' // ranks_text // ')')
         return
       end if
       if (.not. any(active) .and. nranks > 1) then
@@ -168,9 +184,10 @@ contains
         return
       end if
       dims = 1
-      if (nranks > 1) dims = choose_dims(nranks, active, p%dims)
+      if (nranks > 1) dims = choose_dims(nranks, active, request)
       do d = 1, 3
-        if (.not. active(d)) cycle
+        ! given blocks were checked against the ghost width by check_block_cells
+        if (.not. active(d) .or. blocks_given(p%block_cells(:, d)) > 0) cycle
         if (p%ncells(d) / dims(d) < p%ghost_width) then
           call set_error(err, 'grid', 'ncells', ints_repr(p%ncells), &
             'at least ghost_width (' // ints_repr([p%ghost_width]) // &
@@ -182,6 +199,43 @@ contains
       end do
     end associate
   end subroutine check_grid
+
+  !> `&grid block_cells_x/y/z`: each given list (up to its last non-zero entry) only along an
+  !! active dimension, every entry >= ghost_width, the sum = ncells, its length = dims where
+  !! dims is given. `request`: the blocks per dimension asked for (dims, or the list lengths).
+  subroutine check_block_cells(ncells, ghost_width, dims, block_cells, err, request)
+    integer, intent(in) :: ncells(3)                    !< cells per dimension
+    integer, intent(in) :: ghost_width                  !< ghost layers
+    integer, intent(in) :: dims(3)                      !< requested blocks (0: automatic)
+    integer, intent(in) :: block_cells(:, :)            !< cells per block, zero-padded
+    type(config_error_t), intent(inout) :: err          !< problem record
+    integer, intent(out) :: request(3)                  !< blocks per dimension asked for
+    integer :: d, n
+    character(len=:), allocatable :: variable, value
+    request = dims
+    do d = 1, 3
+      n = blocks_given(block_cells(:, d))
+      if (n == 0) cycle
+      variable = 'block_cells_' // axis_names(d:d)
+      value = ints_repr(block_cells(1:n, d))
+      if (ncells(d) == 1) then
+        call set_error(err, 'grid', variable, value, 'only along a dimension with ncells > 1 ' // &
+          '(ncells = ' // ints_repr(ncells) // ')')
+      else if (any(block_cells(1:n, d) < ghost_width)) then
+        call set_error(err, 'grid', variable, value, 'each entry >= ghost_width (' // &
+          ints_repr([ghost_width]) // ') up to the last block, 0 after it')
+      else if (sum(block_cells(1:n, d)) /= ncells(d)) then
+        call set_error(err, 'grid', variable, value, 'entries summing to ncells(' // &
+          ints_repr([d]) // ') = ' // ints_repr([ncells(d)]))
+      else if (dims(d) > 0 .and. dims(d) /= n) then
+        call set_error(err, 'grid', variable, value, ints_repr([dims(d)]) // &
+          ' entries (&grid dims = ' // ints_repr(dims) // '), or dims(' // ints_repr([d]) // &
+          ') = 0')
+      end if
+      if (err%found) return
+      request(d) = n
+    end do
+  end subroutine check_block_cells
 
   !> `&time`.
   subroutine check_time(cfg, err)

@@ -39,7 +39,7 @@ contains
 
     call MPI_Comm_dup(MPI_COMM_WORLD, world)
     call domain_init(dom, world, cfg%grid%ncells, cfg%grid%periodic, cfg%grid%ghost_width, &
-      cfg%grid%dims)
+      cfg%grid%dims, cfg%grid%block_cells)
     call grid_init(grid, dom, cfg%grid%lower, cfg%grid%upper)
     text = config_to_text(cfg)
 

@@ -224,7 +224,7 @@ contains
     real(wp) :: dt
     real(wp) :: diffusivity, s_all, s_free, rho_min, cs, nu_max
     real(wp), allocatable :: nu_t(:, :, :)
-    logical :: any_free, with_solid
+    logical :: with_solid
     integer :: m, i, j, k
     with_solid = state%solid%present
     cs = 0.0_wp
@@ -243,10 +243,11 @@ contains
         ! without the cells holding solid of a coupled scene (momentum): there the coupled step
         ! replaces the fluid's cell velocity by the mean of its face velocities
         ! (mpmice_solid_cells%fluid_face_blend), the explicit viscous update cannot grow, only
-        ! the free fluid limits the step
+        ! the free fluid limits the step; nu_max: the largest eddy viscosity of those free cells
+        if (cs > 0.0_wp) call ice_eddy_viscosity(state, grid, m, cs, nu_t)
         s_all = 0.0_wp
         s_free = 0.0_wp
-        any_free = .false.
+        nu_max = 0.0_wp
         do k = lo(3), hi(3)
           do j = lo(2), hi(2)
             do i = lo(1), hi(1)
@@ -256,26 +257,11 @@ contains
                 if (state%solid%vfrac(i, j, k) > 0.0_wp) cycle
               end if
               s_free = max(s_free, f%spvol(i, j, k))
-              any_free = .true.
+              if (cs > 0.0_wp) nu_max = max(nu_max, nu_t(i, j, k))
             end do
           end do
         end do
         diffusivity = max(diffusivity, f%conductivity * s_all / f%eos%cv)
-        nu_max = 0.0_wp
-        if (cs > 0.0_wp .and. any_free) then
-          call ice_eddy_viscosity(state, grid, m, cs, nu_t)
-          do k = lo(3), hi(3)
-            do j = lo(2), hi(2)
-              do i = lo(1), hi(1)
-                if (f%rho(i, j, k) <= rho_min) cycle
-                if (with_solid) then
-                  if (state%solid%vfrac(i, j, k) > 0.0_wp) cycle
-                end if
-                nu_max = max(nu_max, nu_t(i, j, k))
-              end do
-            end do
-          end do
-        end if
         diffusivity = max(diffusivity, stress_factor * (f%viscosity * s_free + nu_max))
       end associate
     end do

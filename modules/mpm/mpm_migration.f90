@@ -11,7 +11,7 @@ module mpm_migration
   use mpi_f08, only: MPI_Alltoall, MPI_Alltoallv, MPI_INTEGER, MPI_DOUBLE_PRECISION, MPI_Cart_rank
   use mpmice_kinds, only: wp, i8
   use grid_layout, only: grid_t
-  use parallel_domain, only: domain_t, block_range
+  use parallel_domain, only: domain_t, domain_block_range
   use mpm_particles, only: particles_t, particles_reserve, particles_compact
   implicit none
   private
@@ -41,7 +41,7 @@ contains
     allocate(mig%coord_of_cell(maxval(grid%ncells), 3), source=0)
     do d = 1, 3
       do c = 0, dom%dims(d) - 1
-        call block_range(grid%ncells(d), dom%dims(d), c, lo, hi)
+        call domain_block_range(dom, d, c, lo, hi)
         mig%coord_of_cell(lo:hi, d) = c
       end do
     end do

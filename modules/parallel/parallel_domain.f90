@@ -1,7 +1,9 @@
 !> Cartesian MPI decomposition of a uniform grid over its active dimensions.
 !!
 !! One block per rank. `MPI_Dims_create` splits the ranks over the active dimensions only; an
-!! inactive dimension (one cell) always has one block and no ghost layers. Library code receives
+!! inactive dimension (one cell) always has one block and no ghost layers. Along a dimension the
+!! cells are split evenly (`block_range`) unless the caller gives the cells of each block
+!! (`&grid block_cells_x/y/z`: uneven blocks that balance a scene whose work is not uniform). Library code receives
 !! the communicator through `domain_t` and never touches `MPI_COMM_WORLD`.
 module parallel_domain
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Dims_create, MPI_Cart_create, &
@@ -10,7 +12,8 @@ module parallel_domain
   implicit none
   private
 
-  public :: domain_t, domain_init, domain_free, block_range, choose_dims
+  public :: domain_t, domain_init, domain_free, block_range, choose_dims, blocks_given, &
+    domain_block_range, domain_min_block_cells
 
   !> A rank's place in the Cartesian decomposition.
   type :: domain_t
@@ -27,6 +30,8 @@ module parallel_domain
     integer :: lo(3) = 1                    !< first owned cell (global index, 1-based)
     integer :: hi(3) = 1                    !< last owned cell (global index)
     integer :: ng(3) = 0                    !< ghost width per dimension (0 where inactive)
+    !> (0:max dims, d): first cell of each block along d; entry dims(d) is ncells(d) + 1
+    integer, allocatable :: first_cell(:, :)
     logical :: initialized = .false.        !< set by domain_init
   end type domain_t
 
@@ -34,15 +39,19 @@ contains
 
   !> Build the Cartesian decomposition of `ncells` cells over the ranks of `parent`.
   !! `dims_request` (optional) fixes the number of blocks per dimension (0 = let MPI choose).
-  !! Aborts if a block would hold fewer cells than the ghost width (callers validate before).
-  subroutine domain_init(dom, parent, ncells, periodic, ghost_width, dims_request)
+  !! `block_cells` (optional, (:, 3)): the cells of each block along a dimension, its leading
+  !! positive entries (`blocks_given` of them fix the blocks along that dimension; all zero: an
+  !! even split). Aborts if a block would hold fewer cells than the ghost width or the given
+  !! blocks do not tile the dimension (callers validate before).
+  subroutine domain_init(dom, parent, ncells, periodic, ghost_width, dims_request, block_cells)
     type(domain_t), intent(inout) :: dom           !< decomposition to build
     type(MPI_Comm), intent(in) :: parent           !< communicator to decompose (e.g. a dup of world)
     integer, intent(in) :: ncells(3)               !< global cells per dimension
     logical, intent(in) :: periodic(3)             !< periodic dimensions
     integer, intent(in) :: ghost_width             !< ghost layers in active dimensions
     integer, intent(in), optional :: dims_request(3) !< blocks per dimension (0 = free)
-    integer :: nranks, d, dims_active(3), nact, map(3)
+    integer, intent(in), optional :: block_cells(:, :) !< cells per block along each dimension
+    integer :: nranks, d, dims_active(3), nact, map(3), request(3), given(3), c, last
     logical :: periods(3)
 
     call domain_free(dom)
@@ -54,7 +63,16 @@ contains
     dom%ng = 0
     where (dom%active) dom%ng = ghost_width
 
-    dom%dims = choose_dims(nranks, dom%active, dims_request)
+    request = 0
+    if (present(dims_request)) request = dims_request
+    given = 0
+    if (present(block_cells)) then
+      do d = 1, 3
+        given(d) = blocks_given(block_cells(:, d))
+        if (given(d) > 0) request(d) = given(d)
+      end do
+    end if
+    dom%dims = choose_dims(nranks, dom%active, request)
     nact = 0
     do d = 1, 3
       if (dom%active(d)) then
@@ -84,9 +102,25 @@ contains
       end if
     end do
 
+    if (allocated(dom%first_cell)) deallocate(dom%first_cell)
+    allocate(dom%first_cell(0:maxval(dom%dims), 3), source=0)
     do d = 1, 3
-      call block_range(ncells(d), dom%dims(d), dom%coords(d), dom%lo(d), dom%hi(d))
-      if (dom%active(d) .and. dom%hi(d) - dom%lo(d) + 1 < max(dom%ng(d), 1)) then
+      if (given(d) > 0) then
+        if (given(d) /= dom%dims(d) .or. sum(block_cells(1:given(d), d)) /= ncells(d)) then
+          call fatal('domain_init: the given blocks do not tile the dimension')
+        end if
+        dom%first_cell(0, d) = 1
+        do c = 1, given(d)
+          dom%first_cell(c, d) = dom%first_cell(c - 1, d) + block_cells(c, d)
+        end do
+      else
+        do c = 0, dom%dims(d) - 1
+          call block_range(ncells(d), dom%dims(d), c, dom%first_cell(c, d), last)
+        end do
+        dom%first_cell(dom%dims(d), d) = ncells(d) + 1
+      end if
+      call domain_block_range(dom, d, dom%coords(d), dom%lo(d), dom%hi(d))
+      if (dom%active(d) .and. domain_min_block_cells(dom, d) < max(dom%ng(d), 1)) then
         call fatal('domain_init: a block has fewer cells than the ghost width')
       end if
     end do
@@ -136,6 +170,40 @@ contains
     hi = lo + base - 1
     if (coord < extra) hi = hi + 1
   end subroutine block_range
+
+  !> Number of blocks given by a `block_cells` column: the index of its last non-zero entry
+  !! (0: none given, an even split).
+  pure integer function blocks_given(cells)
+    integer, intent(in) :: cells(:)  !< cells per block, zero-padded
+    integer :: c
+    blocks_given = 0
+    do c = size(cells), 1, -1
+      if (cells(c) /= 0) then
+        blocks_given = c
+        return
+      end if
+    end do
+  end function blocks_given
+
+  !> Cells `lo..hi` owned by block `coord` (0-based) along dimension `d` of the decomposition.
+  pure subroutine domain_block_range(dom, d, coord, lo, hi)
+    type(domain_t), intent(in) :: dom  !< decomposition (initialised)
+    integer, intent(in) :: d           !< dimension
+    integer, intent(in) :: coord       !< 0-based block coordinate
+    integer, intent(out) :: lo         !< first owned cell
+    integer, intent(out) :: hi         !< last owned cell
+    lo = dom%first_cell(coord, d)
+    hi = dom%first_cell(coord + 1, d) - 1
+  end subroutine domain_block_range
+
+  !> Fewest cells of a block along dimension `d`.
+  pure integer function domain_min_block_cells(dom, d)
+    type(domain_t), intent(in) :: dom  !< decomposition (initialised)
+    integer, intent(in) :: d           !< dimension
+    integer :: n
+    n = dom%dims(d)
+    domain_min_block_cells = minval(dom%first_cell(1:n, d) - dom%first_cell(0:n - 1, d))
+  end function domain_min_block_cells
 
   !> Release the Cartesian communicator.
   subroutine domain_free(dom)

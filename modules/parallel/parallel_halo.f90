@@ -16,7 +16,7 @@ module parallel_halo
     MPI_PROC_NULL, MPI_REQUEST_NULL, MPI_STATUSES_IGNORE
   use mpmice_kinds, only: wp
   use mpmice_errors, only: fatal
-  use parallel_domain, only: domain_t
+  use parallel_domain, only: domain_t, domain_min_block_cells
   use parallel_halo_pack, only: box_size, pack_box, unpack_box
   use grid_layout, only: grid_t
   implicit none
@@ -258,7 +258,7 @@ contains
     integer, intent(in) :: d           !< dimension
     integer :: n
     n = 1
-    if (dom%ncells(d) / dom%dims(d) < dom%ng(d) + 1) n = 2
+    if (domain_min_block_cells(dom, d) < dom%ng(d) + 1) n = 2
   end function node_passes
 
   !> Whether the reverse halo refreshes the copies (default true).

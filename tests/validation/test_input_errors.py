@@ -329,6 +329,22 @@ def test_more_ranks_than_cells(run_mpmice, tmp_case_dir):
                                 "4 ranks"], tmp_case_dir)
 
 
+def test_block_cells_must_match_ranks(run_mpmice, tmp_case_dir):
+    """Three given blocks along x do not fit 2 ranks: the error names the list."""
+    write_case(tmp_case_dir, "&grid ncells = 16, 16, 1, block_cells_x = 4, 6, 6 /")
+    result = run_mpmice(["case.nml"], nranks=2, cwd=tmp_case_dir)
+    assert_input_error(result, ["case.nml", "&grid", "block_cells_x", "4, 6, 6"], tmp_case_dir)
+
+
+@pytest.mark.parametrize("blocks", ["4, 6", "1, 15"])
+def test_block_cells_must_tile_x(run_mpmice, tmp_case_dir, blocks):
+    """Given blocks that do not sum to ncells, or one thinner than ghost_width: one error line
+    naming the list and its value."""
+    write_case(tmp_case_dir, f"&grid ncells = 16, 16, 1, block_cells_x = {blocks} /")
+    result = run_mpmice(["case.nml"], nranks=2, cwd=tmp_case_dir)
+    assert_input_error(result, ["case.nml", "&grid", "block_cells_x", blocks], tmp_case_dir)
+
+
 def test_dims_must_match_ranks(run_mpmice, tmp_case_dir):
     write_case(tmp_case_dir, "&grid ncells = 16, 16, 1, dims = 1, 1, 0 /")
     result = run_mpmice(["case.nml"], nranks=2, cwd=tmp_case_dir)

@@ -89,6 +89,46 @@ def test_darcy_rank_invariance(tmp_path, nranks):
 
 
 @pytest.mark.mpi
+@pytest.mark.parametrize("nranks,blocks", [(2, "7, 33"), (4, "3, 20, 10, 7")])
+def test_terzaghi_given_blocks(tmp_path, nranks, blocks):
+    """Uneven blocks (`&grid block_cells_y`) give the 1-rank column to the same tolerances as the
+    even split: pressure to 1e-9 p0, particle positions to 1e-13 m, effective stress to 1e-9 p0."""
+    sets = ("&grid ncells = 1, 40, 1 /", "&run end_time = 0.02, output_interval = 0.02 /")
+    one = list_dumps(_run(tmp_path, TERZAGHI, "r1", 1, *sets), "terzaghi")[-1]
+    out = str(tmp_path / f"b{nranks}")
+    args = [TERZAGHI, "--set", f"&run output_dir = '{out}' /"]
+    for text in (*sets, f"&grid block_cells_y = {blocks} /"):
+        args += ["--set", text]
+    result = run_mpmice(args, nranks=nranks, cwd=str(tmp_path))
+    assert f"blocks 1 x {nranks} x 1" in result.stdout
+    c1, p1 = _fields(one, "soil")
+    cn, pn = _fields(list_dumps(out, "terzaghi")[-1], "soil")
+    assert np.max(np.abs(c1["cell/pressure"] - cn["cell/pressure"])) < 1e-9 * P0
+    assert np.max(np.abs(p1["y"] - pn["y"])) < 1e-13
+    assert np.max(np.abs(p1["stress_yy"] - pn["stress_yy"])) < 1e-9 * P0
+
+
+@pytest.mark.mpi
+def test_restart_on_other_blocks(tmp_path):
+    """A checkpoint of an even 2-rank split continued on uneven blocks (&grid block_cells_y on
+    the restart's command line) ends where the uninterrupted run ends, to the rank-invariance
+    tolerances (the fields are read by global index, the particles migrate to their new owners)."""
+    sets = ("&grid ncells = 1, 40, 1 /", "&run end_time = 0.012 /")
+    full = list_dumps(_run(tmp_path, TERZAGHI, "full", 2, *sets), "terzaghi")[-1]
+    half_dir = _run(tmp_path, TERZAGHI, "half", 2, *sets, "&run max_steps = 100 /")
+    checkpoint = os.path.join(half_dir, "terzaghi_checkpoint_000100.h5")
+    run_mpmice(["--restart", checkpoint, "--set", "&run max_steps = 0 /",
+                "--set", "&grid block_cells_y = 31, 9 /"], nranks=2, cwd=str(tmp_path))
+    cont = list_dumps(half_dir, "terzaghi")[-1]
+    assert os.path.basename(cont) == os.path.basename(full)
+    c1, p1 = _fields(full, "soil")
+    c2, p2 = _fields(cont, "soil")
+    assert np.max(np.abs(c1["cell/pressure"] - c2["cell/pressure"])) < 1e-9 * P0
+    assert np.max(np.abs(p1["y"] - p2["y"])) < 1e-13
+    assert np.max(np.abs(p1["stress_yy"] - p2["stress_yy"])) < 1e-9 * P0
+
+
+@pytest.mark.mpi
 @pytest.mark.parametrize("nranks,dims", [(1, "1, 1, 1"), (2, "2, 1, 1"), (4, "2, 2, 1")])
 def test_terzaghi_2d_equals_1d(tmp_path, nranks, dims):
     """The column as a 2D scene (4 x 40 cells, 2 x 1 particles per cell, free-slip/roller side
