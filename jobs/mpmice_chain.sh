@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Run one link of a restart chain: start the case, or continue it from the checkpoint named in
 # <output_dir>/<name>.status when the previous link stopped early (signal, wall-time limit or
-# &run max_steps). Prints the final state (finished | stopped | failed) as its last line and exits
-# 0 for finished/stopped, 1 otherwise. Used by the Slurm and PBS templates; works anywhere.
+# &run max_steps). The --set options apply to every link, continuations included (on top of the
+# input stored in the checkpoint), so a link may carry its own &run wall_time_limit. Prints the
+# final state (finished | stopped | failed) as its last line and exits 0 for finished/stopped,
+# 1 otherwise. Used by the Slurm and PBS templates; works anywhere.
 #
 #   MPMICE_LAUNCH="srun" jobs/mpmice_chain.sh case.nml [--set '...' ...]
 #
@@ -29,7 +31,7 @@ case "$state" in
   stopped)
     checkpoint="$(sed -n 's/^checkpoint = //p' "$status_file")"
     echo "mpmice_chain: continuing $name from $checkpoint"
-    $launch "$exe" --restart "$checkpoint" || true ;;
+    $launch "$exe" --restart "$checkpoint" "$@" || true ;;
   *)
     echo "mpmice_chain: starting $name"
     $launch "$exe" "$case_file" "$@" || true ;;

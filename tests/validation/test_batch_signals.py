@@ -76,7 +76,9 @@ def test_wall_time_limit_stops_with_checkpoint(tmp_path, mpmice_exe):
 
 def test_restart_chain_script(tmp_path, mpmice_exe):
     """jobs/mpmice_chain.sh, run three times with &run max_steps = 1500, starts, continues twice
-    and finishes with dumps identical to an uninterrupted run."""
+    and finishes with dumps identical to an uninterrupted run; the --set options reach the
+    continuations too (a progress interval given to the continuations only is in the last
+    link's resolved input)."""
     full = tmp_path / "full"
     run_mpmice([NAMELIST] + LONG + ["--set", f"&run output_dir = '{full}' /"], nranks=2,
                exe=str(mpmice_exe), cwd=str(tmp_path))
@@ -85,12 +87,16 @@ def test_restart_chain_script(tmp_path, mpmice_exe):
     env["MPMICE_EXE"] = str(mpmice_exe)
     env["MPMICE_LAUNCH"] = "mpirun -n 2"
     states = []
-    for _ in range(3):
+    for link in range(3):
+        own = [] if link == 0 else ["--set", "&run progress_interval = 7.0 /"]
         result = subprocess.run(
             [os.path.join(ROOT, "jobs", "mpmice_chain.sh"), NAMELIST] + LONG
-            + ["--set", f"&run output_dir = '{chain}', max_steps = 1500 /"],
+            + ["--set", f"&run output_dir = '{chain}', max_steps = 1500 /"] + own,
             cwd=str(tmp_path), env=env, capture_output=True, text=True, timeout=300)
         assert result.returncode == 0, result.stdout + result.stderr
         states.append(result.stdout.splitlines()[-1])
     assert states == ["stopped", "stopped", "finished"]
     assert_same_dumps(full, chain)
+    # the continuations' own --set (a progress interval) reached the last link's resolved input
+    used = (chain / "heat2d.used.nml").read_text()
+    assert "progress_interval = 7.0" in used, used
