@@ -110,7 +110,7 @@ contains
     integer, intent(in) :: nranks               !< number of ranks
     type(config_error_t), intent(inout) :: err  !< problem record
     logical :: active(3)
-    integer :: dims(3), d, requested, need, request(3)
+    integer :: dims(3), d, requested, need, request(3), given(3)
     logical :: ok
     character(len=:), allocatable :: ranks_text, rank_variable, rank_value, rank_rule
 
@@ -149,16 +149,17 @@ contains
           'each entry >= 0 (0: automatic), 0 or 1 where ncells is 1')
         return
       end if
-      call check_block_cells(p%ncells, p%ghost_width, p%dims, p%block_cells, err, request)
+      call check_block_cells(p%ncells, p%ghost_width, p%dims, p%block_cells, err, given)
       if (err%found) return
+      request = merge(given, p%dims, given > 0)
       ! a rank-count mismatch is blamed on dims, or on the first given block list
       rank_variable = 'dims'
       rank_value = ints_repr(p%dims)
       rank_rule = 'product of the non-zero entries'
       do d = 3, 1, -1
-        if (blocks_given(p%block_cells(:, d)) > 0) then
+        if (given(d) > 0) then
           rank_variable = 'block_cells_' // axis_names(d:d)
-          rank_value = ints_repr(p%block_cells(1:blocks_given(p%block_cells(:, d)), d))
+          rank_value = ints_repr(p%block_cells(1:given(d), d))
           rank_rule = 'number of entries (blocks) times the given blocks of the other dimensions'
         end if
       end do
@@ -187,7 +188,7 @@ contains
       if (nranks > 1) dims = choose_dims(nranks, active, request)
       do d = 1, 3
         ! given blocks were checked against the ghost width by check_block_cells
-        if (.not. active(d) .or. blocks_given(p%block_cells(:, d)) > 0) cycle
+        if (.not. active(d) .or. given(d) > 0) cycle
         if (p%ncells(d) / dims(d) < p%ghost_width) then
           call set_error(err, 'grid', 'ncells', ints_repr(p%ncells), &
             'at least ghost_width (' // ints_repr([p%ghost_width]) // &
@@ -202,17 +203,17 @@ contains
 
   !> `&grid block_cells_x/y/z`: each given list (up to its last non-zero entry) only along an
   !! active dimension, every entry >= ghost_width, the sum = ncells, its length = dims where
-  !! dims is given. `request`: the blocks per dimension asked for (dims, or the list lengths).
-  subroutine check_block_cells(ncells, ghost_width, dims, block_cells, err, request)
+  !! dims is given. `given`: the number of blocks each list gives (0: none, an even split).
+  subroutine check_block_cells(ncells, ghost_width, dims, block_cells, err, given)
     integer, intent(in) :: ncells(3)                    !< cells per dimension
     integer, intent(in) :: ghost_width                  !< ghost layers
     integer, intent(in) :: dims(3)                      !< requested blocks (0: automatic)
     integer, intent(in) :: block_cells(:, :)            !< cells per block, zero-padded
     type(config_error_t), intent(inout) :: err          !< problem record
-    integer, intent(out) :: request(3)                  !< blocks per dimension asked for
+    integer, intent(out) :: given(3)                    !< blocks each list gives (0: none)
     integer :: d, n
     character(len=:), allocatable :: variable, value
-    request = dims
+    given = 0
     do d = 1, 3
       n = blocks_given(block_cells(:, d))
       if (n == 0) cycle
@@ -233,7 +234,7 @@ contains
           ') = 0')
       end if
       if (err%found) return
-      request(d) = n
+      given(d) = n
     end do
   end subroutine check_block_cells
 

@@ -3,8 +3,8 @@
 !! One block per rank. `MPI_Dims_create` splits the ranks over the active dimensions only; an
 !! inactive dimension (one cell) always has one block and no ghost layers. Along a dimension the
 !! cells are split evenly (`block_range`) unless the caller gives the cells of each block
-!! (`&grid block_cells_x/y/z`: uneven blocks that balance a scene whose work is not uniform). Library code receives
-!! the communicator through `domain_t` and never touches `MPI_COMM_WORLD`.
+!! (`&grid block_cells_x/y/z`: uneven blocks that balance a scene whose work is not uniform).
+!! Library code receives the communicator through `domain_t` and never touches `MPI_COMM_WORLD`.
 module parallel_domain
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Dims_create, MPI_Cart_create, &
     MPI_Cart_coords, MPI_Cart_shift, MPI_Comm_free, MPI_PROC_NULL, MPI_COMM_NULL, operator(/=)
