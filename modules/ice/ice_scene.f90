@@ -175,7 +175,7 @@ contains
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp) :: dt
     integer :: m, d, i, j, k
-    real(wp) :: c, speed, rate
+    real(wp) :: c, speed, rate, dt_viscous
 
     rate = 0.0_wp
     do m = 1, self%state%nfluids
@@ -204,7 +204,8 @@ contains
       dt = huge(1.0_wp)
     end if
     ! explicit viscosity and conduction
-    dt = min(dt, self%cfl * global_min(dom, ice_viscous_dt(self%state, grid, self%smagorinsky)))
+    call ice_viscous_dt(self%state, grid, dt_viscous, self%smagorinsky)
+    dt = min(dt, self%cfl * global_min(dom, dt_viscous))
   end function ice_scene_stable_dt
 
   !> One ICE step; rejected (state unchanged) when the outer iteration does not converge or a

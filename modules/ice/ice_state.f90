@@ -98,6 +98,8 @@ module ice_state
     real(wp), allocatable :: cons(:, :, :, :)       !< advection work: m, m u, m v, m w, m cv T, m v
     real(wp), allocatable :: lag_work(:, :, :, :)   !< Lagrangian-phase work (`ice_lagrangian`):
                                                     !! energy defect [J], cell mass [kg] (i,j,k,2)
+    real(wp), allocatable :: eddy_viscosity(:, :, :) !< Smagorinsky eddy viscosity work of one
+                                                    !! fluid (`ice_viscous`) [m^2/s]
     logical :: closed(6) = .true.                   !< domain face closed (wall) or open (pressure)
     real(wp) :: p_boundary(6) = 0.0_wp              !< pressure of an open face [Pa]
     integer :: inflow_fluid(6) = 0                  !< fluid filling a face's inflow (0: the
@@ -144,6 +146,7 @@ contains
     allocate(state%pface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
     allocate(state%cons(l(1):u(1), l(2):u(2), l(3):u(3), 6), source=0.0_wp)
     allocate(state%lag_work(l(1):u(1), l(2):u(2), l(3):u(3), 2), source=0.0_wp)
+    allocate(state%eddy_viscosity(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
   end subroutine ice_state_alloc
 
   !> Allocate the solid-phase fields on `grid` (values zero) and mark the phase present.
@@ -204,6 +207,7 @@ contains
     if (allocated(state%pface)) deallocate(state%pface)
     if (allocated(state%cons)) deallocate(state%cons)
     if (allocated(state%lag_work)) deallocate(state%lag_work)
+    if (allocated(state%eddy_viscosity)) deallocate(state%eddy_viscosity)
     if (allocated(state%solid%vfrac)) deallocate(state%solid%vfrac, state%solid%source, &
       state%solid%rho, state%solid%spvol, state%solid%kappa, state%solid%vel, state%solid%drag, &
       state%solid%uface, state%solid%uface0, state%solid%vface, &

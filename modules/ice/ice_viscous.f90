@@ -46,7 +46,7 @@ contains
   !! stress is its low neighbour's high-face stress, carried along the row (normal 1) or from
   !! the previous row (normal 2); normal 3 computes both faces of a cell.
   subroutine ice_viscous_sources(state, grid, m, dt, mom, heat, smagorinsky)
-    type(ice_state_t), intent(in) :: state     !< fluids
+    type(ice_state_t), intent(inout) :: state  !< fluids (`eddy_viscosity`: work)
     type(grid_t), intent(in) :: grid           !< block geometry
     integer, intent(in) :: m                   !< fluid
     real(wp), intent(in) :: dt                 !< time step [s]
@@ -57,7 +57,6 @@ contains
     real(wp) :: area, k_lo, k_hi, phi_lo, phi_hi, cs, flux_lo(3), flux_hi(3)
     ! the high-face stresses of the previous row (normal 2)
     real(wp) :: row_flux(3, grid%lo(1):grid%hi(1))
-    real(wp), allocatable :: nu_t(:, :, :)
     logical :: momentum
 
     cs = 0.0_wp
@@ -66,10 +65,7 @@ contains
       momentum = f%viscosity > 0.0_wp .or. cs > 0.0_wp
       if (.not. momentum .and. f%conductivity <= 0.0_wp) return
       ! the eddy viscosity (opt-in model) needs the strain rate of every cell first
-      if (cs > 0.0_wp) then
-        allocate(nu_t(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), grid%lbc(3):grid%ubc(3)))
-        call ice_eddy_viscosity(state, grid, m, cs, nu_t)
-      end if
+      if (cs > 0.0_wp) call ice_eddy_viscosity(state, grid, m, cs, state%eddy_viscosity)
       do d = 1, 3
         if (.not. grid%active(d)) cycle
         o = 0
@@ -126,7 +122,7 @@ contains
         cell_coefficient = f%vfrac(ic, jc, kc) * f%viscosity
         if (cs > 0.0_wp) then
           if (f%spvol(ic, jc, kc) > 0.0_wp) cell_coefficient = cell_coefficient + &
-            f%vfrac(ic, jc, kc) * nu_t(ic, jc, kc) / f%spvol(ic, jc, kc)
+            f%vfrac(ic, jc, kc) * state%eddy_viscosity(ic, jc, kc) / f%spvol(ic, jc, kc)
         end if
       end associate
     end function cell_coefficient
@@ -217,20 +213,17 @@ contains
   !! Smagorinsky eddy viscosity of the fluid when `smagorinsky` > 0) or k v / cv (heat), over
   !! fluids and owned cells (momentum: without the cells holding solid of a coupled scene); huge
   !! when there is no diffusion.
-  function ice_viscous_dt(state, grid, smagorinsky) result(dt)
-    type(ice_state_t), intent(in) :: state  !< fluids
+  subroutine ice_viscous_dt(state, grid, dt, smagorinsky)
+    type(ice_state_t), intent(inout) :: state  !< fluids (`eddy_viscosity`: work)
     type(grid_t), intent(in) :: grid        !< block geometry
+    real(wp), intent(out) :: dt             !< the limit [s]
     real(wp), intent(in), optional :: smagorinsky  !< Smagorinsky constant C_s [-] (<= 0: none)
-    real(wp) :: dt
     real(wp) :: diffusivity, s_all, s_free, rho_min, cs, nu_max
-    real(wp), allocatable :: nu_t(:, :, :)
     logical :: with_solid
     integer :: m, i, j, k
     with_solid = state%solid%present
     cs = 0.0_wp
     if (present(smagorinsky)) cs = smagorinsky
-    if (cs > 0.0_wp) allocate(nu_t(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
-      grid%lbc(3):grid%ubc(3)))
     diffusivity = 0.0_wp
     do m = 1, state%nfluids
       associate (f => state%fluid(m), lo => grid%lo, hi => grid%hi)
@@ -244,7 +237,7 @@ contains
         ! replaces the fluid's cell velocity by the mean of its face velocities
         ! (mpmice_solid_cells%fluid_face_blend), the explicit viscous update cannot grow, only
         ! the free fluid limits the step; nu_max: the largest eddy viscosity of those free cells
-        if (cs > 0.0_wp) call ice_eddy_viscosity(state, grid, m, cs, nu_t)
+        if (cs > 0.0_wp) call ice_eddy_viscosity(state, grid, m, cs, state%eddy_viscosity)
         s_all = 0.0_wp
         s_free = 0.0_wp
         nu_max = 0.0_wp
@@ -257,7 +250,7 @@ contains
                 if (state%solid%vfrac(i, j, k) > 0.0_wp) cycle
               end if
               s_free = max(s_free, f%spvol(i, j, k))
-              if (cs > 0.0_wp) nu_max = max(nu_max, nu_t(i, j, k))
+              if (cs > 0.0_wp) nu_max = max(nu_max, state%eddy_viscosity(i, j, k))
             end do
           end do
         end do
@@ -270,7 +263,7 @@ contains
     else
       dt = huge(1.0_wp)
     end if
-  end function ice_viscous_dt
+  end subroutine ice_viscous_dt
 
   !> Harmonic mean of two non-negative face coefficients (0 when either is 0).
   pure real(wp) function face_mean(a, b)
