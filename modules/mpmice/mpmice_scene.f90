@@ -67,6 +67,11 @@ module mpmice_scene
 
   public :: mpmice_scene_t
 
+  !> The parts whose stability limit can set the step (`mpmice_stable_dt`), as the summary
+  !! names them.
+  character(len=*), parameter :: limit_names(3) = [character(len=40) :: &
+    'the fluids (flow, viscosity, conduction)', 'the solids (wave speed)', 'solid conduction']
+
   !> A tracked solid fraction below this in a cell where the particles hold no grains is a
   !! residual of the relaxation (which only decays it geometrically, 0.9 per step): it is removed
   !! in one step.
@@ -107,6 +112,8 @@ module mpmice_scene
     real(wp), allocatable :: temp_old(:, :, :)             !< solid cell temperature at time n [K]
     real(wp), allocatable :: dtemp(:, :, :)                !< its increment over the step [K]
     integer :: t_cells = 0, t_nodes = 0                   !< timer ids
+    !> steps of this run whose stability limit each part set (`limit_names`)
+    integer :: limit_steps(3) = 0
   contains
     procedure :: init => mpmice_init
     procedure :: stable_dt => mpmice_stable_dt
@@ -278,14 +285,20 @@ contains
   end subroutine deposit_solids
 
   !> The smallest of the fluid (advective CFL, viscosity, conduction), solid (wave speed) and
-  !! solid conduction (cfl times `solid_conduction_dt`) limits.
+  !! solid conduction (cfl times `solid_conduction_dt`) limits; counts which one set it
+  !! (`limit_steps`, reported by the summary).
   function mpmice_stable_dt(self, dom, grid) result(dt)
     class(mpmice_scene_t), intent(inout) :: self  !< scene
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
     real(wp) :: dt
-    dt = min(self%fl%stable_dt(dom, grid), self%so%stable_dt(dom, grid), &
-      self%fl%cfl * global_min(dom, solid_conduction_dt(self%fl%state, grid)))
+    real(wp) :: limits(3)
+    integer :: which
+    limits = [self%fl%stable_dt(dom, grid), self%so%stable_dt(dom, grid), &
+      self%fl%cfl * global_min(dom, solid_conduction_dt(self%fl%state, grid))]
+    which = minloc(limits, dim=1)
+    dt = limits(which)
+    self%limit_steps(which) = self%limit_steps(which) + 1
   end function mpmice_stable_dt
 
   !> One coupled step (module header); rejected when the pressure iteration or the
@@ -784,8 +797,19 @@ contains
     class(mpmice_scene_t), intent(inout) :: self  !< scene
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
+    integer :: m, total
+    character(len=:), allocatable :: line
     call self%fl%summary(dom, grid)
     call self%so%summary(dom, grid)
+    total = sum(self%limit_steps)
+    if (total == 0) return
+    line = 'mpmice: step limit set by'
+    do m = 1, size(limit_names)
+      line = line // ' ' // trim(limit_names(m)) // ' in ' // int_text(self%limit_steps(m)) // &
+        ' steps (' // real_short_text(100.0_wp * real(self%limit_steps(m), wp) / real(total, wp)) // &
+        ' %)' // trim(merge(',', ' ', m < size(limit_names)))
+    end do
+    call log_info(trim(line) // ' of ' // int_text(total))
   end subroutine mpmice_summary
 
   !> Release everything.
