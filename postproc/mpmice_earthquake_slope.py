@@ -10,7 +10,8 @@ displacement relative to the base; the largest accumulated plastic strain; the e
 pressure of the sediment (the particle's pore pressure, i.e. the pressure of the cell holding it,
 minus the hydrostatic pressure p_atm + rho_w g (h - y) at that cell's centre: min / max and the
 mean over the particles within 0.3 m of three monitoring points, crest, left and right
-mid-flank); the free-surface elevation
+mid-flank); the pore pressure's cell-to-cell noise (99th percentile / largest |excess of a
+sediment cell minus the mean of its two x neighbours|); the free-surface elevation
 eta (water share 0.5 contour, m above the still level) max / min; the largest relative mass
 change of each material. Writes earthquake_slope.png (snapshots: relative displacement, plastic
 strain and excess pore pressure of the particles, with the free surface) and
@@ -95,6 +96,31 @@ def excess_pore_pressure(dump: dict, parts: dict) -> np.ndarray:
     return parts["pore_pressure"] - hydro
 
 
+def cell_excess_pressure(dump: dict, level: float = STILL_LEVEL) -> np.ndarray:
+    """The cells' pressure minus the hydrostatic p_atm + rho_w g (level - y) at their centres
+    [Pa], indexed [i, j] (the first z layer)."""
+    _, y, _ = cell_centres(dump)
+    hydro = P_ATM + RHO_W * G * np.maximum(level - y, 0.0)
+    return dump["cell"]["pressure"][:, :, 0] - hydro[None, :]
+
+
+def pore_pressure_roughness(dump: dict, min_fraction: float = 0.3) -> tuple[float, float]:
+    """(99th percentile, largest) of |a sediment cell's excess pore pressure minus the mean of
+    its two x neighbours| [Pa] (periodic in x): the cell-to-cell noise of the pore pressure in a
+    layer that is uniform along x (docs/mpmice.md, known problems). Sediment cells: sediment
+    volume fraction above `min_fraction`, no base, both x neighbours sediment cells too; (0, 0)
+    when there are none."""
+    ex = cell_excess_pressure(dump)
+    sed = dump["cell"][f"{SEDIMENT}/volume_fraction"][:, :, 0]
+    base = dump["cell"][f"{BASE}/volume_fraction"][:, :, 0]
+    cells = (sed > min_fraction) & (base < 1e-3)
+    inner = cells & np.roll(cells, 1, axis=0) & np.roll(cells, -1, axis=0)
+    if not np.any(inner):
+        return 0.0, 0.0
+    dev = np.abs(ex - 0.5 * (np.roll(ex, 1, axis=0) + np.roll(ex, -1, axis=0)))[inner]
+    return float(np.percentile(dev, 99)), float(np.max(dev))
+
+
 def analyse(dumps: list[dict]) -> list[dict]:
     """One row of measured quantities per dump (see the module header)."""
     length = domain_length(dumps[0])
@@ -114,6 +140,7 @@ def analyse(dumps: list[dict]) -> list[dict]:
         pex = excess_pore_pressure(d, s)
         _, eta = free_surface(d, level)
         m = masses(d)
+        rough = pore_pressure_roughness(d)
         rows.append({
             "time": float(d["time"]), "base_dx": base_dx,
             "base_dx_prescribed": prescribed_displacement(float(d["time"])),
@@ -121,6 +148,7 @@ def analyse(dumps: list[dict]) -> list[dict]:
             "plastic_max": float(np.max(s["plastic_strain"])), "plastic": s["plastic_strain"],
             "pex": pex, "pex_min": float(np.min(pex)), "pex_max": float(np.max(pex)),
             "pex_monitor": {k: float(np.mean(pex[i])) for k, i in monitors.items()},
+            "roughness_p99": rough[0], "roughness_max": rough[1],
             "eta": eta, "level": level, "eta_max": float(np.nanmax(eta)), "eta_min": float(np.nanmin(eta)),
             "mass_change": {k: abs(m[k] / m0[k] - 1.0) for k in m0 if m0[k] > 0.0},
             "x": s["x"], "y": s["y"], "y0": s0["y"],
@@ -186,12 +214,13 @@ def main(argv=None) -> int:
     args, dumps = parse_run_dir(__doc__.splitlines()[0], NAME, argv)
     rows = analyse(dumps)
     print("  t [s]  base dx [m]  prescribed  max|u-ub| [m]  max eps_p  pex min/max [kPa]"
-          "  pex crest/left/right [kPa]  eta max/min [cm]  mass change")
+          "  pex crest/left/right [kPa]  noise p99/max [kPa]  eta max/min [cm]  mass change")
     for r in rows:
         mon = "/".join(f"{v / 1000.0:.1f}" for v in r["pex_monitor"].values())
         print(f"{r['time']:7.3f} {r['base_dx']:11.5f} {r['base_dx_prescribed']:11.5f} "
               f"{r['rel_disp_max']:13.4f} {r['plastic_max']:10.4f} "
               f"{r['pex_min'] / 1000.0:8.1f}/{r['pex_max'] / 1000.0:.1f} {mon:>22s} "
+              f"{r['roughness_p99'] / 1000.0:12.1f}/{r['roughness_max'] / 1000.0:.1f} "
               f"{r['eta_max'] * 100.0:8.2f}/{r['eta_min'] * 100.0:.2f} "
               f"{max(r['mass_change'].values()):10.2e}")
     for path in plot(dumps, rows, args.out or args.dir):

@@ -59,3 +59,29 @@ def test_shaken_bank_keeps_mass_follows_the_base_and_yields(tmp_path):
     assert u_crest < 0.25 * ub, (u_crest, ub)
     assert np.max(last["plastic"][layer]) > 1e-3
     assert np.max(np.abs(last["eta"])) < ub * BANK_HEIGHT / GAP, (last["eta_max"], last["eta_min"])
+
+
+def test_pore_pressure_roughness_sees_a_single_cell_and_not_a_gradient():
+    """The noise measure of the postproc on a synthetic layer: hydrostatic plus a smooth
+    (linear in x, periodic wrap excluded by the sediment mask) excess gives 0; one cell 40 kPa
+    above its neighbours gives 40 kPa at most and 20 kPa beside it; cells with base or without
+    sediment are left out."""
+    ni, nj = 12, 4
+    dx = 0.5
+    y = (np.arange(nj) + 0.5) * dx
+    hydro = quake.P_ATM + quake.RHO_W * quake.G * (quake.STILL_LEVEL - y)
+    sed = np.zeros((ni, nj, 1))
+    sed[1:-1, 1:3, 0] = 1.0                      # a sediment layer, open at both x ends
+    base = np.zeros((ni, nj, 1))
+    base[:, 0, 0] = 1.0
+    ramp = 1.0e3 * np.arange(ni)[:, None]        # 1 kPa per cell along x
+    dump = {"attrs": {"ncells": [ni, nj, 1], "lower": [0.0, 0.0, 0.0], "dx": [dx, dx, dx]},
+            "cell": {"pressure": (hydro[None, :] + ramp)[:, :, None],
+                     "sediment/volume_fraction": sed, "base/volume_fraction": base}}
+    p99, largest = quake.pore_pressure_roughness(dump)
+    assert largest < 1e-6 and p99 < 1e-6, (p99, largest)
+    dump["cell"]["pressure"][5, 2, 0] += 4.0e4
+    dump["cell"]["pressure"][5, 0, 0] += 9.0e5   # inside the base: not counted
+    p99, largest = quake.pore_pressure_roughness(dump)
+    assert abs(largest - 4.0e4) < 1e-6, largest
+    assert p99 > 2.0e4 - 1e-6, p99
