@@ -55,8 +55,9 @@ if [ "$unit_only" -eq 0 ]; then
   marker=()
   [ "$quick" -eq 1 ] && marker=(-m "not slow")
   echo "== test.sh: pytest tests/validation"
-  "$root/.venv/bin/python" -m pytest "$root/tests/validation" -q "${marker[@]}" \
-    "${pytest_args[@]}" || pytest_status=$?
+  # --durations: the slowest tests at the end of the log (the suite's time budget, docs/testing.md)
+  "$root/.venv/bin/python" -m pytest "$root/tests/validation" -q --durations=15 \
+    "${marker[@]}" "${pytest_args[@]}" || pytest_status=$?
   if [ "$pytest_status" -eq 5 ]; then
     echo "test.sh: pytest collected no tests (counted as success)"
     pytest_status=0
