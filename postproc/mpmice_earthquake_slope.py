@@ -84,13 +84,17 @@ def free_surface(dump: dict, level: float = STILL_LEVEL) -> tuple[np.ndarray, np
     return x, eta
 
 
+def hydrostatic_pressure(y: np.ndarray, level: float = STILL_LEVEL) -> np.ndarray:
+    """p_atm + rho_w g (level - y) below `level`, p_atm above it [Pa]."""
+    return P_ATM + RHO_W * G * np.maximum(level - y, 0.0)
+
+
 def excess_pore_pressure(dump: dict, parts: dict) -> np.ndarray:
     """Pore pressure minus the hydrostatic value at the centre of the particle's cell [Pa]."""
     _, y, _ = cell_centres(dump)
     dy = y[1] - y[0]
     j = np.clip(np.floor((parts["y"] - (y[0] - 0.5 * dy)) / dy).astype(int), 0, len(y) - 1)
-    yc = y[j]
-    hydro = P_ATM + RHO_W * G * np.maximum(STILL_LEVEL - yc, 0.0)
+    hydro = hydrostatic_pressure(y[j])
     if not np.any(parts["pore_pressure"]):        # the initial dump: not computed yet
         return np.zeros_like(hydro)
     return parts["pore_pressure"] - hydro
@@ -100,8 +104,7 @@ def cell_excess_pressure(dump: dict, level: float = STILL_LEVEL) -> np.ndarray:
     """The cells' pressure minus the hydrostatic p_atm + rho_w g (level - y) at their centres
     [Pa], indexed [i, j] (the first z layer)."""
     _, y, _ = cell_centres(dump)
-    hydro = P_ATM + RHO_W * G * np.maximum(level - y, 0.0)
-    return dump["cell"]["pressure"][:, :, 0] - hydro[None, :]
+    return dump["cell"]["pressure"][:, :, 0] - hydrostatic_pressure(y, level)[None, :]
 
 
 def pore_pressure_roughness(dump: dict, min_fraction: float = 0.3) -> tuple[float, float]:

@@ -113,7 +113,7 @@ module mpmice_scene
     real(wp), allocatable :: dtemp(:, :, :)                !< its increment over the step [K]
     integer :: t_cells = 0, t_nodes = 0                   !< timer ids
     !> steps of this run whose stability limit each part set (`limit_names`)
-    integer :: limit_steps(3) = 0
+    integer :: limit_steps(size(limit_names)) = 0
   contains
     procedure :: init => mpmice_init
     procedure :: stable_dt => mpmice_stable_dt
@@ -292,7 +292,7 @@ contains
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
     real(wp) :: dt
-    real(wp) :: limits(3)
+    real(wp) :: limits(size(limit_names))
     integer :: which
     limits = [self%fl%stable_dt(dom, grid), self%so%stable_dt(dom, grid), &
       self%fl%cfl * global_min(dom, solid_conduction_dt(self%fl%state, grid))]
