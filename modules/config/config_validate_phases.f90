@@ -2,8 +2,9 @@
 !! `&solid`, `&region`, `&boundary`) and of the scene-dependent group counts.
 !!
 !! Called by `config_check` after the other groups. Problems in occurrence k of a repeated group
-!! are reported against the group `fluid(k)` (and so on). Whether the initial volume fractions
-!! sum to one in every cell is checked by the ICE initialisation, not here.
+!! are reported against the group `fluid(k)` (and so on). Where regions and solids lie against
+!! the domain, and whether the initial volume fractions sum to one in every cell, is checked by
+!! `config_validate_extent` (called last).
 module config_validate_phases
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use mpmice_kinds, only: wp
@@ -15,6 +16,7 @@ module config_validate_phases
   use config_text, only: real_repr, reals_repr, ints_repr, quoted, join_names
   use config_check_tools, only: config_error_t, set_error, check_real, check_int, check_choice, &
     occurrence_label
+  use config_validate_extent, only: check_extents
   implicit none
   private
 
@@ -43,6 +45,7 @@ contains
       call check_boundary(cfg, k, err)
     end do
     call check_scene(cfg, err)
+    call check_extents(cfg, err)
   end subroutine check_phases
 
   !> Every entry of `x` finite.

@@ -115,6 +115,7 @@ ICE_CASE = """&run name = 'ice', scene = 'ice', output_dir = 'out' /
 &fluid name = 'air', volume_fraction = 1.0 /
 &fluid name = 'water', eos = 'linear_water', viscosity = 1.0e-3 /
 &region material = 'water', upper = 0.5, 1.0, 1.0, volume_fraction = 1.0 /
+&region material = 'air', upper = 0.5, 1.0, 1.0, volume_fraction = 0.0 /
 &boundary face = 'x+', fluid = 'pressure' /
 """
 
@@ -124,7 +125,14 @@ BAD_PHASE_INPUTS = [
     ("duplicate_name", "&fluid name = 'air' /", [],
      ["case.nml", "&fluid(3) name = 'air'", "unique", "&fluid(1)"]),
     ("unknown_region_material", "&region material = 'oil' /", [],
-     ["case.nml", "&region(2) material = 'oil'", "'air', 'water'"]),
+     ["case.nml", "&region(3) material = 'oil'", "'air', 'water'"]),
+    ("fractions_do_not_sum_to_one",
+     "&region material = 'air', upper = 0.5, 1, 1, volume_fraction = 0.5 /", [],
+     ["case.nml", "&region(3) volume_fraction = 0.5", "summing to 1 in every cell",
+      "cell 1, 1, 1", "sum 1.5"]),
+    ("region_outside_domain", "&region material = 'water', lower = 2, 0, 0, upper = 3, 1, 1 /",
+     [], ["case.nml", "&region(3) upper = 3.0, 1.0, 1.0", "at least one cell centre",
+          "&grid lower = 0.0, 0.0, 0.0, upper = 1.0, 1.0, 1.0"]),
     ("bad_enum", "&fluid name = 'oil', eos = 'tait' /", [],
      ["case.nml", "&fluid(3) eos = 'tait'", "ideal_gas, linear_water, stiffened_gas"]),
     ("boundary_on_periodic_face", "&boundary face = 'y-' /", [],
@@ -182,6 +190,9 @@ BAD_MPMICE_INPUTS = [
      ["--set", "&solid(1) dilation_angle = -40.0", "-friction_angle..friction_angle (30.0)"]),
     ("traction_ramp_time_negative", "", ["&solid name = 'soil', traction_ramp_time = -1 /"],
      ["--set", "&solid(1) traction_ramp_time = -1.0", ">= 0 [s]"]),
+    ("solid_outside_domain", "&solid name = 's2', lower = 0, 1.5, 0, upper = 1, 2, 1 /", [],
+     ["case.nml", "&solid(2) upper = 1.0, 2.0, 1.0", "overlapping the domain",
+      "upper = 1.0, 1.0, 1.0"]),
     ("grain_size_zero_rigid",
      "&solid name = 's2', model = 'rigid', upper = 1, 1, 1, grain_size = 0 /", [],
      ["case.nml", "&solid(2) grain_size = 0.0", "> 0 [m]"]),
@@ -450,7 +461,7 @@ def test_repeated_groups_echo_and_set_selector(run_mpmice, tmp_case_dir):
     assert [f["name"] for f in fluids] == ["air", "water"]
     assert fluids[0]["viscosity"] == 0.0 and fluids[1]["viscosity"] == 2.5e-3
     assert fluids[1]["eos"] == "linear_water" and fluids[0]["eos"] == "ideal_gas"
-    assert [v["material"] for name, v in groups if name == "region"] == ["water"]
+    assert [v["material"] for name, v in groups if name == "region"] == ["water", "air"]
     assert [v["face"] for name, v in groups if name == "boundary"] == ["x+"]
     (tmp_case_dir / "resolved.nml").write_text(first)
     second = run_mpmice(["--check", "resolved.nml"], cwd=tmp_case_dir)
