@@ -7,8 +7,9 @@
 #                              pytest tests marked `slow`
 #   scripts/test.sh -- ARGS    pass ARGS on to pytest (e.g. -- -k heat -x)
 #
-# Exit status: 0 when every test passed, 1 otherwise (2 for a usage error). pytest's "no tests
-# collected" (exit 5) counts as success. See docs/testing.md.
+# Exit status: 0 when every test passed, 1 otherwise (2 for a usage error). Nothing may pass by
+# not running: a missing executable ($MPMICE_EXE) fails, pytest's "no tests collected" (exit 5)
+# fails, and MPMICE_REQUIRE_ALL=1 turns every pytest skip into a failure. See docs/testing.md.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -21,7 +22,7 @@ while [ $# -gt 0 ]; do
     --unit) unit_only=1 ;;
     --quick) quick=1 ;;
     --) shift; pytest_args=("$@"); break ;;
-    -h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "test.sh: unknown option $1 (try --help)" >&2; exit 2 ;;
   esac
   shift
@@ -36,6 +37,8 @@ export OMPI_MCA_hwloc_base_binding_policy="${OMPI_MCA_hwloc_base_binding_policy:
 # ROMIO for MPI-IO: Open MPI 4.1 OMPIO collective writes corrupted data here (docs/io.md)
 export OMPI_MCA_io="${OMPI_MCA_io:-^ompio}"
 export MPMICE_EXE="${MPMICE_EXE:-$root/build/bin/mpmice}"
+# validation tests that cannot run (no executable, a scene that fails --check) fail, never skip
+export MPMICE_REQUIRE_ALL=1
 
 start=$(date +%s)
 echo "== test.sh: set up and build (scripts/setup.sh)"
@@ -44,7 +47,12 @@ if ! "$root/scripts/setup.sh"; then
   exit 1
 fi
 
-ctest_args=(--test-dir "$root/build" --output-on-failure -j2)
+if [ "$unit_only" -eq 0 ] && [ ! -x "$MPMICE_EXE" ]; then
+  echo "test.sh: FAILED: no mpmice executable at MPMICE_EXE=$MPMICE_EXE"
+  exit 1
+fi
+
+ctest_args=(--test-dir "$root/build" --output-on-failure --no-tests=error -j2)
 [ "$quick" -eq 1 ] && ctest_args+=(-LE slow)
 echo "== test.sh: ctest ${ctest_args[*]}"
 ctest_status=0
@@ -59,8 +67,7 @@ if [ "$unit_only" -eq 0 ]; then
   "$root/.venv/bin/python" -m pytest "$root/tests/validation" -q --durations=15 \
     "${marker[@]}" "${pytest_args[@]}" || pytest_status=$?
   if [ "$pytest_status" -eq 5 ]; then
-    echo "test.sh: pytest collected no tests (counted as success)"
-    pytest_status=0
+    echo "test.sh: pytest collected no tests (a failure: check the arguments after --)"
   fi
 fi
 

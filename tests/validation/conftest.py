@@ -2,6 +2,11 @@
 
 * ``mpmice_exe``: path of the executable, from the environment variable ``MPMICE_EXE`` or else
   ``build/bin/mpmice``; tests that need it are skipped (with the reason) when it is missing.
+* ``unavailable(reason)``: skip the test with ``reason``, or fail it under ``MPMICE_REQUIRE_ALL=1``.
+
+With ``MPMICE_REQUIRE_ALL=1`` (set by scripts/test.sh) nothing may skip: a missing executable, a
+scene whose ``--check`` fails or a build that answers "not implemented" fails the test, and any
+other skip is reported as a failure too (``pytest_runtest_makereport`` below).
 * ``run_mpmice(args, nranks=1, cwd=None, timeout=300)``: run it under ``mpirun`` and return the
   ``subprocess.CompletedProcess`` (text mode, stdout and stderr captured, not checked).
 * ``tmp_case_dir``: an empty directory per test, the default working directory of ``run_mpmice``.
@@ -17,15 +22,43 @@ from postproc.run_case import mpi_environment, mpirun_command
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 
+#: Under the test script every test must run: a skip is a failure.
+REQUIRE_ALL = os.environ.get('MPMICE_REQUIRE_ALL', '') not in ('', '0')
+
+
+def skip_or_fail(reason):
+    """Skip the current test with ``reason``, or fail it when ``MPMICE_REQUIRE_ALL`` is set."""
+    if REQUIRE_ALL:
+        pytest.fail(f'{reason} (MPMICE_REQUIRE_ALL=1: a test that cannot run fails)', pytrace=False)
+    pytest.skip(reason)
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    """Under ``MPMICE_REQUIRE_ALL`` report any skip (e.g. a future ``pytest.skip``) as a failure."""
+    outcome = yield
+    report = outcome.get_result()
+    if REQUIRE_ALL and report.skipped and not hasattr(report, 'wasxfail'):
+        reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)
+        report.outcome = 'failed'
+        report.longrepr = f'skipped under MPMICE_REQUIRE_ALL=1, which forbids skips: {reason}'
+
 
 @pytest.fixture(scope='session')
 def mpmice_exe():
-    """Path of the mpmice executable; skips the test when it has not been built."""
+    """Path of the mpmice executable; skips (or fails, see REQUIRE_ALL) the test when it has not
+    been built."""
     path = Path(os.environ.get('MPMICE_EXE') or REPO_ROOT / 'build' / 'bin' / 'mpmice').resolve()
     if not (path.is_file() and os.access(path, os.X_OK)):
-        pytest.skip(f'mpmice executable not found at {path}: build it with scripts/setup.sh '
+        skip_or_fail(f'mpmice executable not found at {path}: build it with scripts/setup.sh '
                     'or point MPMICE_EXE at it')
     return path
+
+
+@pytest.fixture(scope='session')
+def unavailable():
+    """``skip_or_fail``, for tests whose scene cannot run in this build."""
+    return skip_or_fail
 
 
 @pytest.fixture
