@@ -282,10 +282,13 @@ contains
     runner%active = .false.
   end subroutine pf_test_end
 
-  !> Print the summary on rank 0, finalize MPI and stop with status 1 if a test failed or none ran.
+  !> Finalize MPI, print the summary on rank 0 and stop with status 1 if a test failed or none
+  !! ran. The summary comes last, after MPI_Finalize: ctest requires it (PASS_REGULAR_EXPRESSION,
+  !! tests/CMakeLists.txt), so a run that ends early or hangs in MPI_Finalize does not pass.
   subroutine pf_runner_finish(runner)
     type(pf_runner_t), intent(inout) :: runner  !< runner state
     character(len=160) :: line
+    call MPI_Finalize()
     if (runner%world_rank == 0) then
       write(line, '(i0,a,i0,a,i0,a,i0,a)') runner%passed, ' passed, ', runner%failed, &
         ' failed (', runner%skipped, ' skipped at ', runner%world_size, ' ranks)'
@@ -295,7 +298,6 @@ contains
       end if
       flush(output_unit)
     end if
-    call MPI_Finalize()
     if (runner%failed > 0 .or. runner%passed + runner%failed == 0) stop 1
   end subroutine pf_runner_finish
 end module pfunit_core
