@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
 """ctest harness.failure_detected: failing assertions must make a pfunit-lite test run fail.
 
-Runs the executable built from ``selftest/harness_failing_case.pf`` at every rank count named in
-the file's ``expect-summary np=<n>:`` lines and checks, for each run:
+Runs the executable built from a ``selftest/harness_failing_*.pf`` file at every rank count named
+in the file's ``expect-summary np=<n>:`` lines and checks, for each run:
 
 * the exit status is non-zero;
-* every line marked ``expect-fail np=<n> shows: <text>`` is reported as
-  ``harness_failing_case.pf:<line>: FAILED`` and ``<text>`` appears in the output;
+* the line after each comment ``! expect-fail np=<n> shows: <text>`` is reported as
+  ``<file>.pf:<line>: FAILED`` and ``<text>`` appears in the output (the marker sits on the line
+  before the assertion: a macro's line holds nothing after its closing parenthesis);
 * no text marked ``hidden: <text>`` appears (an assertion after a failure must not run);
 * the summary line holds the expected ``<p> passed, <f> failed``.
 
@@ -30,7 +31,8 @@ def expectations(pf_path):
                 summaries[int(match.group(1))] = match.group(2)
             match = re.search(r'expect-fail np=(\d+) shows: (.*)$', line)
             if match:
-                fails.setdefault(int(match.group(1)), []).append((lineno, match.group(2).strip()))
+                fails.setdefault(int(match.group(1)), []).append(
+                    (lineno + 1, match.group(2).strip()))
             match = re.search(r'hidden: (.*)$', line)
             if match:
                 hidden.append(match.group(1).strip())
@@ -39,7 +41,7 @@ def expectations(pf_path):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
-    parser.add_argument('--pf', required=True, help='harness_failing_case.pf')
+    parser.add_argument('--pf', required=True, help='the deliberately failing .pf file')
     parser.add_argument('--exe', required=True, help='its test executable')
     parser.add_argument('--mpiexec', default='mpiexec')
     parser.add_argument('--numproc-flag', default='-n')

@@ -17,8 +17,7 @@ VALID = """module {name}
 contains
   @test
   subroutine test_a()
-    @assertEqual(1, &
-      1)
+    @assertEqual(1, 1, message='a message with ! and , and &')
   end subroutine test_a
 end module {name}
 """
@@ -33,8 +32,12 @@ BAD_CASES = [
      'exactly one argument'),
     ('test_bad_assert', VALID.replace('@assertEqual', '@assertSame'), 7,
      'outside the supported subset'),
-    ('test_operands', VALID.replace('@assertEqual(1, &', '@assertEqual(1 &'), 7,
+    ('test_operands', VALID.replace('@assertEqual(1, 1,', '@assertEqual(1,'), 7,
      'at least 2 operands'),
+    # pFUnit 4.x translates a macro only on one line ending with its ")"
+    ('test_continued', VALID.replace("1, 1, message=", "1, &\n      1, message="), 7,
+     'continued with "&"'),
+    ('test_trailing', VALID.replace(" and &')", " and &') ! why"), 7, 'comment after'),
     ('test_dangling', VALID.replace('  subroutine test_a()', '  integer :: k\n'
                                     '  subroutine test_a()'), 6, 'followed by a subroutine'),
     ('test_funit', VALID.replace('use pfunit', 'use funit'), 2, 'use pfunit'),

@@ -10,8 +10,10 @@ the design note (section 8) and documented in ``docs/testing.md``:
 * ``@mpitest(npes=[...])`` or ``@test(npes=[...])`` on a subroutine with one argument,
   ``class(MpiTestMethod), intent(inout) :: this`` (MPI test);
 * ``@before`` / ``@after`` on a subroutine with no argument or with the test object;
-* ``@assert<Name>(...)`` macros at the start of a statement, continued over several lines with
-  ``&`` if needed.
+* ``@assert<Name>(...)`` macros at the start of a statement, each on one line that ends with its
+  closing parenthesis: no ``&`` continuation and no trailing comment, which pFUnit 4.x's
+  preprocessor leaves untranslated (the compiler then fails on the ``@``); both are rejected
+  here with ``file:line: error:`` so that a file accepted here builds with a real pFUnit.
 
 The output (one ``.F90`` file) holds the test module with the annotations commented out and the
 macros expanded into calls of the ``pfunit`` support module, followed by a driver program that
@@ -226,32 +228,26 @@ class Translator:
             self.error(lineno, f'more than one @{proc.kind} subroutine')
         self.procedures.append(proc)
 
-    def gather_macro(self, index):
-        """Join the lines of the assertion macro starting at line ``index`` (0-based).
-
-        Returns (joined code without comments, index of the macro's last line).
-        """
-        joined, quote, i = '', None, index
-        while True:
-            code, quote = strip_comment(self.lines[i], quote)
-            code = code.rstrip()
-            if i > index:
-                stripped = code.lstrip()
-                if stripped.startswith('&'):
-                    stripped = stripped[1:]
-                code = stripped
-            if code.endswith('&'):
-                joined += code[:-1]
-                i += 1
-                if i >= len(self.lines):
-                    self.error(index + 1, 'assertion continued past the end of the file')
-                continue
-            return joined + code, i
+    def macro_text(self, index):
+        """The code of the assertion macro on line ``index`` (0-based), which must stand alone on
+        that line: pFUnit 4.x matches ``@assert<Name>(...)`` only on a line ending with ``)``."""
+        line = self.lines[index]
+        code, _ = strip_comment(line)
+        code = code.rstrip()
+        name = RE_ASSERT_START.match(line).group(2)
+        if code.endswith('&'):
+            self.error(index + 1, f'@assert{name} continued with "&": pFUnit translates a macro '
+                       'only when it is written on one line (compute long arguments into '
+                       'variables first)')
+        if code != line.rstrip():
+            self.error(index + 1, f'comment after @assert{name}: pFUnit translates a macro only '
+                       'when its line ends with ")" (put the comment on a line of its own)')
+        return code
 
     def expand_macro(self, index):
         """Fortran lines replacing the assertion macro that starts at line ``index``."""
         lineno = index + 1
-        text, last = self.gather_macro(index)
+        text, last = self.macro_text(index), index
         match = RE_ASSERT_START.match(text)
         variant = match.group(2).lower()
         if variant not in ASSERTIONS:
