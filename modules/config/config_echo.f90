@@ -127,6 +127,18 @@ contains
       text = text // '  ' // name // ' = ' // value // nl
     end subroutine add
 
+    !> A table: its entries in use, or a comment saying that none is set (reading the echo
+    !! back leaves the table unset either way).
+    subroutine add_table(name, value)
+      character(len=*), intent(in) :: name
+      character(len=*), intent(in) :: value
+      if (len(value) > 0) then
+        call add(name, value)
+      else
+        text = text // '  ! ' // name // ' = unset' // nl
+      end if
+    end subroutine add_table
+
     subroutine add_fluid(p)
       type(fluid_params_t), intent(in) :: p
       text = text // '&fluid' // nl
@@ -223,15 +235,15 @@ contains
       call add('solid', quoted(p%solid))
       call add('solid_velocity', reals_repr(p%solid_velocity))
       call add('solid_traction', reals_repr(p%solid_traction))
-      call add('solid_velocity_times', table_repr(p%solid_velocity_times))
-      call add('solid_velocity_history', table_repr(reshape(p%solid_velocity_history, &
+      call add_table('solid_velocity_times', table_repr(p%solid_velocity_times))
+      call add_table('solid_velocity_history', table_repr(reshape(p%solid_velocity_history, &
         [size(p%solid_velocity_history)])))
       text = text // '/' // nl
     end subroutine add_boundary
   end function config_to_text
 
   !> A table with trailing unused entries (`history_unset`): the entries up to the last one in
-  !! use, then the unused ones as one repeat count `r*value`.
+  !! use (an empty text when none is); the unused tail keeps its default when read back.
   function table_repr(x) result(text)
     real(wp), intent(in) :: x(:)  !< table
     character(len=:), allocatable :: text
@@ -241,10 +253,8 @@ contains
       if (x(n) /= history_unset) exit
       n = n - 1
     end do
-    text = reals_repr(x(1:n))
-    if (n == size(x)) return
-    if (n > 0) text = text // ', '
-    text = text // ints_repr([size(x) - n]) // '*' // real_repr(history_unset)
+    text = ''
+    if (n > 0) text = reals_repr(x(1:n))
   end function table_repr
 
   !> Path of the echo file: `<output_dir>/<name>.used.nml`.

@@ -3,7 +3,7 @@ module driver_run_mod
   use mpi_f08, only: MPI_Comm, MPI_COMM_WORLD, MPI_Comm_dup, MPI_Comm_free, MPI_Bcast, MPI_INTEGER
   use mpmice_kinds, only: msg_len
   use mpmice_errors, only: exit_cleanly, int_text, fatal
-  use mpmice_log, only: log_info, log_is_root
+  use mpmice_log, only: log_info, log_is_root, log_warning, log_open_file, log_close_file
   use config_types, only: config_t
   use config_echo, only: config_to_text, config_write_used, config_used_path
   use parallel_domain, only: domain_t, domain_init, domain_free
@@ -35,6 +35,7 @@ contains
     class(scene_t), allocatable :: scene
     character(len=:), allocatable :: text
     character(len=msg_len) :: errmsg
+    character(len=:), allocatable :: log_msg
     integer :: stat
 
     call MPI_Comm_dup(MPI_COMM_WORLD, world)
@@ -57,6 +58,10 @@ contains
       call exit_cleanly(1)
     end if
 
+    ! The log file: every line printed from here on (progress, warnings, the timer table).
+    call log_open_file(log_path(cfg), len(restart_file) > 0, stat, log_msg)
+    if (stat /= 0) call log_warning('no log file ' // log_path(cfg) // ': ' // log_msg)
+
     call log_info('mpmice: scene ' // trim(cfg%run%scene) // ' from ' // trim(source_file) // &
       ' on ' // int_text(dom%nranks) // ' ranks, blocks ' // int_text(dom%dims(1)) // ' x ' // &
       int_text(dom%dims(2)) // ' x ' // int_text(dom%dims(3)) // ', cells ' // &
@@ -75,7 +80,15 @@ contains
       call exit_cleanly(status%exit_code)
     end if
     call log_info('mpmice: ' // trim(status%reason))
+    call log_close_file()
   end subroutine driver_run
+
+  !> Path of the run's log file: `<output_dir>/<name>.log`.
+  function log_path(cfg) result(path)
+    type(config_t), intent(in) :: cfg  !< configuration
+    character(len=:), allocatable :: path
+    path = trim(cfg%run%output_dir) // '/' // trim(cfg%run%name) // '.log'
+  end function log_path
 
   !> The scene object named by `&run scene`.
   subroutine make_scene(cfg, scene)
