@@ -145,7 +145,7 @@ def front(parts: dict, axis: int = 0, sign: int = 1) -> float:
 
 def runout(front_now: float, front_start: float, sign: int) -> float:
     """Distance [m] the front has advanced in direction ``sign`` since ``front_start``."""
-    return sign * (front_now - front_start)
+    return sign * (front_now - front_start) + 0.0   # + 0.0: no "-0.0" at the start
 
 
 def top(parts: dict, vertical: tuple[int, int]) -> float:
