@@ -131,8 +131,9 @@ def slide_direction(first: dict, last: dict, solid: str,
             - centre_of_mass(first["particles"][solid]))
     axis = max(candidates, key=lambda d: abs(move[d]))
     if move[axis] == 0.0:
-        raise ValueError(f"solid {solid} did not move along {', '.join(AXES[d] for d in candidates)}"
-                         f" between t = {first['time']} and {last['time']} s")
+        along = ", ".join(AXES[d] for d in candidates)
+        raise ValueError(f"solid {solid} did not move along {along} between t = "
+                         f"{first['time']} and {last['time']} s")
     return axis, (1 if move[axis] > 0.0 else -1)
 
 

@@ -15,7 +15,9 @@ Panels, one per field and one of the particles:
   ``sand/volume_fraction``), ``<material>/speed`` (|u| from its velocity components), or the
   groups ``fractions`` (every fluid's volume fraction), ``velocity`` (every fluid's speed, with
   arrows in maps) and ``pressure``; default ``fractions pressure velocity`` (the groups a run
-  without fluids lacks are left out);
+  without fluids lacks are left out; a run without fluids gets every solid's volume fraction
+  and speed instead, a run with neither, e.g. heat conduction, every cell field); speeds are
+  blank where the material's volume fraction is below 0.01;
 * the particles of every solid coloured by --particles-colour (a particle dataset such as
   ``pore_pressure``, ``plastic_strain``, ``stress_yy``; ``speed``; or ``displacement``, the
   distance from the particle's position in the first dump, matched by id; default ``speed``);
@@ -64,7 +66,8 @@ def resolve_fields(dump: dict, requested) -> list[str]:
     out = []
     for name in (requested if explicit else DEFAULT_FIELDS):
         if name == "fractions":
-            out += [f"{f}/volume_fraction" for f in fluids if f"{f}/volume_fraction" in dump["cell"]]
+            out += [f"{f}/volume_fraction" for f in fluids
+                    if f"{f}/volume_fraction" in dump["cell"]]
         elif name == "velocity":
             out += [f"{f}/speed" for f in fluids if f"{f}/velocity_x" in dump["cell"]]
         elif name in dump["cell"]:
@@ -74,6 +77,13 @@ def resolve_fields(dump: dict, requested) -> list[str]:
         elif explicit:
             raise KeyError(f"field {name!r} is not in {dump['path']} (cell fields: "
                            f"{', '.join(sorted(dump['cell']))}; groups: {', '.join(GROUPS)})")
+    if not explicit and not out:       # no fluid, no pressure: the solids' fractions and speeds,
+        for solid in materials(dump)["solids"]:            # else every field (heat conduction)
+            if f"{solid}/volume_fraction" in dump["cell"]:
+                out.append(f"{solid}/volume_fraction")
+            if f"{solid}/velocity_x" in dump["cell"]:
+                out.append(f"{solid}/speed")
+        out = out or sorted(dump["cell"])
     return list(dict.fromkeys(out))
 
 
@@ -186,15 +196,18 @@ def draw(dump: dict, first: dict, fields: list[str], colour: str, rigid: list[st
     values = {s: particle_values(dump, first, s, colour) for s in moving}
     npanel = len(fields) + (1 if solids else 0)
     if npanel == 0:
-        raise KeyError(f"{dump['path']}: nothing to draw (no cell field asked for and no particles)")
+        raise KeyError(f"{dump['path']}: nothing to draw (no cell field asked for and no "
+                       "particles)")
     ncols = min(3, npanel)
     nrows = math.ceil(npanel / ncols)
     if len(shown) == 1:
         size = (5.0 * ncols, 3.2 * nrows)
-    else:
+    else:                              # panels of about 5 x 5 inches at most, plus a colour bar
         extent = [float(centres[d][-1] - centres[d][0]) + 1e-12 for d in shown]
-        ratio = min(max(extent[1] / extent[0], 0.25), 4.0)
-        size = (5.0 * ncols, (4.5 * ratio + 0.8) * nrows)
+        ratio = extent[1] / extent[0]
+        width, height = (5.0, max(1.5, 5.0 * ratio)) if ratio <= 1.0 else (max(2.0, 5.0 / ratio),
+                                                                            5.0)
+        size = ((width + 1.5) * ncols, (height + 1.0) * nrows + 0.4)
     fig, axes = plt.subplots(nrows, ncols, figsize=size, squeeze=False)
     for ax in axes.flat[npanel:]:
         ax.set_visible(False)
@@ -278,7 +291,7 @@ def draw(dump: dict, first: dict, fields: list[str], colour: str, rigid: list[st
         c = cell_centres(dump)[normal][index]
         title += f", plane {AXES[normal]} = {c:.4g} m"
     fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0.0, 0.0, 1.0, 1.0 - 0.4 / size[1]))
     return save_figure(fig, path)
 
 
@@ -312,6 +325,8 @@ def main(argv=None) -> int:
         for s in (s for s in first.get("particles", {}) if s not in rigid):
             particle_values(first, first, s, args.colour)
         plane(first, args.slice)
+        if not fields and not first.get("particles"):
+            raise KeyError(f"{paths[0]}: nothing to draw (no cell field and no particles)")
     except KeyError as error:
         raise SystemExit(error.args[0]) from None
     out = args.out or os.path.join(args.run_dir, "postproc")
