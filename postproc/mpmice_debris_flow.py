@@ -13,6 +13,11 @@ first reaches 0.5 (linear between cell centres). Slide front: the largest x of t
 particles. Mass of each fluid (sum rho_bar V) and of each solid (sum of particle masses) per
 dump. Prints a line per dump and writes debris_flow.png (eta(x) and the slide's particles per
 dump) in --out (default: the run directory).
+
+This script knows the shipped scene (its slide moves toward +x, its bed outline, its still
+level). For another slide use `python -m postproc.slide RUN_DIR --solid NAME` (front, run-out
+and free surface in the direction the solid moves) and `python -m postproc.snapshots RUN_DIR`
+(docs/postprocessing.md); both are built from postproc/measures.py, which this script uses too.
 """
 from __future__ import annotations
 

@@ -109,7 +109,11 @@ def particle_values(dump: dict, first: dict, solid: str, field: str) -> np.ndarr
     ``displacement`` from the first dump (matched by id)."""
     parts = dump["particles"][solid]
     if field == "speed":
-        return _speed(parts, "")
+        speed = _speed(parts, "")
+        if speed is None:
+            raise KeyError(f"solid {solid!r} of {dump['path']} has no particle velocity: "
+                           "choose --particles-colour")
+        return speed
     if field == "displacement":
         now, start = by_id(parts), by_id(first["particles"][solid])
         if len(now["x"]) != len(start["x"]):
