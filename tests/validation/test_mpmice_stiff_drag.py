@@ -150,17 +150,9 @@ def terzaghi_implicit(mpmice_exe, tmp_path_factory):
     return result.returncode, result.stdout + result.stderr, dumps
 
 
-def test_terzaghi_stiff_implicit_is_stable(terzaghi_implicit):
-    """Implicit, 50 cells, d = 1 um: finishes (status 0) to t = 0.02 s with finite pressures."""
-    code, text, dumps = terzaghi_implicit
-    assert code == 0, text[-3000:]
-    assert dumps and dumps[-1]["time"] == pytest.approx(IMPLICIT_END)
-    for dump in dumps:
-        assert np.all(np.isfinite(dump["cell"]["pressure"]))
-
-
 def test_terzaghi_stiff_implicit_matches_exact(terzaghi_implicit):
-    """Implicit, d = 1 um, t = 0.02 s: excess pressure within 1 % of p0 of the exact solution
+    """Implicit, 50 cells, d = 1 um: finishes (status 0) at t = 0.02 s with finite pressures
+    in every dump, and at t = 0.02 s the excess pressure is within 1 % of p0 of the exact solution
     (p0 but in a 0.2 mm layer) below the top 5 cells (measured 0.13 %), and no odd-even pair in
     the top cells: the second cell from the drained top within 1 % of p0 (measured 1.001 p0; the
     top cell, holding the unresolved drained layer, 0.76 p0). Before the open-face fraction fix
@@ -169,6 +161,9 @@ def test_terzaghi_stiff_implicit_matches_exact(terzaghi_implicit):
     top 0.854 / 0.992 / 1.002 / 1.001 at 5 / 10 / 15 / 20 ms)."""
     code, text, dumps = terzaghi_implicit
     assert code == 0, text[-3000:]
+    assert dumps and dumps[-1]["time"] == pytest.approx(IMPLICIT_END)
+    for dump in dumps:
+        assert np.all(np.isfinite(dump["cell"]["pressure"]))
     params = stiff.terzaghi_params(GRAIN)
     result = stiff.analyse_terzaghi_dump(dumps[-1], params, top_cells=5)
     assert result["max_error_below_top"] < 1e-2, result
@@ -187,9 +182,10 @@ def test_terzaghi_stiff_explicit_fails(solver, tmp_path):
 
 def test_fixed_decimal_dt_lands_on_output_times(solver, tmp_path):
     """The Darcy namelist as is (d = 1 mm) with dt fixed at 1e-5 s, dumps every 0.05 s, to
-    0.1 s: must finish (status 0). (The summed time used to miss the output time by more than a
-    landing slack of 1e-9 dt and fail on the 1e-14 s remainder; driver_clock now also accepts
-    1e-12 of the time itself.)"""
+    0.1 s: finishes (status 0) with exactly the dumps at t = 0, 0.05 and 0.1 s (to 1e-12 s: the
+    summed steps land on the output times) at steps 0, 5000 and 10000. (The summed time used to
+    miss the output time by more than a landing slack of 1e-9 dt and fail on the 1e-14 s
+    remainder; driver_clock now also accepts 1e-12 of the time itself.)"""
     out = str(tmp_path / "fixed_dt")
     result = run_mpmice([mpmice_darcy.NAMELIST,
                          "--set", "&time dt_init = 1.0e-5, dt_max = 1.0e-5 /",
@@ -197,3 +193,8 @@ def test_fixed_decimal_dt_lands_on_output_times(solver, tmp_path):
                                   f"output_dir = '{out}' /"],
                         cwd=str(tmp_path), check=False, timeout=300)
     assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
+    dumps = [read_dump(p) for p in list_dumps(out, mpmice_darcy.NAME)]
+    times = [d["time"] for d in dumps]
+    assert len(times) == 3, times
+    assert np.max(np.abs(np.array(times) - [0.0, 0.05, 0.1])) < 1e-12, times
+    assert [d["step"] for d in dumps] == [0, 5000, 10000]
