@@ -374,8 +374,8 @@ def test_terzaghi_quasi_static_100_cells(terzaghi_scene, tmp_path):
 
 
 def test_terzaghi_converges(terzaghi_scene, tmp_path):
-    """At T_v = 0.5 the error falls with the cell count: 50 -> 100 cells, at least by 2x
-    (measured 2.02 % -> 0.47 %, order 2.1)."""
+    """At T_v = 0.5 the error falls with the cell count: 50 -> 100 cells, at least by 2x, an
+    observed order above 1 (measured 1.99 % -> 0.69 %, 2.9x, order 1.5)."""
     study = mpmice_terzaghi.run_terzaghi(str(tmp_path), (50, 100),
                                          extra_set=["&run end_time = 0.125 /"])
     e50, e100 = study["error_at_tv"][0.5]
