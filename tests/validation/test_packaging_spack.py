@@ -1,0 +1,175 @@
+"""Packaging checks that need no compiler (docs/install.md): the Spack recipe
+packaging/spack/package.py and the installed Python package.
+
+* The recipe compiles, and loaded against a stub of Spack's recipe API (``spack.package``) it
+  declares class ``Mpmice(CMakePackage)``, the dependencies the build needs (mpi, hdf5+mpi+fortran,
+  hypre+mpi, lapack; pfunit for tests; python, numpy, h5py, matplotlib at run time under
+  +postproc), the variants ``build_type`` and ``postproc``, the project's version, and CMake
+  options that exist in the CMake sources.
+* ``cmake --install`` of the build tree gives a ``postproc`` package that runs with
+  ``PYTHONPATH=<prefix>/share/mpmice/python`` from any directory and finds ``<prefix>/bin/mpmice``.
+
+The install and the commands take about 2 s; the CMake side (find_package, the consumer, the
+version in the program and the dumps) is ctest ``packaging.install_consumer``.
+"""
+
+import contextlib
+import os
+import py_compile
+import re
+import subprocess
+import sys
+import types
+from pathlib import Path
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+
+RECIPE = REPO_ROOT / 'packaging' / 'spack' / 'package.py'
+
+
+def project_version():
+    """The x.y.z of ``project(mpmice VERSION x.y.z ...)`` in CMakeLists.txt."""
+    text = (REPO_ROOT / 'CMakeLists.txt').read_text()
+    match = re.search(r'project\(\s*mpmice\s+VERSION\s+([0-9.]+)', text)
+    assert match, 'CMakeLists.txt has no project(mpmice VERSION x.y.z)'
+    return match.group(1)
+
+
+class _Recorder:
+    """What the recipe's directives declared."""
+
+    def __init__(self):
+        self.versions, self.variants, self.depends = [], {}, []
+        self.when_stack = []
+
+
+def load_recipe():
+    """Execute the recipe with a stub ``spack.package``; return (class, recorder)."""
+    rec = _Recorder()
+
+    class CMakePackage:  # the parts of Spack's CMakePackage the recipe uses
+        run_tests = False
+
+        def define(self, name, value):
+            kind = 'BOOL' if isinstance(value, bool) else 'STRING'
+            value = ('ON' if value else 'OFF') if isinstance(value, bool) else value
+            return f'-D{name}:{kind}={value}'
+
+        def define_from_variant(self, name, variant):
+            return self.define(name, self.spec.variants[variant])
+
+    def version(name, **kwargs):
+        rec.versions.append(name)
+
+    def variant(name, default=None, values=None, description='', **kwargs):
+        rec.variants[name] = {'default': default, 'values': values, 'description': description}
+
+    def depends_on(spec, type=('build', 'link'), when=None):
+        whens = list(rec.when_stack) + ([when] if when else [])
+        kinds = (type,) if isinstance(type, str) else tuple(type)
+        rec.depends.append({'spec': spec, 'type': kinds, 'when': ' '.join(whens)})
+
+    @contextlib.contextmanager
+    def when(condition):
+        rec.when_stack.append(condition)
+        yield
+        rec.when_stack.pop()
+
+    api = types.ModuleType('spack.package')
+    api.CMakePackage = CMakePackage
+    api.version, api.variant, api.depends_on, api.when = version, variant, depends_on, when
+    api.maintainers = lambda *names: None
+    api.join_path = os.path.join
+    api.__all__ = ['CMakePackage', 'version', 'variant', 'depends_on', 'when', 'maintainers',
+                   'join_path']
+    saved = {k: sys.modules.get(k) for k in ('spack', 'spack.package')}
+    sys.modules['spack'] = types.ModuleType('spack')
+    sys.modules['spack.package'] = api
+    try:
+        namespace = {'__name__': 'mpmice_recipe'}
+        exec(compile(RECIPE.read_text(), str(RECIPE), 'exec'), namespace)
+    finally:
+        for key, module in saved.items():
+            if module is None:
+                sys.modules.pop(key, None)
+            else:
+                sys.modules[key] = module
+    return namespace['Mpmice'], CMakePackage, rec
+
+
+def dependency(rec, name):
+    """The depends_on entries whose spec names package ``name``."""
+    return [d for d in rec.depends if re.match(rf'{re.escape(name)}(?![\w-])', d['spec'])]
+
+
+def test_recipe_compiles():
+    py_compile.compile(str(RECIPE), doraise=True, cfile=os.devnull)
+
+
+def test_recipe_dependencies_and_variants():
+    cls, base, rec = load_recipe()
+    assert issubclass(cls, base)
+    # link dependencies of the library (what mpmiceConfig.cmake finds again)
+    for name, variants in [('mpi', ()), ('hdf5', ('+mpi', '+fortran')), ('hypre', ('+mpi',)),
+                           ('lapack', ())]:
+        found = dependency(rec, name)
+        assert found, f'no depends_on("{name}...")'
+        spec = found[0]['spec']
+        for v in variants:
+            assert v in spec, f'{name} must be {v}: {spec}'
+        assert 'link' in found[0]['type'] and not found[0]['when'], found[0]
+    assert dependency(rec, 'cmake')[0]['type'] == ('build',)
+    pfunit = dependency(rec, 'pfunit')
+    assert pfunit and pfunit[0]['type'] == ('test',) and '+mpi' in pfunit[0]['spec']
+    for name in ('python', 'py-numpy', 'py-h5py', 'py-matplotlib'):
+        found = dependency(rec, name)
+        assert found, f'no depends_on("{name}")'
+        assert 'run' in found[0]['type'] and '+postproc' in found[0]['when'], found[0]
+    assert set(rec.variants) == {'build_type', 'postproc'}
+    assert rec.variants['build_type']['default'] == 'Release'
+    assert rec.variants['postproc']['default'] is True
+
+
+def test_recipe_version_is_the_project_version():
+    _, _, rec = load_recipe()
+    numbered = [v for v in rec.versions if re.fullmatch(r'[0-9.]+', v)]
+    newest = max(numbered, key=lambda v: tuple(int(p) for p in v.split('.')))
+    assert newest == project_version()
+
+
+def test_recipe_cmake_options_exist():
+    """Every -D<name> the recipe passes is an option the CMake sources define or read."""
+    cls, _, _ = load_recipe()
+    package = cls()
+    package.spec = types.SimpleNamespace(variants={'postproc': False})
+    package.run_tests = True
+    args = package.cmake_args()
+    assert '-DBUILD_TESTING:BOOL=ON' in args
+    assert '-DMPMICE_INSTALL_POSTPROC:BOOL=OFF' in args
+    sources = ''.join(p.read_text() for p in [REPO_ROOT / 'CMakeLists.txt',
+                                              *(REPO_ROOT / 'cmake').glob('*.cmake')])
+    for arg in args:
+        name = re.match(r'-D(\w+)', arg).group(1)
+        if name != 'BUILD_TESTING':  # CTest's own option
+            assert re.search(rf'option\(\s*{name}\b', sources), f'{name}: no such CMake option'
+
+
+def test_installed_postproc_runs(mpmice_exe, tmp_path):
+    """Install the build tree of ``mpmice_exe`` into a temporary prefix and use the installed
+    postproc package from outside the repository."""
+    build = mpmice_exe.parent.parent
+    assert (build / 'cmake_install.cmake').is_file(), f'{build} is not a CMake build tree'
+    prefix = tmp_path / 'prefix'
+    subprocess.run(['cmake', '--install', str(build), '--prefix', str(prefix)], check=True,
+                   capture_output=True, text=True, timeout=120)
+    env = {k: v for k, v in os.environ.items() if k not in ('MPMICE_EXE', 'PYTHONPATH')}
+    env['PYTHONPATH'] = str(prefix / 'share' / 'mpmice' / 'python')
+    probe = ('import postproc, postproc.run_case as r; '
+             'print(postproc.__file__); print(r.mpmice_executable())')
+    out = subprocess.run([sys.executable, '-c', probe], cwd=tmp_path, env=env, check=True,
+                         capture_output=True, text=True, timeout=60).stdout.split('\n')
+    assert Path(out[0]).resolve().is_relative_to(prefix.resolve()), out[0]
+    assert Path(out[1]) == prefix / 'bin' / 'mpmice', out[1]
+    helped = subprocess.run([sys.executable, '-m', 'postproc.snapshots', '--help'], cwd=tmp_path,
+                            env=env, capture_output=True, text=True, timeout=60)
+    assert helped.returncode == 0 and 'run_dir' in helped.stdout, helped.stderr
