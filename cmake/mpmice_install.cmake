@@ -3,8 +3,10 @@
 #   lib/libmpmice.a                   the library, imported target mpmice::mpmice
 #   include/mpmice/*.mod              its Fortran module files (same compiler needed to use them)
 #   lib/cmake/mpmice/                 mpmiceConfig.cmake, mpmiceConfigVersion.cmake, targets
-#   share/mpmice/python/postproc/     the postprocessing package (PYTHONPATH=<prefix>/share/mpmice/python)
+#   share/mpmice/postproc/            the postprocessing package (PYTHONPATH=<prefix>/share/mpmice)
 #   share/mpmice/namelists/           the example cases
+# postproc next to namelists/ as in the source tree: the scene scripts (python -m postproc.<x>)
+# find their namelists the same way in both.
 #   share/doc/mpmice/                 README.md and docs/
 # (lib may be lib64 and the others differ where GNUInstallDirs says so.)
 include(CMakePackageConfigHelpers)
@@ -31,7 +33,7 @@ install(FILES ${CMAKE_BINARY_DIR}/cmake/mpmiceConfig.cmake
 option(MPMICE_INSTALL_POSTPROC "Install the Python postprocessing package postproc" ON)
 if(MPMICE_INSTALL_POSTPROC)
   install(DIRECTORY ${CMAKE_SOURCE_DIR}/postproc/
-    DESTINATION ${CMAKE_INSTALL_DATADIR}/mpmice/python/postproc
+    DESTINATION ${CMAKE_INSTALL_DATADIR}/mpmice/postproc
     FILES_MATCHING PATTERN "*.py" PATTERN "__pycache__" EXCLUDE)
 endif()
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/namelists/ DESTINATION ${CMAKE_INSTALL_DATADIR}/mpmice/namelists)

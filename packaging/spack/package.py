@@ -1,6 +1,6 @@
 # Spack recipe of MPMICE (docs/install.md "Spack"). Copy it into a Spack package repository as
 # packages/mpmice/package.py; build a checkout with `spack develop` (no download URL yet).
-# Checked by tests/validation/test_packaging_spack.py (syntax, dependencies, variants).
+# Checked by tests/validation/test_packaging.py (syntax, dependencies, variants).
 from spack.package import *  # noqa: F401,F403 (Spack's recipe API: version, variant, ...)
 
 try:  # Spack >= 1.0: the build systems live in the builtin package repository
@@ -14,9 +14,7 @@ class Mpmice(CMakePackage):
     (Fortran 2008, MPI, hypre, parallel HDF5), for submarine landslides, debris flows and
     fluid-structure problems, with a Python postprocessing package."""
 
-    homepage = "https://example.invalid/mpmice"  # replace with the project's page once published
-
-    maintainers("mpmice")
+    # homepage, git and checksummed releases: to be added once the repository is published
 
     # The number comes from project(mpmice VERSION ...) in CMakeLists.txt; the test checks that
     # the newest numbered version here is that one.
@@ -32,7 +30,7 @@ class Mpmice(CMakePackage):
     variant(
         "postproc",
         default=True,
-        description="Install the Python postprocessing package (share/mpmice/python/postproc)",
+        description="Install the Python postprocessing package (share/mpmice/postproc)",
     )
 
     depends_on("cmake@3.20:", type="build")
@@ -65,4 +63,4 @@ class Mpmice(CMakePackage):
         # postproc finds the program through MPMICE_EXE (postproc/run_case.py)
         env.set("MPMICE_EXE", join_path(self.prefix.bin, "mpmice"))
         if self.spec.satisfies("+postproc"):
-            env.prepend_path("PYTHONPATH", join_path(self.prefix.share, "mpmice", "python"))
+            env.prepend_path("PYTHONPATH", join_path(self.prefix.share, "mpmice"))

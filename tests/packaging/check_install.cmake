@@ -44,8 +44,8 @@ foreach(file IN ITEMS
     message(FATAL_ERROR "not installed: <prefix>/${file}")
   endif()
 endforeach()
-set(postproc_files ${DATADIR}/mpmice/python/postproc/__init__.py
-  ${DATADIR}/mpmice/python/postproc/run_case.py)
+set(postproc_files ${DATADIR}/mpmice/postproc/__init__.py
+  ${DATADIR}/mpmice/postproc/run_case.py)
 foreach(file IN LISTS postproc_files)
   if(POSTPROC AND NOT EXISTS ${prefix}/${file})
     message(FATAL_ERROR "not installed: <prefix>/${file}")

@@ -7,9 +7,10 @@ packaging/spack/package.py and the installed Python package.
   +postproc), the variants ``build_type`` and ``postproc``, the project's version, and CMake
   options that exist in the CMake sources.
 * ``cmake --install`` of the build tree gives a ``postproc`` package that runs with
-  ``PYTHONPATH=<prefix>/share/mpmice/python`` from any directory and finds ``<prefix>/bin/mpmice``.
+  ``PYTHONPATH=<prefix>/share/mpmice`` from any directory, finds ``<prefix>/bin/mpmice`` and
+  compares a run of the installed program and example with the exact solution.
 
-The install and the commands take about 2 s; the CMake side (find_package, the consumer, the
+The install, the run and the comparison take a few seconds; the CMake side (find_package, the consumer, the
 version in the program and the dumps) is ctest ``packaging.install_consumer``.
 """
 
@@ -21,6 +22,10 @@ import subprocess
 import sys
 import types
 from pathlib import Path
+
+import h5py
+
+from postproc.run_case import mpi_environment, mpirun_command
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 
@@ -102,8 +107,8 @@ def dependency(rec, name):
     return [d for d in rec.depends if re.match(rf'{re.escape(name)}(?![\w-])', d['spec'])]
 
 
-def test_recipe_compiles():
-    py_compile.compile(str(RECIPE), doraise=True, cfile=os.devnull)
+def test_recipe_compiles(tmp_path):
+    py_compile.compile(str(RECIPE), doraise=True, cfile=str(tmp_path / 'package.pyc'))
 
 
 def test_recipe_dependencies_and_variants():
@@ -155,21 +160,44 @@ def test_recipe_cmake_options_exist():
 
 
 def test_installed_postproc_runs(mpmice_exe, tmp_path):
-    """Install the build tree of ``mpmice_exe`` into a temporary prefix and use the installed
-    postproc package from outside the repository."""
+    """Install the build tree of ``mpmice_exe`` into a temporary prefix; from outside the
+    repository, with only ``PYTHONPATH=<prefix>/share/mpmice``, the installed postproc package
+    imports from the prefix and finds ``<prefix>/bin/mpmice``; a short run of the installed
+    program on the installed heat_conduction_1d.nml writes dumps with ``mpmice_version`` equal to
+    project(VERSION), and ``python -m postproc.heat_conduction`` compares it with the exact
+    solution."""
     build = mpmice_exe.parent.parent
     assert (build / 'cmake_install.cmake').is_file(), f'{build} is not a CMake build tree'
     prefix = tmp_path / 'prefix'
     subprocess.run(['cmake', '--install', str(build), '--prefix', str(prefix)], check=True,
                    capture_output=True, text=True, timeout=120)
     env = {k: v for k, v in os.environ.items() if k not in ('MPMICE_EXE', 'PYTHONPATH')}
-    env['PYTHONPATH'] = str(prefix / 'share' / 'mpmice' / 'python')
+    env['PYTHONPATH'] = str(prefix / 'share' / 'mpmice')
     probe = ('import postproc, postproc.run_case as r; '
              'print(postproc.__file__); print(r.mpmice_executable())')
     out = subprocess.run([sys.executable, '-c', probe], cwd=tmp_path, env=env, check=True,
                          capture_output=True, text=True, timeout=60).stdout.split('\n')
     assert Path(out[0]).resolve().is_relative_to(prefix.resolve()), out[0]
-    assert Path(out[1]) == prefix / 'bin' / 'mpmice', out[1]
-    helped = subprocess.run([sys.executable, '-m', 'postproc.snapshots', '--help'], cwd=tmp_path,
-                            env=env, capture_output=True, text=True, timeout=60)
-    assert helped.returncode == 0 and 'run_dir' in helped.stdout, helped.stderr
+    installed_exe = prefix / 'bin' / 'mpmice'
+    assert Path(out[1]) == installed_exe, out[1]
+
+    run_dir = tmp_path / 'run'
+    command = mpirun_command(installed_exe, [
+        prefix / 'share' / 'mpmice' / 'namelists' / 'heat_conduction_1d.nml',
+        '--set', f"&run output_dir = '{run_dir}', end_time = 0.02, output_interval = 0.01 /"], 1)
+    ran = subprocess.run(command, cwd=tmp_path, env=mpi_environment(), capture_output=True,
+                         text=True, timeout=120)
+    assert ran.returncode == 0, ran.stdout + ran.stderr
+    dumps = sorted(run_dir.glob('heat1d_*.h5'))
+    assert dumps, f'no dump in {run_dir}'
+    with h5py.File(dumps[-1], 'r') as f:
+        version = f.attrs['mpmice_version']
+    version = version.decode() if isinstance(version, bytes) else str(version)
+    assert version == project_version()
+
+    png = tmp_path / 'heat.png'
+    compared = subprocess.run([sys.executable, '-m', 'postproc.heat_conduction', str(run_dir),
+                               '--png', str(png)], cwd=tmp_path, env=env, capture_output=True,
+                              text=True, timeout=120)
+    assert compared.returncode == 0, compared.stdout + compared.stderr
+    assert png.is_file() and png.stat().st_size > 0
