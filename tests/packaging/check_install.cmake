@@ -6,7 +6,8 @@
 #     heat_conduction_1d.nml, and the consumer on the first dump;
 #  4. require one version everywhere: project(VERSION) (EXPECTED_VERSION), the installed
 #     mpmiceConfigVersion.cmake, the version find_package reported, the Fortran constant the
-#     consumer was compiled against, `mpmice --version` and the dump attribute `mpmice_version`.
+#     consumer was compiled against, `mpmice --version`, the run's log line `mpmice: version` and
+#     the dump attribute `mpmice_version`.
 # Any failure ends the script with FATAL_ERROR (non-zero exit status).
 foreach(var IN ITEMS BUILD_DIR SOURCE_DIR WORK_DIR EXPECTED_VERSION GENERATOR Fortran_COMPILER
                      C_COMPILER MPIEXEC NUMPROC_FLAG BINDIR LIBDIR INCLUDEDIR DATADIR DOCDIR POSTPROC)
@@ -94,6 +95,8 @@ if(NOT dumps)
   message(FATAL_ERROR "the installed mpmice wrote no dump in ${run_dir}:\n${out}")
 endif()
 list(GET dumps 0 dump)
+file(STRINGS ${run_dir}/heat1d.log log_line REGEX "^mpmice: version ")
+string(REPLACE "mpmice: version " "" log_version "${log_line}")
 
 run_checked(out COMMAND ${MPIEXEC} ${NUMPROC_FLAG} 1 ${consumer_build}/mpmice_consumer ${dump})
 if(NOT out MATCHES "library_version ([^ \n]+)\n")
@@ -107,7 +110,7 @@ set(dump_version ${CMAKE_MATCH_1})
 
 # 4. one version everywhere
 foreach(source IN ITEMS package_version found_version library_version program_version
-                        dump_version)
+                        log_version dump_version)
   message(STATUS "${source}: ${${source}}")
   if(NOT "${${source}}" STREQUAL "${EXPECTED_VERSION}")
     message(FATAL_ERROR "${source} is '${${source}}', project(VERSION) is '${EXPECTED_VERSION}'")
