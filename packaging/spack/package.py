@@ -44,7 +44,8 @@ class Mpmice(CMakePackage):
     depends_on("hypre+mpi~int64~mixedint")
     depends_on("lapack")
 
-    # unit tests under `spack install --test=root`: a real pFUnit 4 with MPI
+    # The unit tests build and run under `spack install --test=root` (Spack's way, instead of a
+    # variant): BUILD_TESTING follows it, and they need a real pFUnit 4 with MPI.
     depends_on("pfunit@4:+mpi", type="test")
 
     with when("+postproc"):

@@ -159,6 +159,26 @@ def test_recipe_cmake_options_exist():
             assert re.search(rf'option\(\s*{name}\b', sources), f'{name}: no such CMake option'
 
 
+def recipe_run_environment(prefix, postproc):
+    """Variables the recipe's ``setup_run_environment`` sets for an install at ``prefix``."""
+    cls, _, _ = load_recipe()
+    package = cls()
+    answers = {'+postproc': postproc, '~postproc': not postproc}
+    package.spec = types.SimpleNamespace(satisfies=lambda condition: answers[condition])
+    package.prefix = types.SimpleNamespace(bin=str(prefix / 'bin'), share=str(prefix / 'share'))
+    variables = {}
+
+    class Env:  # the parts of Spack's EnvironmentModifications the recipe uses
+        def set(self, name, value):
+            variables[name] = value
+
+        def prepend_path(self, name, path):
+            variables[name] = path + (os.pathsep + variables[name] if name in variables else '')
+
+    package.setup_run_environment(Env())
+    return variables
+
+
 def test_installed_postproc_runs(mpmice_exe, tmp_path):
     """Install the build tree of ``mpmice_exe`` into a temporary prefix; from outside the
     repository, with only ``PYTHONPATH=<prefix>/share/mpmice``, the installed postproc package
@@ -171,8 +191,13 @@ def test_installed_postproc_runs(mpmice_exe, tmp_path):
     prefix = tmp_path / 'prefix'
     subprocess.run(['cmake', '--install', str(build), '--prefix', str(prefix)], check=True,
                    capture_output=True, text=True, timeout=120)
+    # the environment the Spack recipe gives (setup_run_environment) must fit the CMake layout
+    recipe_env = recipe_run_environment(prefix, postproc=True)
+    assert recipe_env['MPMICE_EXE'] == str(prefix / 'bin' / 'mpmice')
+    assert recipe_env['PYTHONPATH'] == str(prefix / 'share' / 'mpmice')
+    assert 'PYTHONPATH' not in recipe_run_environment(prefix, postproc=False)
     env = {k: v for k, v in os.environ.items() if k not in ('MPMICE_EXE', 'PYTHONPATH')}
-    env['PYTHONPATH'] = str(prefix / 'share' / 'mpmice')
+    env['PYTHONPATH'] = recipe_env['PYTHONPATH']
     probe = ('import postproc, postproc.run_case as r; '
              'print(postproc.__file__); print(r.mpmice_executable())')
     out = subprocess.run([sys.executable, '-c', probe], cwd=tmp_path, env=env, check=True,
