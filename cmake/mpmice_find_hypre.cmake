@@ -7,8 +7,10 @@ if(TARGET hypre::hypre)
   set(MPMICE_HYPRE_FOUND TRUE)
   return()
 endif()
-find_path(HYPRE_INCLUDE_DIR HYPRE_struct_ls.h PATH_SUFFIXES hypre)
-find_library(HYPRE_LIBRARY NAMES HYPRE)
+# (HYPRE_ROOT is looked at explicitly: CMake applies <Package>_ROOT inside find_package only)
+find_path(HYPRE_INCLUDE_DIR HYPRE_struct_ls.h HINTS ${HYPRE_ROOT} $ENV{HYPRE_ROOT}
+  PATH_SUFFIXES hypre include include/hypre)
+find_library(HYPRE_LIBRARY NAMES HYPRE HINTS ${HYPRE_ROOT} $ENV{HYPRE_ROOT} PATH_SUFFIXES lib lib64)
 if(HYPRE_INCLUDE_DIR AND HYPRE_LIBRARY)
   add_library(hypre::hypre UNKNOWN IMPORTED)
   set_target_properties(hypre::hypre PROPERTIES IMPORTED_LOCATION "${HYPRE_LIBRARY}"

@@ -5,10 +5,10 @@
 #   lib/cmake/mpmice/                 mpmiceConfig.cmake, mpmiceConfigVersion.cmake, targets
 #   share/mpmice/postproc/            the postprocessing package (PYTHONPATH=<prefix>/share/mpmice)
 #   share/mpmice/namelists/           the example cases
-# postproc next to namelists/ as in the source tree: the scene scripts (python -m postproc.<x>)
-# find their namelists the same way in both.
 #   share/doc/mpmice/                 README.md and docs/
-# (lib may be lib64 and the others differ where GNUInstallDirs says so.)
+# (lib may be lib64 and the others differ where GNUInstallDirs says so.) postproc sits next to
+# namelists/ as in the source tree, so its scene scripts (python -m postproc.<x>) find their
+# namelists the same way in both.
 include(CMakePackageConfigHelpers)
 set(MPMICE_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/mpmice)
 
@@ -36,6 +36,7 @@ if(MPMICE_INSTALL_POSTPROC)
     DESTINATION ${CMAKE_INSTALL_DATADIR}/mpmice/postproc
     FILES_MATCHING PATTERN "*.py" PATTERN "__pycache__" EXCLUDE)
 endif()
-install(DIRECTORY ${CMAKE_SOURCE_DIR}/namelists/ DESTINATION ${CMAKE_INSTALL_DATADIR}/mpmice/namelists)
+install(DIRECTORY ${CMAKE_SOURCE_DIR}/namelists/
+  DESTINATION ${CMAKE_INSTALL_DATADIR}/mpmice/namelists)
 install(FILES ${CMAKE_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)

@@ -10,7 +10,8 @@
 #     the dump attribute `mpmice_version`.
 # Any failure ends the script with FATAL_ERROR (non-zero exit status).
 foreach(var IN ITEMS BUILD_DIR SOURCE_DIR WORK_DIR EXPECTED_VERSION GENERATOR Fortran_COMPILER
-                     C_COMPILER MPIEXEC NUMPROC_FLAG BINDIR LIBDIR INCLUDEDIR DATADIR DOCDIR POSTPROC)
+                     C_COMPILER MPIEXEC NUMPROC_FLAG BINDIR LIBDIR INCLUDEDIR DATADIR DOCDIR
+                     POSTPROC)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "check_install.cmake: -D${var}=... missing")
   endif()
