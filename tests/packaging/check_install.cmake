@@ -1,6 +1,6 @@
 # ctest packaging.install_consumer (tests/packaging/CMakeLists.txt), run as `cmake -P`:
 #  1. `cmake --install` the build tree into a fresh prefix under WORK_DIR and check the layout
-#     (docs/install.md);
+#     (docs/install.md), the link dependencies of mpmice::mpmice and the version file's rule;
 #  2. configure and build tests/packaging/consumer against it with find_package(mpmice);
 #  3. run the installed `mpmice --version`, a two-step run of the installed example
 #     heat_conduction_1d.nml, and the consumer on the first dump;
@@ -63,16 +63,34 @@ foreach(dep IN ITEMS MPI::MPI_Fortran HDF5::HDF5 hypre::hypre LAPACK::LAPACK)
   endif()
 endforeach()
 
-# the version the package file states
-set(PACKAGE_FIND_VERSION ${EXPECTED_VERSION})
-include(${prefix}/${LIBDIR}/cmake/mpmice/mpmiceConfigVersion.cmake)
-set(package_version ${PACKAGE_VERSION})
+# the version the package file states, and its compatibility rule (same major.minor):
+# version_compatible(<requested x.y.z> <result var>) as find_package(mpmice x.y.z) would decide
+function(version_compatible requested out_var)
+  set(PACKAGE_FIND_VERSION ${requested})
+  string(REPLACE "." ";" parts ${requested})
+  list(GET parts 0 PACKAGE_FIND_VERSION_MAJOR)
+  list(GET parts 1 PACKAGE_FIND_VERSION_MINOR)
+  include(${prefix}/${LIBDIR}/cmake/mpmice/mpmiceConfigVersion.cmake)
+  set(${out_var} "${PACKAGE_VERSION_COMPATIBLE}" PARENT_SCOPE)
+  set(package_version "${PACKAGE_VERSION}" PARENT_SCOPE)
+endfunction()
+version_compatible(${EXPECTED_VERSION} same)
+string(REPLACE "." ";" parts ${EXPECTED_VERSION})
+list(GET parts 0 major)
+list(GET parts 1 minor)
+math(EXPR next_minor "${minor} + 1")
+version_compatible(${major}.${next_minor}.0 newer)
+if(NOT same OR newer)
+  message(FATAL_ERROR "mpmiceConfigVersion.cmake: ${EXPECTED_VERSION} compatible: '${same}' "
+    "(must be TRUE), ${major}.${next_minor}.0 compatible: '${newer}' (must be FALSE)")
+endif()
 
 # 2. the consumer, through find_package(mpmice)
 set(consumer_build ${WORK_DIR}/consumer)
 run_checked(out COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/packaging/consumer
   -B ${consumer_build} -G ${GENERATOR} -DCMAKE_BUILD_TYPE=Release
-  -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_Fortran_COMPILER=${Fortran_COMPILER}
+  -DCMAKE_PREFIX_PATH=${prefix} -DMPMICE_REQUEST=${EXPECTED_VERSION}
+  -DCMAKE_Fortran_COMPILER=${Fortran_COMPILER}
   -DCMAKE_C_COMPILER=${C_COMPILER})
 run_checked(out COMMAND ${CMAKE_COMMAND} --build ${consumer_build})
 file(READ ${consumer_build}/found_version.txt found_version)
