@@ -45,7 +45,9 @@ class Mpmice(CMakePackage):
     depends_on("lapack")
 
     # The unit tests build and run under `spack install --test=root` (Spack's way, instead of a
-    # variant): BUILD_TESTING follows it, and they need a real pFUnit 4 with MPI.
+    # variant): BUILD_TESTING follows it, and they need a real pFUnit 4 with MPI. The MPI tests
+    # use mpi_f08 communicators, i.e. a pFUnit configured with ENABLE_MPI_F08=YES, which Spack's
+    # pfunit recipe has no variant for (docs/testing.md "Real pFUnit or pfunit-lite").
     depends_on("pfunit@4:+mpi", type="test")
 
     with when("+postproc"):
