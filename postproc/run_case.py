@@ -20,9 +20,15 @@ OMPI_ENV = {
 
 
 def mpmice_executable() -> str:
-    """Path of the executable: $MPMICE_EXE, else build/bin/mpmice in the repository."""
-    return os.path.abspath(os.environ.get("MPMICE_EXE")
-                           or os.path.join(ROOT, "build", "bin", "mpmice"))
+    """Path of the executable: $MPMICE_EXE, else build/bin/mpmice in the repository, else (the
+    package installed as <prefix>/share/mpmice/postproc, docs/install.md) <prefix>/bin/mpmice."""
+    if os.environ.get("MPMICE_EXE"):
+        return os.path.abspath(os.environ["MPMICE_EXE"])
+    build = os.path.join(ROOT, "build", "bin", "mpmice")
+    installed = os.path.normpath(os.path.join(ROOT, "..", "..", "bin", "mpmice"))
+    if not os.path.exists(build) and os.path.exists(installed):
+        return installed
+    return os.path.abspath(build)
 
 
 def mpirun_executable() -> str:

@@ -4,6 +4,7 @@ module driver_run_mod
   use mpmice_kinds, only: msg_len
   use mpmice_errors, only: exit_cleanly, int_text, fatal
   use mpmice_log, only: log_info, log_is_root, log_warning, log_open_file, log_close_file
+  use mpmice_build_info, only: mpmice_version
   use config_types, only: config_t
   use config_echo, only: config_to_text, config_write_used, config_used_path
   use parallel_domain, only: domain_t, domain_init, domain_free
@@ -69,6 +70,7 @@ contains
       int_text(grid%ncells(3)))
     call log_info('mpmice: output in ' // trim(cfg%run%output_dir) // ', resolved input ' // &
       config_used_path(cfg))
+    call log_info('mpmice: version ' // mpmice_version)
 
     call make_scene(cfg, scene)
     call run_scene(scene, cfg, text, dom, grid, restart_file, status)
