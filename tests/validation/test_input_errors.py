@@ -511,6 +511,7 @@ def test_mpmice_check_echo_and_coupling_set(run_mpmice, tmp_case_dir):
     soil = solids[0]
     assert soil["drag_law"] == "kozeny_carman"
     assert soil["drag_coefficient"] == 0.0 and soil["grain_bulk_modulus"] == 0.0
+    assert soil["forchheimer_a"] == 150.0 and soil["forchheimer_b"] == 1.75
     assert soil["traction"] == [0.0, -1.0e4, 0.0]
     assert soil["traction_lower"] == [0.0, 0.9, 0.0]
     assert soil["traction_upper"] == [1.0, 1.0, 1.0]
