@@ -201,6 +201,8 @@ contains
       call add('velocity_wavenumber', reals_repr(p%velocity_wavenumber))
       call add('drag_law', quoted(p%drag_law))
       call add('drag_coefficient', real_repr(p%drag_coefficient))
+      call add('forchheimer_a', real_repr(p%forchheimer_a))
+      call add('forchheimer_b', real_repr(p%forchheimer_b))
       call add('grain_bulk_modulus', real_repr(p%grain_bulk_modulus))
       call add('traction', reals_repr(p%traction))
       call add('traction_lower', reals_repr(p%traction_lower))

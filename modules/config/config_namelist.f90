@@ -155,6 +155,8 @@ module config_namelist
     variable_info_t('solid', 'velocity_wavenumber', 'r', 3, 0), &
     variable_info_t('solid', 'drag_law', 'c', 1, name_len), &
     variable_info_t('solid', 'drag_coefficient', 'r', 1, 0), &
+    variable_info_t('solid', 'forchheimer_a', 'r', 1, 0), &
+    variable_info_t('solid', 'forchheimer_b', 'r', 1, 0), &
     variable_info_t('solid', 'grain_bulk_modulus', 'r', 1, 0), &
     variable_info_t('solid', 'traction', 'r', 3, 0), &
     variable_info_t('solid', 'traction_lower', 'r', 3, 0), &
