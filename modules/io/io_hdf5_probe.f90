@@ -14,7 +14,8 @@ module io_hdf5_probe
     h5aget_type_f, h5sget_simple_extent_npoints_f, h5sclose_f, h5tget_size_f, h5tclose_f, &
     h5tget_class_f, h5kind_to_type, H5F_ACC_RDONLY_F, H5_REAL_KIND, H5_INTEGER_KIND, &
     H5T_STRING_F, h5pcreate_f, h5pclose_f, h5pset_fclose_degree_f, H5P_FILE_ACCESS_F, &
-    H5F_CLOSE_STRONG_F
+    H5F_CLOSE_STRONG_F, h5gn_members_f, h5gget_obj_info_idx_f, h5dopen_f, h5dclose_f, &
+    h5dget_space_f, H5G_GROUP_F, H5G_DATASET_F
   use mpmice_kinds, only: wp
   implicit none
   private
@@ -89,6 +90,7 @@ contains
         call h5lexists_f(file_id, 'checkpoint', exists, hdferr)
         if (hdferr < 0 .or. .not. exists) reason = 'no /checkpoint group (corrupt checkpoint)'
       end if
+      if (len(reason) == 0) call walk_group(file_id, 'checkpoint', reason)
     end if
     call h5fclose_f(file_id, ignored)
     if (len(reason) == 0) then
@@ -96,6 +98,50 @@ contains
       call h5eset_auto_f(1, ignored)
     end if
   end subroutine h5_probe_checkpoint
+
+  !> Open every group and dataset below `group` and read each dataset's extent: the object
+  !! headers a restart will read are intact (the raw data are not read).
+  recursive subroutine walk_group(file_id, group, reason)
+    integer(hid_t), intent(in) :: file_id                  !< open file
+    character(len=*), intent(in) :: group                  !< group path
+    character(len=:), allocatable, intent(inout) :: reason !< set on failure
+    character(len=256) :: member
+    character(len=:), allocatable :: path
+    integer(hid_t) :: dset_id, space_id
+    integer(hsize_t) :: npoints
+    integer :: nmembers, i, object_type, hdferr, ignored
+    call h5gn_members_f(file_id, group, nmembers, hdferr)
+    if (hdferr < 0) then
+      reason = 'group /' // group // ' unreadable (corrupt checkpoint)'
+      return
+    end if
+    do i = 0, nmembers - 1
+      call h5gget_obj_info_idx_f(file_id, group, i, member, object_type, hdferr)
+      if (hdferr < 0) then
+        reason = 'group /' // group // ' unreadable (corrupt checkpoint)'
+        return
+      end if
+      path = group // '/' // trim(member)
+      if (object_type == H5G_GROUP_F) then
+        call walk_group(file_id, path, reason)
+        if (len(reason) > 0) return
+      else if (object_type == H5G_DATASET_F) then
+        call h5dopen_f(file_id, path, dset_id, hdferr)
+        if (hdferr >= 0) then
+          call h5dget_space_f(dset_id, space_id, hdferr)
+          if (hdferr >= 0) then
+            call h5sget_simple_extent_npoints_f(space_id, npoints, hdferr)
+            call h5sclose_f(space_id, ignored)
+          end if
+          call h5dclose_f(dset_id, ignored)
+        end if
+        if (hdferr < 0) then
+          reason = 'dataset /' // path // ' unreadable (corrupt checkpoint)'
+          return
+        end if
+      end if
+    end do
+  end subroutine walk_group
 
   !> Integer attribute `name` of `n` values into `scalar` (n = 1) or `values`.
   subroutine read_ints(file_id, name, n, reason, scalar, values)
