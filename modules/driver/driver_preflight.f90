@@ -6,8 +6,8 @@
 !! node can give (`MemAvailable` of /proc/meminfo, or less under a cgroup limit) for all the
 !! ranks of the node together. Measured peak resident memory per cell (1 rank, 2D and 3D, the
 !! scenes of namelists/, `/usr/bin/time -f %M` between two grid sizes): heat conduction 209-222
-!! B, ice with one fluid 577-615 B, mpmice with one fluid and one solid 1680-1870 B, about 400 B
-!! per particle. The estimate rounds these up (`bytes_per_cell`, `bytes_per_particle`) and adds a
+!! B, ice with one fluid 577-615 B, mpmice with one fluid and one solid 1680-1870 B; 456 B per
+!! particle (mpm_column_2d, 1x1 against 4x4 particles per cell). The estimate rounds these up (`bytes_per_cell`, `bytes_per_particle`) and adds a
 !! fixed `rank_overhead` for MPI, hypre and HDF5.
 !!
 !! Output folder: its path must be usable (no component longer than 255 characters, no part of
