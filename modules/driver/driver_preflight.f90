@@ -7,20 +7,23 @@
 !! ranks of the node together. Measured peak resident memory per cell (1 rank, 2D and 3D, the
 !! scenes of namelists/, `/usr/bin/time -f %M` between two grid sizes): heat conduction 209-222
 !! B, ice with one fluid 577-615 B, mpmice with one fluid and one solid 1680-1870 B; 456 B per
-!! particle (mpm_column_2d, 1x1 against 4x4 particles per cell). The estimate rounds these up (`bytes_per_cell`, `bytes_per_particle`) and adds a
-!! fixed `rank_overhead` for MPI, hypre and HDF5.
+!! particle (mpm_column_2d, 1x1 against 4x4 particles per cell). The estimate rounds these up
+!! (`bytes_per_cell`, `bytes_per_particle`) and adds a fixed `rank_overhead` for MPI, hypre and
+!! HDF5.
 !!
 !! Output folder: its path must be usable (no component longer than 255 characters, no part of
 !! it a file, writable), and it must not hold another run's output: a file `<name>.used.nml`,
 !! `<name>.status`, `<name>.xmf` or `<name>_000000.h5` of the same `&run name` (every run writes
 !! the first three, every fresh run the last). A restart that continues in its checkpoint's
-!! folder, and a run with `&run overwrite = .true.`, may use such a folder.
+!! folder, and a run with `&run overwrite = .true.`, may use such a folder. Otherwise the echo
+!! `<name>.used.nml` is created exclusively (`status='new'`, O_EXCL), so that of two runs
+!! started into one folder at the same moment only one goes on.
 module driver_preflight
   use, intrinsic :: iso_fortran_env, only: int64
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Comm_split_type, MPI_Comm_free, &
     MPI_COMM_TYPE_SHARED, MPI_INFO_NULL, MPI_Allreduce, MPI_Bcast, MPI_2DOUBLE_PRECISION, &
     MPI_MAXLOC, MPI_DOUBLE_PRECISION, MPI_SUM
-  use mpmice_kinds, only: wp, path_len
+  use mpmice_kinds, only: wp, path_len, msg_len
   use mpmice_errors, only: int_text
   use config_types, only: config_t, solid_params_t, particles_per_cell_used
   use config_text, only: ints_repr, quoted
@@ -228,9 +231,10 @@ contains
     character(len=*), intent(in) :: restart_file          !< checkpoint continued, '' if none
     integer, intent(out) :: stat                          !< 0 ready
     character(len=:), allocatable, intent(out) :: errmsg  !< error line
-    character(len=:), allocatable :: dir, reason, found
+    character(len=:), allocatable :: dir, reason, found, used
     character(len=path_len), allocatable :: markers(:)
-    integer :: k
+    character(len=msg_len) :: iomsg
+    integer :: k, unit, ios
     logical :: own_folder
 
     dir = trim(cfg%run%output_dir)
@@ -254,16 +258,42 @@ contains
       end do
       if (len(found) > 0) then
         stat = 1
-        errmsg = 'mpmice: input error: &run output_dir = ' // quoted(dir) // ' already holds ' &
-          // 'the output of a run named ' // quoted(trim(cfg%run%name)) // ' (' // found // &
-          '); choose another output_dir or name, remove that run''s files, continue it with ' &
-          // '--restart, or replace them with --set ''&run overwrite = .true. /'''
+        errmsg = used_error(dir, trim(cfg%run%name), found)
         return
       end if
     end if
     call io_make_output_directory(dir, stat, reason)
-    if (stat /= 0) errmsg = dir_error(dir, reason)
+    if (stat /= 0) then
+      errmsg = dir_error(dir, reason)
+    else if (.not. (own_folder .or. cfg%run%overwrite)) then
+      ! claim the folder: create the echo exclusively (O_EXCL), so that of two runs started
+      ! into it at the same moment only one goes on; the caller then writes the echo into it
+      used = io_join_path(dir, trim(cfg%run%name) // '.used.nml')
+      open(newunit=unit, file=used, status='new', action='write', iostat=ios, iomsg=iomsg)
+      if (ios == 0) then
+        close(unit)
+      else
+        stat = 1
+        if (io_file_exists(used)) then
+          errmsg = used_error(dir, trim(cfg%run%name), trim(cfg%run%name) // '.used.nml')
+        else
+          errmsg = dir_error(dir, trim(iomsg))
+        end if
+      end if
+    end if
   end subroutine preflight_output_dir
+
+  !> The error line of an output folder that holds the output of a run named `name`.
+  function used_error(dir, name, found) result(text)
+    character(len=*), intent(in) :: dir    !< the folder
+    character(len=*), intent(in) :: name   !< `&run name`
+    character(len=*), intent(in) :: found  !< the file that shows it
+    character(len=:), allocatable :: text
+    text = 'mpmice: input error: &run output_dir = ' // quoted(dir) // ' already holds the ' // &
+      'output of a run named ' // quoted(name) // ' (' // found // '); choose another ' // &
+      'output_dir or name, remove that run''s files, continue it with --restart, or replace ' &
+      // 'them with --set ''&run overwrite = .true. /'''
+  end function used_error
 
   !> The error line of an output folder that cannot be used.
   function dir_error(dir, reason) result(text)

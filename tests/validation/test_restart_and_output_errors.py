@@ -19,9 +19,12 @@ from __future__ import annotations
 import os
 import pathlib
 import shutil
+import subprocess
 
 import h5py
 import pytest
+
+from postproc.run_case import mpi_environment, mpirun_command
 
 #: 16 cells, 10 steps, checkpoints at steps 5 and 10; output in ``out/``.
 CASE = """&run
@@ -266,6 +269,23 @@ def test_any_file_of_the_run_marks_the_folder_as_used(run_mpmice, finished_run, 
             path.unlink()
     result = run_mpmice(["case.nml"], cwd=case_dir)
     assert_one_line_error(result, ["already holds the output", marker])
+
+
+def test_simultaneous_runs_into_one_folder(mpmice_exe, tmp_case_dir):
+    """Two runs of the same case started together into one empty folder: exactly one runs, the
+    other is refused (the echo is created exclusively, so even overlapping checks cannot both
+    pass)."""
+    (tmp_case_dir / "case.nml").write_text(CASE)
+    env = mpi_environment()
+    env["OMPI_MCA_orte_execute_quiet"] = "1"
+    processes = [subprocess.Popen(mpirun_command(mpmice_exe, ["case.nml"], 1),
+                                  cwd=str(tmp_case_dir), env=env, stdout=subprocess.PIPE,
+                                  stderr=subprocess.PIPE, text=True) for _ in range(2)]
+    results = [(p.wait(timeout=120), p.communicate()[1]) for p in processes]
+    assert sorted(code for code, _ in results) == [0, 1], results
+    refused = [err for code, err in results if code == 1][0]
+    assert "already holds the output of a run named 'good'" in refused, refused
+    assert "state = finished" in (tmp_case_dir / "out" / "good.status").read_text()
 
 
 def test_overwrite_replaces_the_earlier_run(run_mpmice, finished_run):
