@@ -44,6 +44,7 @@ contains
     call add('min_dt_ratio', real_repr(cfg%run%min_dt_ratio))
     call add('progress_interval', real_repr(cfg%run%progress_interval))
     call add('verbosity', ints_repr([cfg%run%verbosity]))
+    call add('overwrite', logicals_repr([cfg%run%overwrite]))
     text = text // '/' // nl // '&grid' // nl
     call add('ncells', ints_repr(cfg%grid%ncells))
     call add('lower', reals_repr(cfg%grid%lower))

@@ -24,6 +24,7 @@ module driver_output
   private
 
   public :: write_dump, write_checkpoint, read_checkpoint, read_namelist_text
+  public :: checkpoint_version
 
   integer, parameter :: checkpoint_version = 1  !< layout version of checkpoints
 
