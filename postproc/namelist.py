@@ -2,7 +2,7 @@
 attribute of dumps and checkpoints).
 
 Only what the program writes is supported: ``&group name = value, ... /`` with scalars, arrays,
-quoted strings and logicals. Returns ``{group: {variable: value}}`` with lower-case keys; arrays
+quoted strings and logicals, and ``!`` comments (an unset table is echoed as a comment). Returns ``{group: {variable: value}}`` with lower-case keys; arrays
 are lists. Repeated groups (``&fluid``, ``&solid``, ``&region``, ``&boundary``) appear once per
 occurrence in the text: ``parse_namelist_groups`` returns every group in order, while
 ``parse_namelist_text`` keeps the last occurrence of each.
@@ -31,6 +31,24 @@ def _convert(token: str):
         return float(low.replace("d", "e"))
 
 
+def _strip_comments(text: str) -> str:
+    """``text`` without ``!`` comments (a ``!`` inside a quoted string is kept)."""
+    out = []
+    for line in text.splitlines(keepends=True):
+        quote = ""
+        for i, c in enumerate(line):
+            if quote:
+                if c == quote:
+                    quote = ""  # a doubled quote closes and reopens: same result
+            elif c in "'\"":
+                quote = c
+            elif c == "!":
+                line = line[:i] + ("\n" if line.endswith("\n") else "")
+                break
+        out.append(line)
+    return "".join(out)
+
+
 def parse_namelist_text(text: str) -> dict[str, dict[str, object]]:
     """Parse namelist text into nested dictionaries (the last occurrence of a repeated group)."""
     return dict(parse_namelist_groups(text))
@@ -39,6 +57,7 @@ def parse_namelist_text(text: str) -> dict[str, dict[str, object]]:
 def parse_namelist_groups(text: str) -> list[tuple[str, dict[str, object]]]:
     """Parse namelist text into ``(group, {variable: value})`` pairs, one per group, in order."""
     groups: list[tuple[str, dict[str, object]]] = []
+    text = _strip_comments(text)
     for match in re.finditer(r"&(\w+)(.*?)(?:^\s*/\s*$|/\s*$|/\s*\n)", text, re.S | re.M):
         group = match.group(1).lower()
         body = match.group(2)
