@@ -89,6 +89,7 @@ contains
     call h5_write_particles(file, g // 'volume', p%volume(1:n))
     call h5_write_particles(file, g // 'volume0', p%volume0(1:n))
     call h5_write_particles(file, g // 'plastic_strain', p%plastic_strain(1:n))
+    call h5_write_particles(file, g // 'hardening', p%hardening(1:n))
     call h5_write_particles(file, g // 'temperature', p%temperature(1:n))
     call h5_write_particles(file, g // 'pore_pressure', p%pore_pressure(1:n))
     call h5_write_particles(file, g // 'id', p%id(1:n))
@@ -129,6 +130,8 @@ contains
     p%volume0(1:n) = a1
     call h5_read_particles(file, g // 'plastic_strain', a1)
     p%plastic_strain(1:n) = a1
+    call h5_read_particles(file, g // 'hardening', a1)
+    p%hardening(1:n) = a1
     call h5_read_particles(file, g // 'temperature', a1)
     p%temperature(1:n) = a1
     call h5_read_particles(file, g // 'pore_pressure', a1)
