@@ -19,7 +19,9 @@
 !! for the plastic shear increment dgam, solved inside the bracket [0, tau_tr / G] by Illinois
 !! regula falsi):
 !!   R(dgam) = tau_tr - G dgam - max(mu_eq(J) p + tan(psi) p, 0) = 0,
-!!   p = max(p_tr - K_b tan(psi) dgam, 0),  gamma_dot = dgam / dt,
+!!   p = max(p_tr + K_b tan(psi) dgam, 0),  gamma_dot = dgam / dt,
+!! (the plastic dilation tan(psi) dgam is taken from the elastic volumetric strain of the
+!! step, so a dilating sand gains pressure and a contracting one loses it),
 !! phi_eq in tan(psi) taken at J(gamma_dot, p_tr). No tension: a trial p <= 0 returns to zero
 !! stress (the apex).
 module mpm_critical_state_sand
@@ -141,7 +143,7 @@ contains
       real(wp), intent(out) :: pp, tt
       real(wp) :: tpsi
       tpsi = prm%k_dil * (phi - css_phi_eq(prm, rate(dgam), p_tr))
-      pp = max(p_tr - kb * tpsi * dgam, 0.0_wp)
+      pp = max(p_tr + kb * tpsi * dgam, 0.0_wp)
       tt = max(tau_tr - prm%mu * dgam, 0.0_wp)
     end subroutine state_at
 
