@@ -1,0 +1,113 @@
+"""The soil models (docs/soil_models.md) in the coupled scene: the consolidation column
+(namelists/mpmice_terzaghi_1d.nml) with `&solid model = 'cam_clay'` set on the command line.
+
+* Undrained loading (impermeable platen on top, wall base; docs/mpmice.md): the sudden 10 kPa
+  load builds an excess pore pressure B F with Skempton's B = 1 / (1 + n E_oed / K_f) of the
+  clay's tangent modulus at p' < p'_min, E_oed = K + 4G/3, K = v0 p'_min / kappa,
+  G = 3K (1 - 2 nu) / (2 (1 + nu)): B = 0.9999914 (linear elastic soil of the scene: 0.998).
+* Drained top: a clay held inside its yield surface (p_c0 = 1 MPa) and below p'_min = 100 kPa
+  has the constant K = v0 p'_min / kappa, so the column consolidates as Terzaghi's (eq. 78)
+  with that oedometric modulus (E = 3K (1 - 2 nu) = 4.29 MPa instead of the scene's 10 MPa).
+
+Runs: ~1.5 s (undrained) and ~11 s (consolidation, densities / 100 at dt = 10 us).
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from postproc import mpmice_terzaghi
+from postproc.mpmice_io import list_dumps, read_dump
+from postproc.run_case import run_mpmice
+
+P = mpmice_terzaghi.PARAMS
+PLATEN = "&boundary face = 'y+', fluid = 'wall' /"
+KAPPA = 0.04           # &solid swelling_index default
+
+
+@pytest.fixture
+def solver(mpmice_exe, monkeypatch):
+    monkeypatch.setenv("MPMICE_EXE", str(mpmice_exe))
+
+
+def clay_moduli(min_pressure: float, porosity: float = P["porosity"],
+                nu: float = P["poisson_ratio"]) -> tuple[float, float]:
+    """(K, G) [Pa] of the Cam-Clay skeleton below p'_min at J = 1."""
+    bulk = min_pressure / ((1.0 - porosity) * KAPPA)
+    return bulk, 1.5 * bulk * (1.0 - 2.0 * nu) / (1.0 + nu)
+
+
+def excess_profiles(out):
+    """(time, y, excess pressure) of every dump after the first."""
+    result = []
+    for path in list_dumps(out, mpmice_terzaghi.NAME)[1:]:
+        dump = read_dump(path)
+        y, excess = mpmice_terzaghi.pressure_profile(dump)
+        result.append((float(dump["time"]), y, excess))
+    return result
+
+
+def test_clay_moduli_and_skempton_b():
+    """K = (1/0.7) 1000 / 0.04 = 35.7 kPa, E_oed = 57.7 kPa, B = 0.9999914."""
+    bulk, shear = clay_moduli(1.0e3)
+    assert bulk == pytest.approx(35714.29, rel=1e-6)
+    e_oed = bulk + 4.0 / 3.0 * shear
+    b = 1.0 / (1.0 + P["porosity"] * e_oed / P["bulk_modulus"])
+    assert b == pytest.approx(0.9999913, abs=1e-7)
+
+
+def test_cam_clay_undrained_column_builds_pore_pressure(solver, tmp_path):
+    """Platen on top, wall base, Cam-Clay at zero initial stress (p' < p'_min = 1 kPa): from
+    t = 30 ms (after the undrained wave) the excess pore pressure of every cell of the lower
+    half is B F to 2e-6 F (measured 1.4e-7 F; B = 1 would be 8.6e-6 F off, the scene's linear
+    elastic soil 2e-3 F), of every cell to 5e-5 F (the cells under the platen: measured
+    1.4e-5 F at 30 ms, 2.1e-5 F at 45 ms), and the skeleton carries the rest:
+    |sigma'_yy| < 1e-3 F."""
+    out = str(tmp_path / "undrained")
+    run_mpmice([mpmice_terzaghi.NAMELIST, "--set", PLATEN,
+                "--set", "&solid name = 'soil', model = 'cam_clay' /",
+                "--set", f"&run end_time = 0.05, output_interval = 0.005, output_dir = '{out}' /"],
+               cwd=str(tmp_path), timeout=300)
+    bulk, shear = clay_moduli(1.0e3)
+    b = 1.0 / (1.0 + P["porosity"] * (bulk + 4.0 / 3.0 * shear) / P["bulk_modulus"])
+    profiles = excess_profiles(out)
+    late = [(t, p) for t, _, p in profiles if t >= 0.03 - 1e-12]
+    assert len(late) >= 4
+    for time, excess in late:
+        deviation = np.abs(excess / P["load"] - b)
+        assert np.max(deviation[:len(deviation) // 2]) < 2e-6, (time, excess[[0, 50, -1]])
+        assert np.max(deviation) < 5e-5, (time, excess[[0, 50, -1]])
+    dump = read_dump(list_dumps(out, mpmice_terzaghi.NAME)[-1])
+    stress = dump["particles"]["soil"]["stress_yy"]
+    assert np.max(np.abs(stress)) < 1e-3 * P["load"]
+
+
+def test_cam_clay_below_p_min_consolidates_as_terzaghi(solver, tmp_path):
+    """Drained top, densities / 100, dt = 10 us, 100 cells, to T_v = 0.44: p'_min = 100 kPa and
+    p_c0 = 1 MPa keep the clay elastic with K = v0 p'_min / kappa = 3.57 MPa; relative L2 error
+    of the excess pore pressure against eq. 78 with E = 3K (1 - 2 nu) <= 1 % at every dump from
+    T_v = 0.05 (measured 0.38-0.50 %, 18 dumps; the scene's linear elastic soil at dt = 5 us:
+    0.26-0.35 %), and the largest particle p' stays below p'_min."""
+    out = str(tmp_path / "consolidation")
+    run_mpmice(mpmice_terzaghi.fixed_dt_args(100, P["grain_size"], 1.0e-5, 0.25, 0.0125, out)
+               + ["--set", "&solid name = 'soil', model = 'cam_clay', min_pressure = 1.0e5, "
+                           "preconsolidation_pressure = 1.0e6 /"],
+               cwd=str(tmp_path), timeout=300)
+    bulk, _ = clay_moduli(1.0e5)
+    params = dict(P, youngs_modulus=3.0 * bulk * (1.0 - 2.0 * P["poisson_ratio"]))
+    c_v, p0 = mpmice_terzaghi.consolidation_constants(params)
+    profiles = excess_profiles(out)
+    assert profiles[-1][0] == pytest.approx(0.25)
+    checked = 0
+    for time, y, excess in profiles:
+        if c_v * time / P["height"]**2 < 0.05:
+            continue
+        exact = mpmice_terzaghi.exact_excess_pressure(y, time, params)
+        error = np.linalg.norm(excess - exact) / np.linalg.norm(exact)
+        assert error <= 1e-2, (time, c_v * time, error, excess[[0, 50, -1]] / p0)
+        checked += 1
+    assert checked >= 15
+    dump = read_dump(list_dumps(out, mpmice_terzaghi.NAME)[-1])
+    soil = dump["particles"]["soil"]
+    mean = -(soil["stress_xx"] + soil["stress_yy"] + soil["stress_zz"]) / 3.0
+    assert np.max(mean) < 1.0e5
