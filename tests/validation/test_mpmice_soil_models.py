@@ -13,7 +13,7 @@
   consolidated clay and a loose sand build excess pore pressure (the loose sand liquefies), a
   dense sand sucks, a linear elastic skeleton builds none.
 
-Runs (2 shared cores under load): ~1.5 s (undrained), ~11 s (consolidation, densities / 100 at
+Runs (2 shared cores under load): ~3.5 s (Cam-Clay restart, scene mpm), ~1.5 s (undrained), ~11 s (consolidation, densities / 100 at
 dt = 10 us), ~8 s per Cam-Clay or elastic cyclic shear run and 15-21 s per sand run (the sand
 test, 2 runs, is marked slow). The pressure solve of the shaken column reports non-convergence
 in most steps (relative residual 1e-7 .. 2e-2 after 200 PCG iterations, also with a linear
@@ -21,6 +21,8 @@ elastic skeleton and with 8 cells along x, which give the same pore pressures to
 column is uniform along x, see docs/soil_models.md.
 """
 from __future__ import annotations
+
+import pathlib
 
 import numpy as np
 import pytest
@@ -200,3 +202,35 @@ def test_sand_cyclic_shear_loose_liquefies_dense_sucks(solver, tmp_path):
     check_effective_stress_split(rows, mean0)
     end = rows[-1][1][MID] / mean0[MID]
     assert np.all(end <= -0.02), end
+
+
+# --------------------------------------------------------------------------- checkpoint
+
+def test_cam_clay_restart_is_bitwise_identical(solver, tmp_path):
+    """namelists/mpm_slide_2d.nml with the block as Cam-Clay (scene mpm): run 60 steps, restart
+    from the checkpoint and finish; every dump equals the uninterrupted run bit for bit, so the
+    preconsolidation pressure p_c of each particle (`checkpoint/particles/<solid>/hardening`)
+    is carried (set afresh from the stress at the restart, the plastic strain would differ).
+    The block yields: the largest plastic strain at the end is > 1e-3."""
+    import h5py
+    namelist = str(mpmice_terzaghi.ROOT) + "/namelists/mpm_slide_2d.nml"
+    clay = ("&solid name = 'block', model = 'cam_clay', porosity = 0.4, "
+            "preconsolidation_pressure = 2.0e3 /")
+    full = tmp_path / "full"
+    run_mpmice([namelist, "--set", clay, "--set", f"&run output_dir = '{full}' /"],
+               cwd=str(tmp_path))
+    half = tmp_path / "half"
+    run_mpmice([namelist, "--set", clay, "--set", f"&run output_dir = '{half}', max_steps = 60 /"],
+               cwd=str(tmp_path))
+    checkpoint = half / "slide2d_checkpoint_000060.h5"
+    assert checkpoint.is_file()
+    run_mpmice(["--restart", str(checkpoint), "--set", "&run max_steps = 0 /"], cwd=str(tmp_path))
+    paths = list_dumps(str(full), "slide2d")
+    assert len(paths) == 3
+    for path in paths:
+        with h5py.File(path) as a, h5py.File(half / pathlib.Path(path).name) as b:
+            group_a, group_b = a["particles/block"], b["particles/block"]
+            for name in group_a:
+                assert np.array_equal(group_a[name][...], group_b[name][...]), (path, name)
+    with h5py.File(paths[-1]) as a:
+        assert np.max(a["particles/block/plastic_strain"][...]) > 1e-3
