@@ -169,8 +169,11 @@ def test_cam_clay_cyclic_shear_builds_pore_pressure(solver, tmp_path):
     pressure at 1 s >= 0.1 p'_0 in every cell of 0.5 <= y <= 1.5 m (measured 0.15-0.40 p'_0),
     larger after the second cycle than after the first (cell mean +0.03 p'_0 at least; measured
     0.25 -> 0.29 p'_0 at y = 1.05 m), p' never below the undrained critical-state bound
-    p'_0 2^-Lambda = 0.574 p'_0 (Lambda = 0.8; measured 0.594); a linear elastic skeleton of
-    similar stiffness builds none: |u_e| <= 0.02 p'_0 at every dump (measured 0.007)."""
+    p'_0 2^-Lambda = 0.574 p'_0 (Lambda = 0.8; measured 0.594), and every particle deeper than
+    0.24 m (p'_0 > 2 kPa) on the undrained relation kappa ln(p'/p'_0) + (lambda - kappa) ln(p_c/p'_0) = 0 to
+    1e-4 (measured 3.7e-6) with its dumped p_c grown by ln(p_c/p'_0) > 0.02 (measured
+    0.025-0.139); a linear elastic skeleton of similar stiffness builds none: |u_e| <= 0.02
+    p'_0 at every dump (measured 0.007)."""
     rows, mean0 = shake_run(tmp_path, "cam_clay", "model = 'cam_clay'")
     assert rows[-1][0] == pytest.approx(1.0)
     check_effective_stress_split(rows, mean0)
@@ -180,6 +183,20 @@ def test_cam_clay_cyclic_shear_builds_pore_pressure(solver, tmp_path):
     assert np.mean(end) >= np.mean(half) + 0.03, (np.mean(half), np.mean(end))
     lowest = min(np.min(1.0 + r[2][MID] / mean0[MID]) for r in rows)
     assert lowest >= 2.0**-0.8, lowest
+    # undrained (constant volume): kappa ln(p'/p'_0) + (lambda - kappa) ln(p_c/p_c0) = 0 for
+    # every particle, p_c0 = p'_0 (normally consolidated, isotropic); the dumped p_c
+    paths = list_dumps(str(tmp_path / "cam_clay"), SHAKE_NAME)
+    first = read_dump(paths[0])["particles"]["soil"]
+    last = read_dump(paths[-1])["particles"]["soil"]
+    order0, order1 = np.argsort(first["id"]), np.argsort(last["id"])
+    p_start = -(first["stress_xx"] + first["stress_yy"] + first["stress_zz"])[order0] / 3.0
+    p_end = -(last["stress_xx"] + last["stress_yy"] + last["stress_zz"])[order1] / 3.0
+    hardening = last["hardening"][order1]
+    deep = p_start > 2.0e3                    # p_c0 = p'_0 above p'_min = 1 kPa
+    growth = np.log(hardening[deep] / p_start[deep])
+    assert np.min(growth) > 0.02, np.min(growth)
+    invariant = 0.04 * np.log(p_end[deep] / p_start[deep]) + 0.16 * growth
+    assert np.max(np.abs(invariant)) < 1e-4, np.max(np.abs(invariant))
     rows, mean0 = shake_run(tmp_path, "elastic", "model = 'linear_elastic', youngs_modulus = 6.0e5")
     largest = max(np.max(np.abs(r[1][MID] / mean0[MID])) for r in rows)
     assert largest <= 0.02, largest
