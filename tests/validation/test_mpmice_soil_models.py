@@ -13,12 +13,9 @@
   consolidated clay and a loose sand build excess pore pressure (the loose sand liquefies), a
   dense sand sucks, a linear elastic skeleton builds none.
 
-Runs (2 shared cores under load): ~3.5 s (Cam-Clay restart, scene mpm), ~1.5 s (undrained), ~11 s (consolidation, densities / 100 at
-dt = 10 us), ~8 s per Cam-Clay or elastic cyclic shear run and 15-21 s per sand run (the sand
-test, 2 runs, is marked slow). The pressure solve of the shaken column reports non-convergence
-in most steps (relative residual 1e-7 .. 2e-2 after 200 PCG iterations, also with a linear
-elastic skeleton and with 8 cells along x, which give the same pore pressures to 1 Pa); the
-column is uniform along x, see docs/soil_models.md.
+Runs (2 shared cores under load): ~3.5 s (Cam-Clay restart, scene mpm), ~1.5 s (undrained),
+~11 s (consolidation, densities / 100 at dt = 10 us), ~4 s (Cam-Clay, elastic) and ~9 s
+(sand) per cyclic shear run, 2 per test.
 """
 from __future__ import annotations
 
@@ -202,7 +199,6 @@ def test_cam_clay_cyclic_shear_builds_pore_pressure(solver, tmp_path):
     assert largest <= 0.02, largest
 
 
-@pytest.mark.slow
 def test_sand_cyclic_shear_loose_liquefies_dense_sucks(solver, tmp_path):
     """Critical-state sand (quasi-static, E = 10 MPa, K0 = 1), the same shaking: a loose packing
     (porosity 0.45, phi = 0.55 < phi_m = 0.585) builds excess pore pressure >= 0.1 p'_0 in every
