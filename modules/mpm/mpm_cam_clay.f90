@@ -210,7 +210,7 @@ contains
   contains
     !> Yield function at the end of the substep for multiplier `dgam` [Pa^2].
     pure real(wp) function residual(dgam) result(res)
-      real(wp), intent(in) :: dgam
+      real(wp), intent(in) :: dgam   !< plastic multiplier [1/Pa]
       real(wp) :: pp, qq, ppc, xx
       call state_at(dgam, pp, qq, ppc, xx)
       res = qq**2 / m2 + pp * (pp - ppc)
@@ -218,8 +218,11 @@ contains
 
     !> p, q, p_c and x = d eps_v^p at multiplier `dgam`: x solves g(x) = 0 (g increasing).
     pure subroutine state_at(dgam, pp, qq, ppc, xx)
-      real(wp), intent(in) :: dgam
-      real(wp), intent(out) :: pp, qq, ppc, xx
+      real(wp), intent(in) :: dgam   !< plastic multiplier [1/Pa]
+      real(wp), intent(out) :: pp    !< p' [Pa]
+      real(wp), intent(out) :: qq    !< q [Pa]
+      real(wp), intent(out) :: ppc   !< p_c [Pa]
+      real(wp), intent(out) :: xx    !< plastic volumetric strain increment [-]
       real(wp) :: a, b, ga, gb, gx
       integer :: j, sd
       qq = q_tr / (1.0_wp + 6.0_wp * g * dgam / m2)
@@ -267,7 +270,8 @@ contains
 
     !> g(x) = x - dgam (2 p(x) - p_c(x)), increasing in x.
     pure real(wp) function gfun(xv, dgam) result(gv)
-      real(wp), intent(in) :: xv, dgam
+      real(wp), intent(in) :: xv     !< plastic volumetric strain increment x [-]
+      real(wp), intent(in) :: dgam   !< plastic multiplier [1/Pa]
       gv = xv - dgam * (2.0_wp * elastic_pressure(prm, p_n, dv - xv, v) - &
         pc * exp(v * xv / (prm%lambda - prm%kappa)))
     end function gfun

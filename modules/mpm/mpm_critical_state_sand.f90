@@ -129,7 +129,7 @@ contains
   contains
     !> tau - strength at plastic shear increment `dgam` [Pa].
     pure real(wp) function residual(dgam) result(res)
-      real(wp), intent(in) :: dgam
+      real(wp), intent(in) :: dgam   !< plastic shear increment [-]
       real(wp) :: pp, tt, gd, tpsi
       call state_at(dgam, pp, tt)
       gd = rate(dgam)
@@ -139,8 +139,9 @@ contains
 
     !> p and tau at plastic shear increment `dgam`.
     pure subroutine state_at(dgam, pp, tt)
-      real(wp), intent(in) :: dgam
-      real(wp), intent(out) :: pp, tt
+      real(wp), intent(in) :: dgam   !< plastic shear increment [-]
+      real(wp), intent(out) :: pp    !< p' [Pa]
+      real(wp), intent(out) :: tt    !< tau [Pa]
       real(wp) :: tpsi
       tpsi = prm%k_dil * (phi - css_phi_eq(prm, rate(dgam), p_tr))
       pp = max(p_tr + kb * tpsi * dgam, 0.0_wp)
@@ -149,7 +150,7 @@ contains
 
     !> Plastic shear rate [1/s] of increment `dgam` (0 without a step).
     pure real(wp) function rate(dgam)
-      real(wp), intent(in) :: dgam
+      real(wp), intent(in) :: dgam   !< plastic shear increment [-]
       rate = 0.0_wp
       if (dt > 0.0_wp) rate = dgam / dt
     end function rate
