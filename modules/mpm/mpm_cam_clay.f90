@@ -18,7 +18,8 @@
 !! x = d eps_v^p. The return solves, for the multiplier dgam >= 0,
 !!   F(dgam) = q(dgam)^2 / M^2 + p(x) (p(x) - p_c(x)) = 0,  q = q_tr / (1 + 6 G dgam / M^2),
 !! where x(dgam) is the root of the monotone g(x) = x - dgam (2 p(x) - p_c(x)); both scalar
-!! equations are solved inside a bracket (Illinois regula falsi), so the return converges from
+!! equations are solved inside a bracket (Illinois regula falsi, bisection after 60 iterations;
+!! exponents capped at 200 so that no bracket end overflows), so the return converges from
 !! any trial state, also on the softening (dry) side and at large steps. A step whose strain
 !! increment exceeds `max_substep_strain` is split into equal substeps.
 module mpm_cam_clay
@@ -44,6 +45,10 @@ module mpm_cam_clay
   !> Largest strain-increment norm of one substep [-].
   real(wp), parameter :: max_substep_strain = 1.0e-3_wp
   integer, parameter :: max_iterations = 200  !< cap of each scalar solve
+  !> iterations of Illinois regula falsi before the solves fall back to bisection (a bracket
+  !! end far from the root can stall regula falsi)
+  integer, parameter :: falsi_iterations = 60
+  real(wp), parameter :: max_exponent = 200.0_wp  !< cap of the exponential laws' arguments
 
 contains
 
@@ -125,7 +130,7 @@ contains
     a = v / prm%kappa
     pm = prm%min_pressure
     if (p0 >= pm) then
-      p = p0 * exp(a * de)
+      p = p0 * exp(min(a * de, max_exponent))
       if (p < pm) then
         d1 = log(pm / p0) / a          ! strain to reach p_min, then linear
         p = pm + a * pm * (de - d1)
@@ -134,7 +139,7 @@ contains
       p = p0 + a * pm * de
       if (p > pm) then
         d1 = (pm - p0) / (a * pm)      ! strain to reach p_min, then exponential
-        p = pm * exp(a * (de - d1))
+        p = pm * exp(min(a * (de - d1), max_exponent))
       end if
     end if
     p = max(p, 0.0_wp)
@@ -184,6 +189,7 @@ contains
     side = 0
     do it = 1, max_iterations
       gam = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
+      if (it > falsi_iterations) gam = 0.5_wp * (lo + hi)
       f_mid = residual(gam)
       if (abs(f_mid) <= 1.0e-13_wp * pc**2 .or. hi - lo <= 1.0e-15_wp * hi) exit
       if (f_mid > 0.0_wp) then
@@ -245,6 +251,7 @@ contains
         if (ga /= 0.0_wp .and. gb /= 0.0_wp) then
           do j = 1, max_iterations
             xx = (a * gb - b * ga) / (gb - ga)
+            if (j > falsi_iterations) xx = 0.5_wp * (a + b)
             gx = gfun(xx, dgam)
             if (abs(gx) <= 1.0e-15_wp * (abs(xx) + dgam * pc) .or. &
               b - a <= 1.0e-15_wp * max(abs(a), abs(b))) exit
@@ -265,7 +272,7 @@ contains
         end if
       end if
       pp = elastic_pressure(prm, p_n, dv - xx, v)
-      ppc = pc * exp(v * xx / (prm%lambda - prm%kappa))
+      ppc = pc * exp(min(v * xx / (prm%lambda - prm%kappa), max_exponent))
     end subroutine state_at
 
     !> g(x) = x - dgam (2 p(x) - p_c(x)), increasing in x.
@@ -273,7 +280,7 @@ contains
       real(wp), intent(in) :: xv     !< plastic volumetric strain increment x [-]
       real(wp), intent(in) :: dgam   !< plastic multiplier [1/Pa]
       gv = xv - dgam * (2.0_wp * elastic_pressure(prm, p_n, dv - xv, v) - &
-        pc * exp(v * xv / (prm%lambda - prm%kappa)))
+        pc * exp(min(v * xv / (prm%lambda - prm%kappa), max_exponent)))
     end function gfun
   end subroutine mcc_substep
 end module mpm_cam_clay

@@ -44,6 +44,7 @@ module mpm_critical_state_sand
   end type css_params_t
 
   integer, parameter :: max_iterations = 200  !< cap of the scalar solve
+  integer, parameter :: falsi_iterations = 60   !< regula falsi, then bisection
 
 contains
 
@@ -107,6 +108,7 @@ contains
     if (r_hi < 0.0_wp) then
       do it = 1, max_iterations
         gam = (lo * r_hi - hi * r_lo) / (r_hi - r_lo)
+        if (it > falsi_iterations) gam = 0.5_wp * (lo + hi)
         r = residual(gam)
         if (abs(r) <= 1.0e-14_wp * max(tau_tr, p_tr) .or. hi - lo <= 1.0e-15_wp * hi) exit
         if (r > 0.0_wp) then
