@@ -22,6 +22,7 @@ import tempfile
 import numpy as np
 
 from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
+from postproc.measures import front, top
 from postproc.mpm_common import particles, series
 from postproc.mpmice_io import list_dumps
 from postproc.run_case import ROOT, run_mpmice
@@ -61,8 +62,8 @@ def run_collapse(workdir: str, a: float, nranks: int = 1, cell: float = 0.01, ex
     time, p1 = particles(paths[-1], "sand")
     s = series(out, "collapse2d")
     potential = float(np.sum(p0["mass"] * 9.81 * p0["y"]))
-    runout = (float(np.max(p1["x"])) - L0) / L0
-    height = float(np.max(p1["y"])) / L0
+    runout = (front(p1, 0, +1) - L0) / L0
+    height = top(p1, (1, +1)) / L0
     expected = scaling(a)
     return {"a": a, "time": time, "x0": p0["x"], "y0": p0["y"], "x": p1["x"], "y": p1["y"],
             "runout": runout, "height": height, "runout_low": expected[0],

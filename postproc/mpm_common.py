@@ -7,6 +7,7 @@ import os
 import numpy as np
 
 from postproc.mpmice_io import list_dumps, read_dump
+from postproc.run_files import read_step_csv
 
 
 #: Dumps <name>_<step>.h5 of a run in step order: :func:`postproc.mpmice_io.list_dumps` (the one
@@ -25,11 +26,7 @@ def particles(path: str, solid: str) -> tuple[float, dict[str, np.ndarray]]:
 def series(output_dir: str, name: str) -> dict[str, np.ndarray]:
     """Columns of <output_dir>/<name>_mpm_series.csv (time, kinetic_energy, strain_energy,
     xmax, ymax, zmax, xmin, ymin, zmin)."""
-    path = os.path.join(output_dir, f"{name}_mpm_series.csv")
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    with open(path, encoding="utf-8") as f:
-        header = f.readline().strip().split(",")
-    return {key: data[:, i] for i, key in enumerate(header)}
+    return read_step_csv(os.path.join(output_dir, f"{name}_mpm_series.csv"))
 
 
 def constrained_modulus(youngs: float, poisson: float) -> float:

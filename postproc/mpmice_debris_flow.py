@@ -13,6 +13,11 @@ first reaches 0.5 (linear between cell centres). Slide front: the largest x of t
 particles. Mass of each fluid (sum rho_bar V) and of each solid (sum of particle masses) per
 dump. Prints a line per dump and writes debris_flow.png (eta(x) and the slide's particles per
 dump) in --out (default: the run directory).
+
+This script knows the shipped scene (its slide moves toward +x, its bed outline, its still
+level). For another slide use `python -m postproc.slide RUN_DIR --solid NAME` (front, run-out
+and free surface in the direction the solid moves) and `python -m postproc.snapshots RUN_DIR`
+(docs/postprocessing.md); both are built from postproc/measures.py, which this script uses too.
 """
 from __future__ import annotations
 
@@ -20,29 +25,23 @@ import os
 
 import numpy as np
 
+from postproc import measures
 from postproc.figures import pyplot, save_figure
+from postproc.measures import masses  # noqa: F401  (the scene scripts and tests use it here)
 from postproc.mpmice_io import cell_centres, parse_run_dir
 
 NAME = "debris"
 STILL_LEVEL = 1.6            # m
 SHELF_LEVEL = 1.5            # m: the crest plateau's top
 WATER, AIR, SAND = "water", "air", "sand"
+VERTICAL = (1, +1)           # gravity along -y
 
 
 def free_surface(dump: dict) -> tuple[np.ndarray, np.ndarray]:
-    """(x of the column centres, eta) of a dump; eta is NaN where a column holds no interface."""
-    x, y, _ = cell_centres(dump)
-    w = dump["cell"][f"{WATER}/volume_fraction"][:, :, 0]
-    a = dump["cell"][f"{AIR}/volume_fraction"][:, :, 0]
-    share = np.where(w + a > 0.0, w / np.maximum(w + a, 1e-300), 0.0)
-    eta = np.full(len(x), np.nan)
-    for i in range(len(x)):
-        col = share[i, :]
-        for j in range(len(y) - 1, 0, -1):
-            if col[j] < 0.5 <= col[j - 1]:
-                f = (0.5 - col[j]) / (col[j - 1] - col[j])
-                eta[i] = y[j] + f * (y[j - 1] - y[j]) - STILL_LEVEL
-                break
+    """(x of the column centres, eta) of a dump; eta is NaN where a column holds no interface
+    (:func:`postproc.measures.free_surface`, method "crossing", water against air)."""
+    (x,), eta = measures.free_surface(dump, WATER, [AIR], STILL_LEVEL, "crossing",
+                                      vertical=VERTICAL)
     return x, eta
 
 
@@ -54,21 +53,9 @@ def entrained_air(dump: dict) -> float:
     return float(np.sum(a[:, y < SHELF_LEVEL])) * float(dx[0] * dx[1])
 
 
-def masses(dump: dict) -> dict[str, float]:
-    """Mass [kg] of every fluid (cells) and solid (particles) of a dump."""
-    vol = float(np.prod(np.asarray(dump["attrs"]["dx"]).reshape(3)))
-    out = {}
-    for key, field in dump["cell"].items():
-        if key.endswith("/density"):
-            out[key.split("/")[0]] = float(np.sum(field)) * vol
-    for name, parts in dump.get("particles", {}).items():
-        out[name] = float(np.sum(parts["mass"]))
-    return out
-
-
 def slide_front(dump: dict) -> float:
-    """Largest x [m] of the sand particles."""
-    return float(np.max(dump["particles"][SAND]["x"]))
+    """Largest x [m] of the sand particles (the slide moves toward +x)."""
+    return measures.front(dump["particles"][SAND], 0, +1)
 
 
 def main(argv=None) -> int:

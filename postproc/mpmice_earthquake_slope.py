@@ -25,8 +25,9 @@ import os
 
 import numpy as np
 
+from postproc import measures
 from postproc.figures import pyplot, save_figure
-from postproc.mpmice_debris_flow import masses  # noqa: F401  (also used by the test)
+from postproc.measures import by_id, masses  # noqa: F401  (also used by the test)
 from postproc.mpmice_io import cell_centres, parse_run_dir
 
 NAME = "quake"
@@ -60,12 +61,6 @@ def domain_length(dump: dict) -> float:
     return float(x[-1] - x[0] + dx)
 
 
-def by_id(parts: dict) -> dict:
-    """The particle arrays of a solid sorted by particle id."""
-    order = np.argsort(parts["id"])
-    return {k: np.asarray(v)[order] for k, v in parts.items()}
-
-
 def unwrapped(dx: np.ndarray, length: float) -> np.ndarray:
     """Displacements across the periodic x faces, taken in (-L/2, L/2]."""
     return dx - length * np.round(dx / length)
@@ -74,13 +69,9 @@ def unwrapped(dx: np.ndarray, length: float) -> np.ndarray:
 def free_surface(dump: dict, level: float = STILL_LEVEL) -> tuple[np.ndarray, np.ndarray]:
     """(x of the column centres, eta [m]): the height of the water in each column of cells,
     sum_j s_j dy with s = phi_w / (phi_w + phi_air) the water's share of the fluid volume (1 in
-    cells with no fluid), minus `level` [m]; exact for a level surface at any cell size."""
-    x, y, _ = cell_centres(dump)
-    dy = y[1] - y[0]
-    w = dump["cell"][f"{WATER}/volume_fraction"][:, :, 0]
-    a = dump["cell"][f"{AIR}/volume_fraction"][:, :, 0]
-    share = np.where(w + a > 1e-3, w / np.maximum(w + a, 1e-300), 1.0)
-    eta = np.sum(share, axis=1) * dy + (y[0] - 0.5 * dy) - level
+    cells with no fluid), minus `level` [m]; exact for a level surface at any cell size
+    (:func:`postproc.measures.free_surface`, method "height")."""
+    (x,), eta = measures.free_surface(dump, WATER, [AIR], level, "height", vertical=(1, +1))
     return x, eta
 
 

@@ -23,7 +23,9 @@ import os
 import numpy as np
 
 from postproc.figures import pyplot, save_figure
+from postproc.measures import front
 from postproc.mpmice_io import cell_centres, list_dumps, read_dump
+from postproc.run_files import read_step_csv
 
 NAME = "obstacle"
 SAND = "sand"
@@ -35,9 +37,7 @@ P_ATM, RHO_W, G, LEVEL = 101325.0, 999.8, 9.81, 1.6  # Pa, kg/m^3, m/s^2, m (sti
 
 def contact_force(run_dir: str) -> dict[str, np.ndarray]:
     """Columns of `<name>_contact_force.csv`: time [s] and `<solid>_fx/_fy/_fz` [N]."""
-    data = np.genfromtxt(os.path.join(run_dir, f"{NAME}_contact_force.csv"), delimiter=",",
-                         names=True)
-    return {key: np.atleast_1d(data[key]) for key in data.dtype.names}
+    return read_step_csv(os.path.join(run_dir, f"{NAME}_contact_force.csv"))
 
 
 def block_forces(f: dict[str, np.ndarray], component: str = "fx") -> dict[str, np.ndarray]:
@@ -79,12 +79,13 @@ def impulse_between(time: np.ndarray, force: np.ndarray, t0: float, t1: float) -
 
 
 def front_history(run_dir: str) -> tuple[np.ndarray, np.ndarray]:
-    """(time, largest x of the sand particles) over the dumps of a run."""
+    """(time, largest x of the sand particles) over the dumps of a run (the slide moves toward
+    +x, :func:`postproc.measures.front`)."""
     t, x = [], []
     for path in list_dumps(run_dir, NAME):
         d = read_dump(path)
         t.append(d["time"])
-        x.append(float(np.max(d["particles"][SAND]["x"])))
+        x.append(front(d["particles"][SAND], 0, +1))
     return np.array(t), np.array(x)
 
 

@@ -44,6 +44,7 @@ contains
     call add('min_dt_ratio', real_repr(cfg%run%min_dt_ratio))
     call add('progress_interval', real_repr(cfg%run%progress_interval))
     call add('verbosity', ints_repr([cfg%run%verbosity]))
+    call add('overwrite', logicals_repr([cfg%run%overwrite]))
     text = text // '/' // nl // '&grid' // nl
     call add('ncells', ints_repr(cfg%grid%ncells))
     call add('lower', reals_repr(cfg%grid%lower))
@@ -127,6 +128,18 @@ contains
       text = text // '  ' // name // ' = ' // value // nl
     end subroutine add
 
+    !> A table: its entries in use, or a comment saying that none is set (reading the echo
+    !! back leaves the table unset either way).
+    subroutine add_table(name, value)
+      character(len=*), intent(in) :: name
+      character(len=*), intent(in) :: value
+      if (len(value) > 0) then
+        call add(name, value)
+      else
+        text = text // '  ! ' // name // ' = unset' // nl
+      end if
+    end subroutine add_table
+
     subroutine add_fluid(p)
       type(fluid_params_t), intent(in) :: p
       text = text // '&fluid' // nl
@@ -189,6 +202,8 @@ contains
       call add('velocity_wavenumber', reals_repr(p%velocity_wavenumber))
       call add('drag_law', quoted(p%drag_law))
       call add('drag_coefficient', real_repr(p%drag_coefficient))
+      call add('forchheimer_a', real_repr(p%forchheimer_a))
+      call add('forchheimer_b', real_repr(p%forchheimer_b))
       call add('grain_bulk_modulus', real_repr(p%grain_bulk_modulus))
       call add('traction', reals_repr(p%traction))
       call add('traction_lower', reals_repr(p%traction_lower))
@@ -236,15 +251,15 @@ contains
       call add('solid', quoted(p%solid))
       call add('solid_velocity', reals_repr(p%solid_velocity))
       call add('solid_traction', reals_repr(p%solid_traction))
-      call add('solid_velocity_times', table_repr(p%solid_velocity_times))
-      call add('solid_velocity_history', table_repr(reshape(p%solid_velocity_history, &
+      call add_table('solid_velocity_times', table_repr(p%solid_velocity_times))
+      call add_table('solid_velocity_history', table_repr(reshape(p%solid_velocity_history, &
         [size(p%solid_velocity_history)])))
       text = text // '/' // nl
     end subroutine add_boundary
   end function config_to_text
 
   !> A table with trailing unused entries (`history_unset`): the entries up to the last one in
-  !! use, then the unused ones as one repeat count `r*value`.
+  !! use (an empty text when none is); the unused tail keeps its default when read back.
   function table_repr(x) result(text)
     real(wp), intent(in) :: x(:)  !< table
     character(len=:), allocatable :: text
@@ -254,10 +269,8 @@ contains
       if (x(n) /= history_unset) exit
       n = n - 1
     end do
-    text = reals_repr(x(1:n))
-    if (n == size(x)) return
-    if (n > 0) text = text // ', '
-    text = text // ints_repr([size(x) - n]) // '*' // real_repr(history_unset)
+    text = ''
+    if (n > 0) text = reals_repr(x(1:n))
   end function table_repr
 
   !> Path of the echo file: `<output_dir>/<name>.used.nml`.

@@ -214,6 +214,7 @@ contains
     real(wp) :: heat_capacity, conductivity, porosity, grain_size, prescribed_velocity(3)
     real(wp) :: acceleration_amplitude(3), acceleration_frequency, velocity_wavenumber(3)
     real(wp) :: acceleration_duration, max_porosity, min_porosity
+    real(wp) :: forchheimer_a, forchheimer_b
     real(wp) :: critical_state_ratio, compression_index, swelling_index
     real(wp) :: preconsolidation_pressure, ocr, shear_modulus, min_pressure, friction_mu1
     real(wp) :: friction_mu2, viscous_j0, critical_solid_fraction, dilatancy_constant
@@ -227,9 +228,10 @@ contains
       max_porosity, min_porosity, grain_size, prescribed_velocity, acceleration_amplitude, &
       acceleration_frequency, acceleration_duration, velocity_wavenumber, drag_law, &
       drag_coefficient, grain_bulk_modulus, traction, traction_lower, traction_upper, &
-      traction_ramp_time, critical_state_ratio, compression_index, swelling_index, &
-      preconsolidation_pressure, ocr, shear_modulus, min_pressure, friction_mu1, friction_mu2, &
-      viscous_j0, critical_solid_fraction, dilatancy_constant, fluid_viscosity
+      traction_ramp_time, forchheimer_a, forchheimer_b, critical_state_ratio, &
+      compression_index, swelling_index, preconsolidation_pressure, ocr, shear_modulus, &
+      min_pressure, friction_mu1, friction_mu2, viscous_j0, critical_solid_fraction, &
+      dilatancy_constant, fluid_viscosity
     name = p%name
     model = p%model
     density = p%density
@@ -267,6 +269,8 @@ contains
     velocity_wavenumber = p%velocity_wavenumber
     drag_law = p%drag_law
     drag_coefficient = p%drag_coefficient
+    forchheimer_a = p%forchheimer_a
+    forchheimer_b = p%forchheimer_b
     grain_bulk_modulus = p%grain_bulk_modulus
     traction = p%traction
     traction_lower = p%traction_lower
@@ -324,6 +328,8 @@ contains
     p%velocity_wavenumber = velocity_wavenumber
     p%drag_law = drag_law
     p%drag_coefficient = drag_coefficient
+    p%forchheimer_a = forchheimer_a
+    p%forchheimer_b = forchheimer_b
     p%grain_bulk_modulus = grain_bulk_modulus
     p%traction = traction
     p%traction_lower = traction_lower

@@ -209,8 +209,9 @@ contains
     s = min(max(s, 0.0_wp), real(cfg%grid%ncells(d) + 1, wp))
     first_cell_at_or_above = max(1, ceiling(s))
     if (first_cell_at_or_above > 1) then
-      if (cfg%grid%lower(d) + (real(first_cell_at_or_above - 1, wp) - 0.5_wp) * h >= b) &
+      if (cfg%grid%lower(d) + (real(first_cell_at_or_above - 1, wp) - 0.5_wp) * h >= b) then
         first_cell_at_or_above = first_cell_at_or_above - 1
+      end if
     end if
   end function first_cell_at_or_above
 
@@ -225,8 +226,9 @@ contains
     s = min(max(s, 0.0_wp), real(cfg%grid%ncells(d) + 1, wp))
     last_cell_at_or_below = min(cfg%grid%ncells(d), floor(s))
     if (last_cell_at_or_below < cfg%grid%ncells(d)) then
-      if (cfg%grid%lower(d) + (real(last_cell_at_or_below + 1, wp) - 0.5_wp) * h <= b) &
+      if (cfg%grid%lower(d) + (real(last_cell_at_or_below + 1, wp) - 0.5_wp) * h <= b) then
         last_cell_at_or_below = last_cell_at_or_below + 1
+      end if
     end if
   end function last_cell_at_or_below
 end module config_validate_extent

@@ -298,6 +298,9 @@ contains
       end if
       flush(output_unit)
     end if
+    ! Only rank 0 reports the (reduced, rank-independent) verdict in its exit status: a rank that
+    ! stopped with status 1 first could make the launcher kill rank 0 before its summary.
+    if (runner%world_rank /= 0) return
     if (runner%failed > 0 .or. runner%passed + runner%failed == 0) stop 1
   end subroutine pf_runner_finish
 end module pfunit_core
