@@ -209,6 +209,19 @@ contains
       call add('traction_lower', reals_repr(p%traction_lower))
       call add('traction_upper', reals_repr(p%traction_upper))
       call add('traction_ramp_time', real_repr(p%traction_ramp_time))
+      call add('critical_state_ratio', real_repr(p%critical_state_ratio))
+      call add('compression_index', real_repr(p%compression_index))
+      call add('swelling_index', real_repr(p%swelling_index))
+      call add('preconsolidation_pressure', real_repr(p%preconsolidation_pressure))
+      call add('ocr', real_repr(p%ocr))
+      call add('shear_modulus', real_repr(p%shear_modulus))
+      call add('min_pressure', real_repr(p%min_pressure))
+      call add('friction_mu1', real_repr(p%friction_mu1))
+      call add('friction_mu2', real_repr(p%friction_mu2))
+      call add('viscous_j0', real_repr(p%viscous_j0))
+      call add('critical_solid_fraction', real_repr(p%critical_solid_fraction))
+      call add('dilatancy_constant', real_repr(p%dilatancy_constant))
+      call add('fluid_viscosity', real_repr(p%fluid_viscosity))
       text = text // '/' // nl
     end subroutine add_solid
 

@@ -33,8 +33,9 @@ module config_materials
   character(len=*), parameter :: eos_names(3) = [character(len=name_len) :: &
     'ideal_gas', 'linear_water', 'stiffened_gas']
   !> Allowed values of `&solid model`.
-  character(len=*), parameter :: solid_model_names(4) = [character(len=name_len) :: &
-    'linear_elastic', 'neo_hookean', 'mohr_coulomb', 'rigid']
+  character(len=*), parameter :: solid_model_names(7) = [character(len=name_len) :: &
+    'linear_elastic', 'neo_hookean', 'mohr_coulomb', 'rigid', 'cam_clay', &
+    'modified_cam_clay', 'critical_state_sand']
   !> Allowed values of `&solid shape`.
   character(len=*), parameter :: solid_shape_names(3) = [character(len=name_len) :: &
     'box', 'polygon', 'half_space']
@@ -180,6 +181,22 @@ module config_materials
     real(wp) :: traction_lower(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< loaded box low corner [m]
     real(wp) :: traction_upper(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< loaded box high corner [m]
     real(wp) :: traction_ramp_time = 0.0_wp              !< traction grows linearly over it [s]
+    ! soil models (docs/soil_models.md): Modified Cam-Clay ('cam_clay')
+    real(wp) :: critical_state_ratio = 0.0_wp   !< M = q/p' at critical state (0: from
+                                                !< friction_angle)
+    real(wp) :: compression_index = 0.2_wp      !< lambda, v-ln p' slope of the NCL
+    real(wp) :: swelling_index = 0.04_wp        !< kappa, v-ln p' slope of the swelling lines
+    real(wp) :: preconsolidation_pressure = 0.0_wp  !< p_c0 [Pa] (0: from ocr)
+    real(wp) :: ocr = 1.0_wp                    !< overconsolidation ratio on the initial stress
+    real(wp) :: shear_modulus = 0.0_wp          !< constant G [Pa] (0: from poisson_ratio)
+    real(wp) :: min_pressure = 1.0e3_wp         !< p'_min of the bulk modulus v p'/kappa [Pa]
+    ! critical-state sand ('critical_state_sand')
+    real(wp) :: friction_mu1 = 0.32_wp          !< mu_1, quasi-static critical friction
+    real(wp) :: friction_mu2 = 0.7_wp           !< mu_2, friction at large J
+    real(wp) :: viscous_j0 = 0.005_wp           !< J_0 of mu_eq(J)
+    real(wp) :: critical_solid_fraction = 0.585_wp  !< phi_m, quasi-static critical packing
+    real(wp) :: dilatancy_constant = 4.09_wp    !< K of tan(psi) = K (phi - phi_eq)
+    real(wp) :: fluid_viscosity = 0.0_wp        !< eta_f of J [Pa s] (0: quasi-static)
   end type solid_params_t
 
   !> `&boundary` (repeated, at most one per face): conditions on one face of the domain.

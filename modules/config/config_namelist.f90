@@ -163,6 +163,19 @@ module config_namelist
     variable_info_t('solid', 'traction_lower', 'r', 3, 0), &
     variable_info_t('solid', 'traction_upper', 'r', 3, 0), &
     variable_info_t('solid', 'traction_ramp_time', 'r', 1, 0), &
+    variable_info_t('solid', 'critical_state_ratio', 'r', 1, 0), &
+    variable_info_t('solid', 'compression_index', 'r', 1, 0), &
+    variable_info_t('solid', 'swelling_index', 'r', 1, 0), &
+    variable_info_t('solid', 'preconsolidation_pressure', 'r', 1, 0), &
+    variable_info_t('solid', 'ocr', 'r', 1, 0), &
+    variable_info_t('solid', 'shear_modulus', 'r', 1, 0), &
+    variable_info_t('solid', 'min_pressure', 'r', 1, 0), &
+    variable_info_t('solid', 'friction_mu1', 'r', 1, 0), &
+    variable_info_t('solid', 'friction_mu2', 'r', 1, 0), &
+    variable_info_t('solid', 'viscous_j0', 'r', 1, 0), &
+    variable_info_t('solid', 'critical_solid_fraction', 'r', 1, 0), &
+    variable_info_t('solid', 'dilatancy_constant', 'r', 1, 0), &
+    variable_info_t('solid', 'fluid_viscosity', 'r', 1, 0), &
     variable_info_t('region', 'material', 'c', 1, name_len), &
     variable_info_t('region', 'lower', 'r', 3, 0), &
     variable_info_t('region', 'upper', 'r', 3, 0), &

@@ -215,6 +215,10 @@ contains
     real(wp) :: acceleration_amplitude(3), acceleration_frequency, velocity_wavenumber(3)
     real(wp) :: acceleration_duration, max_porosity, min_porosity
     real(wp) :: forchheimer_a, forchheimer_b
+    real(wp) :: critical_state_ratio, compression_index, swelling_index
+    real(wp) :: preconsolidation_pressure, ocr, shear_modulus, min_pressure, friction_mu1
+    real(wp) :: friction_mu2, viscous_j0, critical_solid_fraction, dilatancy_constant
+    real(wp) :: fluid_viscosity
     integer :: npoints, particles_per_cell(3)
     logical :: tension_cutoff, geostatic
     namelist /solid/ name, model, density, youngs_modulus, poisson_ratio, cohesion, &
@@ -224,7 +228,10 @@ contains
       max_porosity, min_porosity, grain_size, prescribed_velocity, acceleration_amplitude, &
       acceleration_frequency, acceleration_duration, velocity_wavenumber, drag_law, &
       drag_coefficient, grain_bulk_modulus, traction, traction_lower, traction_upper, &
-      traction_ramp_time, forchheimer_a, forchheimer_b
+      traction_ramp_time, forchheimer_a, forchheimer_b, critical_state_ratio, &
+      compression_index, swelling_index, preconsolidation_pressure, ocr, shear_modulus, &
+      min_pressure, friction_mu1, friction_mu2, viscous_j0, critical_solid_fraction, &
+      dilatancy_constant, fluid_viscosity
     name = p%name
     model = p%model
     density = p%density
@@ -269,6 +276,19 @@ contains
     traction_lower = p%traction_lower
     traction_upper = p%traction_upper
     traction_ramp_time = p%traction_ramp_time
+    critical_state_ratio = p%critical_state_ratio
+    compression_index = p%compression_index
+    swelling_index = p%swelling_index
+    preconsolidation_pressure = p%preconsolidation_pressure
+    ocr = p%ocr
+    shear_modulus = p%shear_modulus
+    min_pressure = p%min_pressure
+    friction_mu1 = p%friction_mu1
+    friction_mu2 = p%friction_mu2
+    viscous_j0 = p%viscous_j0
+    critical_solid_fraction = p%critical_solid_fraction
+    dilatancy_constant = p%dilatancy_constant
+    fluid_viscosity = p%fluid_viscosity
     read(text, nml=solid, iostat=ios, iomsg=iomsg)
     if (ios /= 0) return
     p%name = name
@@ -315,6 +335,19 @@ contains
     p%traction_lower = traction_lower
     p%traction_upper = traction_upper
     p%traction_ramp_time = traction_ramp_time
+    p%critical_state_ratio = critical_state_ratio
+    p%compression_index = compression_index
+    p%swelling_index = swelling_index
+    p%preconsolidation_pressure = preconsolidation_pressure
+    p%ocr = ocr
+    p%shear_modulus = shear_modulus
+    p%min_pressure = min_pressure
+    p%friction_mu1 = friction_mu1
+    p%friction_mu2 = friction_mu2
+    p%viscous_j0 = viscous_j0
+    p%critical_solid_fraction = critical_solid_fraction
+    p%dilatancy_constant = dilatancy_constant
+    p%fluid_viscosity = fluid_viscosity
   end subroutine read_solid
 
   !> `&boundary` (one occurrence).

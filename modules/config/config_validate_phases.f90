@@ -17,6 +17,7 @@ module config_validate_phases
   use config_check_tools, only: config_error_t, set_error, check_real, check_int, check_choice, &
     occurrence_label
   use config_validate_extent, only: check_extents
+  use config_validate_soil, only: check_soil
   implicit none
   private
 
@@ -259,9 +260,10 @@ contains
       call check_real(err, g, 'porosity', p%porosity, '0 <= n < 1', min_value=0.0_wp, &
         max_value=1.0_wp, max_open=.true.)
       if (.not. err%found .and. p%max_porosity /= 1.0_wp) then
-        if (trim(p%model) /= 'mohr_coulomb') then
+        if (trim(p%model) /= 'mohr_coulomb' .and. trim(p%model) /= 'critical_state_sand') then
           call check_real(err, g, 'max_porosity', p%max_porosity, &
-            '1 (only a mohr_coulomb solid loses its grain contacts)', min_value=1.0_wp, &
+            '1 (only a mohr_coulomb solid or a critical_state_sand solid loses its grain ' // &
+            'contacts)', min_value=1.0_wp, &
             max_value=1.0_wp)
         else
           call check_real(err, g, 'max_porosity', p%max_porosity, 'porosity (' // &
@@ -283,6 +285,7 @@ contains
       call check_real(err, g, 'grain_bulk_modulus', p%grain_bulk_modulus, &
         '>= 0 [Pa] (0: incompressible grains)', min_value=0.0_wp)
       call check_traction(p, g, err)
+      call check_soil(p, g, err)
     end associate
   end subroutine check_solid
 

@@ -1,25 +1,31 @@
 !> One interface to the solid constitutive models: linear elastic, Neo-Hookean (eq. 16, E2),
-!! Mohr-Coulomb (eq. 17) and rigid. Rate-form models (elastic, Mohr-Coulomb) work in the
+!! Mohr-Coulomb (eq. 17), Modified Cam-Clay, critical-state sand (docs/soil_models.md) and
+!! rigid. Rate-form models (elastic, Mohr-Coulomb) work in the
 !! polar-decomposition frame (eqs. 12-15): with F^{n+1} = V R (eq. 12) the strain increment
 !! d eps = sym(L) dt is rotated, d eps* = R^T d eps R (eq. 14); the state `stress_unrot` is the
 !! stress already in that frame (eq. 13), so after the update sigma = R sigma* R^T (eq. 15).
+!! Modified Cam-Clay and the critical-state sand are rate models of the same frame.
 module mpm_constitutive
   use mpmice_kinds, only: wp
   use mpm_tensor, only: polar_rotation, rotate_to, rotate_from, mat_to_sym, det3
   use mpm_elastic, only: elastic_increment, lame_from_young
   use mpm_neo_hookean, only: neo_hookean_stress
   use mpm_mohr_coulomb, only: mc_params_t, mc_return
+  use mpm_cam_clay, only: mcc_params_t, mcc_update, mcc_moduli, mcc_invariants
+  use mpm_critical_state_sand, only: css_params_t, css_return
   implicit none
   private
 
   public :: material_t, material_init, constitutive_update, wave_speed
   public :: model_linear_elastic, model_neo_hookean, model_mohr_coulomb, model_rigid
-  public :: model_from_name
+  public :: model_from_name, model_cam_clay, model_critical_state_sand
 
   integer, parameter :: model_linear_elastic = 1  !< linear (hypo-)elastic
   integer, parameter :: model_neo_hookean = 2     !< compressible Neo-Hookean
   integer, parameter :: model_mohr_coulomb = 3    !< Mohr-Coulomb, non-associated
   integer, parameter :: model_rigid = 4           !< prescribed motion, no stress
+  integer, parameter :: model_cam_clay = 5        !< Modified Cam-Clay
+  integer, parameter :: model_critical_state_sand = 6  !< packing-dependent sand
 
   !> Constitutive parameters of one solid material.
   type :: material_t
@@ -28,6 +34,10 @@ module mpm_constitutive
     real(wp) :: lambda = 0.0_wp              !< first Lame constant [Pa]
     real(wp) :: mu = 0.0_wp                  !< shear modulus [Pa]
     type(mc_params_t) :: mc                  !< Mohr-Coulomb parameters
+    type(mcc_params_t) :: mcc                !< Modified Cam-Clay parameters
+    type(css_params_t) :: css                !< critical-state sand parameters
+    !> solid fraction 1 - n0 at J = 1 (`&solid porosity`); the packing is phi = phi0 / J
+    real(wp) :: solid_fraction0 = 1.0_wp
     !> Mohr-Coulomb: J = det F beyond which the grains lose contact (the porosity
     !! 1 - (1 - n0) / J passes `&solid max_porosity`): no effective stress, no stiffness
     real(wp) :: j_loose = huge(1.0_wp)
@@ -48,6 +58,10 @@ contains
       model = model_mohr_coulomb
     case ('rigid')
       model = model_rigid
+    case ('cam_clay', 'modified_cam_clay')
+      model = model_cam_clay
+    case ('critical_state_sand')
+      model = model_critical_state_sand
     case default
       model = model_linear_elastic
     end select
@@ -77,6 +91,8 @@ contains
     mat%mc%psi = psi_deg * deg
     mat%mc%tension_cutoff = tension_cutoff
     mat%mc%tensile_strength = tensile_strength
+    mat%css%lambda = mat%lambda
+    mat%css%mu = mat%mu
   end function material_init
 
   !> Dilatational (P) wave speed [m/s] of a particle with deformation gradient `f` (0 for a
@@ -89,11 +105,15 @@ contains
   !!   direction n gives c^2 = (lambda (1 - ln J) + mu (1 + n.b.n)) / rho0, b = F F^T; n.b.n is
   !!   bounded by the largest row sum of |b| (equal to it at F = I, where c^2 = (lambda + 2 mu)
   !!   / rho0), the lambda term floored at 0;
-  !! * a loose Mohr-Coulomb particle (J > `j_loose`, grains out of contact) has no stiffness: 0.
-  pure real(wp) function wave_speed(mat, f) result(c)
-    type(material_t), intent(in) :: mat  !< material
-    real(wp), intent(in) :: f(3, 3)      !< deformation gradient F [-]
-    real(wp) :: jac, b(3, 3)
+  !! * Modified Cam-Clay: the current moduli, K = v max(p', p'_min) / kappa (v = v0 J) and G,
+  !!   c^2 = (K + 4/3 G) max(J, 1) / rho0, p' from `stress` (without it, p' = p'_min);
+  !! * a loose Mohr-Coulomb or critical-state sand particle (J > `j_loose`, grains out of
+  !!   contact) has no stiffness: 0.
+  pure real(wp) function wave_speed(mat, f, stress) result(c)
+    type(material_t), intent(in) :: mat           !< material
+    real(wp), intent(in) :: f(3, 3)               !< deformation gradient F [-]
+    real(wp), intent(in), optional :: stress(6)   !< effective stress [Pa]
+    real(wp) :: jac, b(3, 3), p, q, s(6), k, g
     jac = det3(f)
     select case (mat%model)
     case (model_rigid)
@@ -102,6 +122,11 @@ contains
       b = matmul(f, transpose(f))
       c = sqrt((mat%lambda * max(1.0_wp - log(max(jac, tiny(1.0_wp))), 0.0_wp) + &
         mat%mu * (1.0_wp + maxval(sum(abs(b), dim=2)))) / mat%density)
+    case (model_cam_clay)
+      p = 0.0_wp
+      if (present(stress)) call mcc_invariants(stress, p, q, s)
+      call mcc_moduli(mat%mcc, p, mat%mcc%v0 * jac, k, g)
+      c = sqrt((k + 4.0_wp / 3.0_wp * g) * max(jac, 1.0_wp) / mat%density)
     case default
       if (jac > mat%j_loose) then
         c = 0.0_wp  ! grains out of contact: no stiffness
@@ -113,9 +138,12 @@ contains
 
   !> Stress update of one particle over a step: `f` is F^{n+1}, `l` the velocity gradient L
   !! (l(i,j) = dv_i/dx_j) [1/s], `dt` [s]. Updates `stress_unrot` (rotated frame), `stress`
-  !! (current frame) [Pa] and `plastic_strain` [-]. A rate-model particle dilated past
-  !! `mat%j_loose` (`&solid max_porosity`) carries no stress.
-  pure subroutine constitutive_update(mat, f, l, dt, stress_unrot, stress, plastic_strain)
+  !! (current frame) [Pa], `plastic_strain` [-] and, for Modified Cam-Clay, `hardening` = p_c
+  !! [Pa] (0 before the first update: set then from the stress and `&solid ocr`,
+  !! `preconsolidation_pressure`; a caller without it gets p_c set afresh at every call). A
+  !! rate-model particle dilated past `mat%j_loose` (`&solid max_porosity`) carries no stress.
+  pure subroutine constitutive_update(mat, f, l, dt, stress_unrot, stress, plastic_strain, &
+    hardening)
     type(material_t), intent(in) :: mat              !< material
     real(wp), intent(in) :: f(3, 3)                  !< deformation gradient F^{n+1}
     real(wp), intent(in) :: l(3, 3)                  !< velocity gradient [1/s]
@@ -123,14 +151,15 @@ contains
     real(wp), intent(inout) :: stress_unrot(6)       !< stress in the rotated frame [Pa]
     real(wp), intent(inout) :: stress(6)             !< Cauchy stress [Pa]
     real(wp), intent(inout) :: plastic_strain        !< equivalent plastic strain [-]
-    real(wp) :: r(3, 3), deps(6), dep
+    real(wp), intent(inout), optional :: hardening   !< Cam-Clay p_c [Pa]
+    real(wp) :: r(3, 3), deps(6), dep, pc
     type(mc_params_t) :: dense
     select case (mat%model)
     case (model_neo_hookean)
       stress = neo_hookean_stress(mat%lambda, mat%mu, f)
       r = polar_rotation(f)
       stress_unrot = rotate_to(r, stress)
-    case (model_linear_elastic, model_mohr_coulomb)
+    case (model_linear_elastic, model_mohr_coulomb, model_critical_state_sand, model_cam_clay)
       if (det3(f) > mat%j_loose) then
         ! loose: the grains are out of contact (a suspension), no effective stress; the
         ! stress grows again from zero once the particle compacts below j_loose
@@ -140,8 +169,20 @@ contains
       end if
       r = polar_rotation(f)                                  ! eq. 12
       deps = rotate_to(r, mat_to_sym(l) * dt)                ! eq. 14
+      if (mat%model == model_cam_clay) then
+        pc = 0.0_wp
+        if (present(hardening)) pc = hardening
+        call mcc_update(mat%mcc, deps, mat%mcc%v0 * det3(f), stress_unrot, pc, dep)
+        if (present(hardening)) hardening = pc
+        plastic_strain = plastic_strain + dep
+        stress = rotate_from(r, stress_unrot)                ! eq. 15
+        return
+      end if
       stress_unrot = stress_unrot + elastic_increment(mat%lambda, mat%mu, deps)
-      if (mat%model == model_mohr_coulomb) then
+      if (mat%model == model_critical_state_sand) then
+        call css_return(mat%css, mat%solid_fraction0 / det3(f), dt, stress_unrot, dep)
+        plastic_strain = plastic_strain + dep
+      else if (mat%model == model_mohr_coulomb) then
         if (mat%mc%psi < 0.0_wp .and. det3(f) <= mat%j_dense) then
           ! contractant sand at its densest packing: plastic flow without volume change
           dense = mat%mc

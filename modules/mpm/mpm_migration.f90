@@ -18,7 +18,7 @@ module mpm_migration
 
   public :: migration_t, migration_init, migrate_particles, nfield
 
-  integer, parameter :: nfield = 34  !< reals per packed particle
+  integer, parameter :: nfield = 35  !< reals per packed particle
 
   !> Ownership tables and buffers of the migration.
   type :: migration_t
@@ -175,6 +175,7 @@ contains
     buf(32) = p%temperature(ip)
     buf(33) = p%pore_pressure(ip)
     buf(34) = transfer(p%id(ip), 1.0_wp)
+    buf(35) = p%hardening(ip)
   end subroutine pack_particle
 
   !> Unpack `buf(nfield)` into slot `ip` of `p` (capacity must suffice).
@@ -194,5 +195,6 @@ contains
     p%temperature(ip) = buf(32)
     p%pore_pressure(ip) = buf(33)
     p%id(ip) = transfer(buf(34), 1_i8)
+    p%hardening(ip) = buf(35)
   end subroutine unpack_particle
 end module mpm_migration

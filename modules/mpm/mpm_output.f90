@@ -1,5 +1,6 @@
 !> HDF5 datasets of the MPM particles (design §7): dumps `/particles/<solid>/{x, y, z,
-!! velocity_x.., stress_xx.., pore_pressure, temperature, volume, mass, plastic_strain, id}` and
+!! velocity_x.., stress_xx.., pore_pressure, temperature, volume, mass, plastic_strain,
+!! hardening, id}` and
 !! `/cell/<solid>/{volume_fraction, velocity_x, velocity_y, velocity_z, temperature}` (particle
 !! volume per cell volume; mass-weighted particle averages, 0 in empty cells), and checkpoints
 !! `/checkpoint/particles/<solid>/...` with the full state (bitwise restart).
@@ -48,6 +49,7 @@ contains
     call h5_write_particles(file, g // 'volume', p%volume(1:n))
     call h5_write_particles(file, g // 'mass', p%mass(1:n))
     call h5_write_particles(file, g // 'plastic_strain', p%plastic_strain(1:n))
+    call h5_write_particles(file, g // 'hardening', p%hardening(1:n))
     call h5_write_particles(file, g // 'id', p%id(1:n))
   end subroutine write_particle_dump
 
@@ -59,15 +61,15 @@ contains
     integer :: d
     set%group = 'particles/' // trim(name)
     set%count = count
-    allocate(set%fields(17))
+    allocate(set%fields(18))
     do d = 1, 3
       set%fields(d) = 'velocity_' // axis(d)
     end do
     do d = 1, 6
       set%fields(3 + d) = 'stress_' // sym_names(d)
     end do
-    set%fields(10:17) = [character(len=name_len) :: 'pore_pressure', 'temperature', 'volume', &
-      'mass', 'plastic_strain', 'x', 'y', 'z']
+    set%fields(10:18) = [character(len=name_len) :: 'pore_pressure', 'temperature', 'volume', &
+      'mass', 'plastic_strain', 'hardening', 'x', 'y', 'z']
     set%int_fields = [character(len=name_len) :: 'id']
   end function particle_xdmf_set
 
@@ -89,6 +91,7 @@ contains
     call h5_write_particles(file, g // 'volume', p%volume(1:n))
     call h5_write_particles(file, g // 'volume0', p%volume0(1:n))
     call h5_write_particles(file, g // 'plastic_strain', p%plastic_strain(1:n))
+    call h5_write_particles(file, g // 'hardening', p%hardening(1:n))
     call h5_write_particles(file, g // 'temperature', p%temperature(1:n))
     call h5_write_particles(file, g // 'pore_pressure', p%pore_pressure(1:n))
     call h5_write_particles(file, g // 'id', p%id(1:n))
@@ -129,6 +132,8 @@ contains
     p%volume0(1:n) = a1
     call h5_read_particles(file, g // 'plastic_strain', a1)
     p%plastic_strain(1:n) = a1
+    call h5_read_particles(file, g // 'hardening', a1)
+    p%hardening(1:n) = a1
     call h5_read_particles(file, g // 'temperature', a1)
     p%temperature(1:n) = a1
     call h5_read_particles(file, g // 'pore_pressure', a1)

@@ -34,6 +34,9 @@ module mpm_particles
     real(wp), allocatable :: stress(:, :)      !< (6, np) Cauchy effective stress [Pa]
     real(wp), allocatable :: stress_unrot(:, :) !< (6, np) stress in the rotated frame [Pa]
     real(wp), allocatable :: plastic_strain(:) !< accumulated equivalent plastic strain [-]
+    !> hardening variable of the model: Modified Cam-Clay preconsolidation pressure p_c [Pa]
+    !! (0: not yet set; unused by the other models)
+    real(wp), allocatable :: hardening(:)
     real(wp), allocatable :: temperature(:)    !< temperature [K]
     real(wp), allocatable :: pore_pressure(:)  !< pore pressure (0 without a fluid) [Pa]
     integer(i8), allocatable :: id(:)          !< global particle id (unique, stable)
@@ -59,7 +62,7 @@ contains
     n = min(p%np, cap)
     allocate(q%x(3, cap), q%v(3, cap), q%mass(cap), q%volume(cap), q%volume0(cap), q%f(9, cap), &
       q%stress(6, cap), q%stress_unrot(6, cap), q%plastic_strain(cap), q%temperature(cap), &
-      q%pore_pressure(cap), q%id(cap))
+      q%pore_pressure(cap), q%id(cap), q%hardening(cap))
     if (n > 0) then
       q%x(:, 1:n) = p%x(:, 1:n)
       q%v(:, 1:n) = p%v(:, 1:n)
@@ -70,6 +73,7 @@ contains
       q%stress(:, 1:n) = p%stress(:, 1:n)
       q%stress_unrot(:, 1:n) = p%stress_unrot(:, 1:n)
       q%plastic_strain(1:n) = p%plastic_strain(1:n)
+      q%hardening(1:n) = p%hardening(1:n)
       q%temperature(1:n) = p%temperature(1:n)
       q%pore_pressure(1:n) = p%pore_pressure(1:n)
       q%id(1:n) = p%id(1:n)
@@ -83,6 +87,7 @@ contains
     call move_alloc(q%stress, p%stress)
     call move_alloc(q%stress_unrot, p%stress_unrot)
     call move_alloc(q%plastic_strain, p%plastic_strain)
+    call move_alloc(q%hardening, p%hardening)
     call move_alloc(q%temperature, p%temperature)
     call move_alloc(q%pore_pressure, p%pore_pressure)
     call move_alloc(q%id, p%id)
@@ -105,6 +110,7 @@ contains
     dst%stress(:, j) = src%stress(:, i)
     dst%stress_unrot(:, j) = src%stress_unrot(:, i)
     dst%plastic_strain(j) = src%plastic_strain(i)
+    dst%hardening(j) = src%hardening(i)
     dst%temperature(j) = src%temperature(i)
     dst%pore_pressure(j) = src%pore_pressure(i)
     dst%id(j) = src%id(i)
@@ -129,6 +135,7 @@ contains
       p%stress(:, j) = p%stress(:, i)
       p%stress_unrot(:, j) = p%stress_unrot(:, i)
       p%plastic_strain(j) = p%plastic_strain(i)
+      p%hardening(j) = p%hardening(i)
       p%temperature(j) = p%temperature(i)
       p%pore_pressure(j) = p%pore_pressure(i)
       p%id(j) = p%id(i)
@@ -140,7 +147,8 @@ contains
   subroutine particles_free(p)
     type(particles_t), intent(inout) :: p  !< store
     if (allocated(p%x)) deallocate(p%x, p%v, p%mass, p%volume, p%volume0, p%f, p%stress, &
-      p%stress_unrot, p%plastic_strain, p%temperature, p%pore_pressure, p%id)
+      p%stress_unrot, p%plastic_strain, p%temperature, p%pore_pressure, p%id, &
+      p%hardening)
     p%np = 0
     p%capacity = 0
   end subroutine particles_free

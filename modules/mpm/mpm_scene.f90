@@ -13,7 +13,7 @@ module mpm_scene
   use mpmice_errors, only: int_text, real_short_text, fatal
   use mpmice_log, only: log_info, log_warning
   use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
-  use config_types, only: config_t, boundary_for_face, history_points_used
+  use config_types, only: config_t, boundary_for_face, history_points_used, solid_params_t
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_free
   use parallel_reduce, only: global_sum, global_max, global_min
@@ -119,6 +119,7 @@ contains
           (1.0_wp - sp%max_porosity)
         if (sp%min_porosity > 0.0_wp) self%mats(s)%j_dense = (1.0_wp - sp%porosity) / &
           (1.0_wp - sp%min_porosity)
+        call set_soil_params(self%mats(s), sp)
         self%motions(s) = rigid_motion_t(sp%prescribed_velocity, sp%acceleration_amplitude, &
           sp%acceleration_frequency, sp%acceleration_duration)
         call seed_solid(self%parts(s), sp, grid, self%gravity)
@@ -155,6 +156,34 @@ contains
       '_mpm_series.csv')
   end subroutine mpm_init
 
+  !> The `&solid` parameters of the soil models (docs/soil_models.md): Modified Cam-Clay M
+  !! (from `friction_angle` phi when 0: M = 6 sin phi / (3 - sin phi), triaxial compression),
+  !! lambda, kappa, v0 = 1 / (1 - porosity), p_c0, OCR, G or nu, p'_min; the critical-state
+  !! sand's rheology and the packing phi0 = 1 - porosity.
+  pure subroutine set_soil_params(mat, sp)
+    type(material_t), intent(inout) :: mat   !< material (model and elasticity set)
+    type(solid_params_t), intent(in) :: sp   !< its `&solid`
+    real(wp) :: sphi
+    sphi = sin(sp%friction_angle * acos(-1.0_wp) / 180.0_wp)
+    mat%mcc%m = sp%critical_state_ratio
+    if (mat%mcc%m <= 0.0_wp) mat%mcc%m = 6.0_wp * sphi / (3.0_wp - sphi)
+    mat%mcc%lambda = sp%compression_index
+    mat%mcc%kappa = sp%swelling_index
+    mat%mcc%v0 = 1.0_wp / (1.0_wp - sp%porosity)
+    mat%mcc%pc0 = sp%preconsolidation_pressure
+    mat%mcc%ocr = sp%ocr
+    mat%mcc%shear_modulus = sp%shear_modulus
+    mat%mcc%poisson = sp%poisson_ratio
+    mat%mcc%min_pressure = sp%min_pressure
+    mat%css%mu1 = sp%friction_mu1
+    mat%css%mu2 = sp%friction_mu2
+    mat%css%j0 = sp%viscous_j0
+    mat%css%phi_m = sp%critical_solid_fraction
+    mat%css%k_dil = sp%dilatancy_constant
+    mat%css%eta_f = sp%fluid_viscosity
+    mat%solid_fraction0 = 1.0_wp - sp%porosity
+  end subroutine set_soil_params
+
   !> dt = cfl min_p dx_min / (c_p + |v_p|) over all particles (global), c_p the wave speed of
   !! the particle's current deformation F (`wave_speed`: a dilated particle of a rate model is
   !! faster, c_p^2 = (lambda + 2 mu) J / rho0).
@@ -172,8 +201,8 @@ contains
       associate (p => self%parts(s))
         speed = 0.0_wp
         do ip = 1, p%np
-          speed = max(speed, wave_speed(self%mats(s), reshape(p%f(:, ip), [3, 3])) + &
-            norm2(p%v(:, ip)))
+          speed = max(speed, wave_speed(self%mats(s), reshape(p%f(:, ip), [3, 3]), &
+            p%stress(:, ip)) + norm2(p%v(:, ip)))
         end do
         if (speed > 0.0_wp) dt = min(dt, self%cfl * h / speed)
       end associate

@@ -199,6 +199,20 @@ BAD_MPMICE_INPUTS = [
     ("grain_size_zero_rigid",
      "&solid name = 's2', model = 'rigid', upper = 1, 1, 1, grain_size = 0 /", [],
      ["case.nml", "&solid(2) grain_size = 0.0", "> 0 [m]"]),
+    # soil models (docs/soil_models.md)
+    ("cam_clay_kappa_above_lambda", "", ["&solid name = 'soil', model = 'cam_clay', "
+                                          "compression_index = 0.1, swelling_index = 0.2 /"],
+     ["--set", "&solid(1) swelling_index = 0.2", "0 < kappa < compression_index (0.1)"]),
+    ("cam_clay_ocr_below_one", "", ["&solid name = 'soil', model = 'cam_clay', ocr = 0.5 /"],
+     ["--set", "&solid(1) ocr = 0.5", ">= 1"]),
+    ("cam_clay_without_porosity", "", ["&solid name = 'soil', model = 'cam_clay', "
+                                        "porosity = 0 /"],
+     ["--set", "&solid(1) porosity = 0.0", "0 < n < 1 for model cam_clay"]),
+    ("sand_phi_m_above_one", "", ["&solid name = 'soil', model = 'critical_state_sand', "
+                                   "critical_solid_fraction = 1.2 /"],
+     ["--set", "&solid(1) critical_solid_fraction = 1.2", "0 < phi_m < 1"]),
+    ("sand_fluid_viscosity_negative", "", ["&solid name = 'soil', fluid_viscosity = -1 /"],
+     ["--set", "&solid(1) fluid_viscosity = -1.0", ">= 0 [Pa s]"]),
 ] + [
     # &boundary velocity history (solid_velocity_times / solid_velocity_history)
     ("history_times_not_increasing",

@@ -1,0 +1,160 @@
+!> Critical-state sand: a pressure-dependent friction law whose friction and dilatancy are set
+!! by the packing (solid fraction phi), after Roux & Radjai (1998) and Pailha & Pouliquen
+!! (2009), with the viscous-number rheology of Boyer, Guazzelli & Pouliquen (2011) for the
+!! critical state; see docs/soil_models.md.
+!!
+!! Sign convention: stress tension positive; p = -tr(sigma)/3 >= 0 the mean effective stress,
+!! tau = sqrt(s:s / 2) the equivalent shear stress (s the deviator), gamma_dot the equivalent
+!! plastic shear rate (in simple shear: tau = sigma_xy, gamma_dot = dv_x/dy).
+!!   viscous number   J = eta_f gamma_dot / p
+!!   critical state   mu_eq(J) = mu_1 + (mu_2 - mu_1) / (1 + J_0 / J) + J + 5/2 phi_m J^(1/2)
+!!                    phi_eq(J) = phi_m / (1 + J^(1/2))                (Boyer et al. 2011)
+!!   dilatancy        tan(psi) = K (phi - phi_eq)                   (Pailha & Pouliquen 2009)
+!!   friction         tau = mu p, mu = max(mu_eq(J) + tan(psi), 0)
+!!   flow             d e^p = dgam s / (2 tau),  d eps_vol^p = tan(psi) dgam (dilation > 0)
+!! With eta_f = 0 (no pore fluid viscosity given) J = 0: mu_eq = mu_1, phi_eq = phi_m, the
+!! quasi-static limit. Every term is evaluated as a product with p (mu_eq p = mu_1 p +
+!! (mu_2 - mu_1) p eta gd / (eta gd + J_0 p) + eta gd + 5/2 phi_m sqrt(eta gd p)), finite at
+!! p -> 0. Return (elastic predictor with the constant Lame constants, then one scalar equation
+!! for the plastic shear increment dgam, solved inside the bracket [0, tau_tr / G] by Illinois
+!! regula falsi):
+!!   R(dgam) = tau_tr - G dgam - max(mu_eq(J) p + tan(psi) p, 0) = 0,
+!!   p = max(p_tr + K_b tan(psi) dgam, 0),  gamma_dot = dgam / dt,
+!! (the plastic dilation tan(psi) dgam is taken from the elastic volumetric strain of the
+!! step, so a dilating sand gains pressure and a contracting one loses it),
+!! phi_eq in tan(psi) taken at J(gamma_dot, p_tr). No tension: a trial p <= 0 returns to zero
+!! stress (the apex).
+module mpm_critical_state_sand
+  use mpmice_kinds, only: wp
+  implicit none
+  private
+
+  public :: css_params_t, css_return, css_phi_eq, css_strength
+
+  !> Parameters of the model.
+  type :: css_params_t
+    real(wp) :: lambda = 0.0_wp          !< first Lame constant [Pa]
+    real(wp) :: mu = 0.0_wp              !< shear modulus [Pa]
+    real(wp) :: mu1 = 0.32_wp            !< quasi-static critical friction mu_1 [-]
+    real(wp) :: mu2 = 0.7_wp             !< friction at large J, mu_2 [-]
+    real(wp) :: j0 = 0.005_wp            !< viscous-number constant J_0 [-]
+    real(wp) :: phi_m = 0.585_wp         !< critical (quasi-static) solid fraction phi_m [-]
+    real(wp) :: k_dil = 4.09_wp          !< dilatancy constant K [-]
+    real(wp) :: eta_f = 0.0_wp           !< pore fluid viscosity eta_f [Pa s] (0: J = 0)
+  end type css_params_t
+
+  integer, parameter :: max_iterations = 200  !< cap of the scalar solve
+  integer, parameter :: falsi_iterations = 60   !< regula falsi, then bisection
+
+contains
+
+  !> Critical solid fraction phi_eq(J) [-] at shear rate `gd` [1/s] and pressure `p` [Pa].
+  pure real(wp) function css_phi_eq(prm, gd, p) result(phi_eq)
+    type(css_params_t), intent(in) :: prm  !< parameters
+    real(wp), intent(in) :: gd             !< shear rate [1/s]
+    real(wp), intent(in) :: p              !< mean effective stress [Pa]
+    real(wp) :: a
+    a = sqrt(max(prm%eta_f * gd, 0.0_wp))
+    if (a <= 0.0_wp) then
+      phi_eq = prm%phi_m
+    else
+      phi_eq = prm%phi_m * sqrt(max(p, 0.0_wp)) / (sqrt(max(p, 0.0_wp)) + a)  ! phi_m/(1+J^1/2)
+    end if
+  end function css_phi_eq
+
+  !> Critical-state shear strength mu_eq(J) p [Pa] at shear rate `gd` [1/s], pressure `p`.
+  pure real(wp) function css_strength(prm, gd, p) result(s)
+    type(css_params_t), intent(in) :: prm  !< parameters
+    real(wp), intent(in) :: gd             !< shear rate [1/s]
+    real(wp), intent(in) :: p              !< mean effective stress [Pa]
+    real(wp) :: e, pp
+    e = max(prm%eta_f * gd, 0.0_wp)   ! J p
+    pp = max(p, 0.0_wp)
+    s = prm%mu1 * pp
+    if (e > 0.0_wp) s = s + (prm%mu2 - prm%mu1) * pp * e / (e + prm%j0 * pp) + e + &
+      2.5_wp * prm%phi_m * sqrt(e * pp)
+  end function css_strength
+
+  !> Return the elastic trial stress `sig` [Pa] in place; `phi` is the particle's solid
+  !! fraction, `dt` the step [s]; `deps_p` the equivalent plastic strain increment
+  !! sqrt(2/3 e^p:e^p) = dgam / sqrt(3) [-].
+  pure subroutine css_return(prm, phi, dt, sig, deps_p)
+    type(css_params_t), intent(in) :: prm  !< parameters
+    real(wp), intent(in) :: phi            !< solid fraction [-]
+    real(wp), intent(in) :: dt             !< step [s]
+    real(wp), intent(inout) :: sig(6)      !< trial stress in, returned stress out [Pa]
+    real(wp), intent(out) :: deps_p        !< equivalent plastic strain increment [-]
+    real(wp) :: p_tr, s(6), tau_tr, kb, lo, hi, r_lo, r_hi, gam, r, p, tau
+    integer :: it, side
+    deps_p = 0.0_wp
+    p_tr = -(sig(1) + sig(2) + sig(3)) / 3.0_wp
+    s = sig
+    s(1:3) = s(1:3) + p_tr
+    tau_tr = sqrt(0.5_wp * (s(1)**2 + s(2)**2 + s(3)**2) + s(4)**2 + s(5)**2 + s(6)**2)
+    if (p_tr <= 0.0_wp) then
+      ! no tension: the apex, zero effective stress
+      deps_p = tau_tr / (prm%mu * sqrt(3.0_wp))
+      sig = 0.0_wp
+      return
+    end if
+    kb = prm%lambda + 2.0_wp * prm%mu / 3.0_wp
+    r_lo = residual(0.0_wp)
+    if (r_lo <= 1.0e-14_wp * p_tr) return   ! elastic
+    lo = 0.0_wp
+    hi = tau_tr / prm%mu
+    r_hi = residual(hi)
+    gam = hi
+    side = 0
+    if (r_hi < 0.0_wp) then
+      do it = 1, max_iterations
+        gam = (lo * r_hi - hi * r_lo) / (r_hi - r_lo)
+        if (it > falsi_iterations) gam = 0.5_wp * (lo + hi)
+        r = residual(gam)
+        if (abs(r) <= 1.0e-14_wp * max(tau_tr, p_tr) .or. hi - lo <= 1.0e-15_wp * hi) exit
+        if (r > 0.0_wp) then
+          lo = gam
+          r_lo = r
+          if (side == -1) r_hi = 0.5_wp * r_hi
+          side = -1
+        else
+          hi = gam
+          r_hi = r
+          if (side == 1) r_lo = 0.5_wp * r_lo
+          side = 1
+        end if
+      end do
+    end if
+    call state_at(gam, p, tau)
+    sig = s * (tau / tau_tr)
+    sig(1:3) = sig(1:3) - p
+    deps_p = gam / sqrt(3.0_wp)
+  contains
+    !> tau - strength at plastic shear increment `dgam` [Pa].
+    pure real(wp) function residual(dgam) result(res)
+      real(wp), intent(in) :: dgam   !< plastic shear increment [-]
+      real(wp) :: pp, tt, gd, tpsi
+      call state_at(dgam, pp, tt)
+      gd = rate(dgam)
+      tpsi = prm%k_dil * (phi - css_phi_eq(prm, gd, p_tr))
+      res = tt - max(css_strength(prm, gd, pp) + tpsi * pp, 0.0_wp)
+    end function residual
+
+    !> p and tau at plastic shear increment `dgam`.
+    pure subroutine state_at(dgam, pp, tt)
+      real(wp), intent(in) :: dgam   !< plastic shear increment [-]
+      real(wp), intent(out) :: pp    !< p' [Pa]
+      real(wp), intent(out) :: tt    !< tau [Pa]
+      real(wp) :: tpsi
+      tpsi = prm%k_dil * (phi - css_phi_eq(prm, rate(dgam), p_tr))
+      pp = max(p_tr + kb * tpsi * dgam, 0.0_wp)
+      tt = max(tau_tr - prm%mu * dgam, 0.0_wp)
+    end subroutine state_at
+
+    !> Plastic shear rate [1/s] of increment `dgam` (0 without a step).
+    pure real(wp) function rate(dgam)
+      real(wp), intent(in) :: dgam   !< plastic shear increment [-]
+      rate = 0.0_wp
+      if (dt > 0.0_wp) rate = dgam / dt
+    end function rate
+  end subroutine css_return
+end module mpm_critical_state_sand
