@@ -206,6 +206,11 @@ contains
       call add('traction_lower', reals_repr(p%traction_lower))
       call add('traction_upper', reals_repr(p%traction_upper))
       call add('traction_ramp_time', real_repr(p%traction_ramp_time))
+      call add('polygon_file', quoted(p%polygon_file))
+      call add('profile_file', quoted(p%profile_file))
+      call add('profile_lower_file', quoted(p%profile_lower_file))
+      call add('layer_thickness', real_repr(p%layer_thickness))
+      call add('profile_lower_level', real_repr(p%profile_lower_level))
       text = text // '/' // nl
     end subroutine add_solid
 
@@ -219,6 +224,12 @@ contains
       call add('velocity', reals_repr(p%velocity))
       call add('temperature', real_repr(p%temperature))
       call add('pressure', real_repr(p%pressure))
+      call add('shape', quoted(p%shape))
+      call add('polygon_file', quoted(p%polygon_file))
+      call add('profile_file', quoted(p%profile_file))
+      call add('profile_lower_file', quoted(p%profile_lower_file))
+      call add('layer_thickness', real_repr(p%layer_thickness))
+      call add('profile_lower_level', real_repr(p%profile_lower_level))
       text = text // '/' // nl
     end subroutine add_region
 

@@ -7,7 +7,8 @@
 !! `config_t` (at most `max_fluids`, ... elements), and every occurrence starts from the type's
 !! defaults. `config_types` re-exports everything public here.
 module config_materials
-  use mpmice_kinds, only: wp, name_len
+  use mpmice_kinds, only: wp, name_len, path_len
+  use geometry_shapes, only: file_shape_t, level_unset
   implicit none
   private
 
@@ -36,8 +37,8 @@ module config_materials
   character(len=*), parameter :: solid_model_names(4) = [character(len=name_len) :: &
     'linear_elastic', 'neo_hookean', 'mohr_coulomb', 'rigid']
   !> Allowed values of `&solid shape`.
-  character(len=*), parameter :: solid_shape_names(3) = [character(len=name_len) :: &
-    'box', 'polygon', 'half_space']
+  character(len=*), parameter :: solid_shape_names(4) = [character(len=name_len) :: &
+    'box', 'polygon', 'half_space', 'profile']
   !> Allowed values of `&solid drag_law` (fluid-solid drag of scene 'mpmice').
   character(len=*), parameter :: drag_law_names(4) = [character(len=name_len) :: &
     'kozeny_carman', 'beetstra', 'constant', 'impermeable']
@@ -130,6 +131,14 @@ module config_materials
     real(wp) :: velocity(3) = [0.0_wp, 0.0_wp, 0.0_wp]   !< velocity inside [m/s]
     real(wp) :: temperature = 300.0_wp                   !< temperature inside [K]
     real(wp) :: pressure = 101325.0_wp                   !< pressure inside [Pa]
+    !> 'box' (the box alone), 'polygon' or 'profile': the box and the file shape (docs/geometry.md)
+    character(len=name_len) :: shape = 'box'
+    character(len=path_len) :: polygon_file = ''         !< CSV polygon (shape 'polygon')
+    character(len=path_len) :: profile_file = ''         !< CSV upper profile (shape 'profile')
+    character(len=path_len) :: profile_lower_file = ''   !< CSV lower profile (shape 'profile')
+    real(wp) :: layer_thickness = 0.0_wp                 !< > 0: layer of it on one profile [m]
+    real(wp) :: profile_lower_level = level_unset        !< constant lower bound [m]
+    type(file_shape_t) :: geometry                       !< shape read from the files
   end type region_params_t
 
   !> `&solid` (repeated): one solid body: constitutive model, geometry, particles, initial state.
@@ -178,6 +187,12 @@ module config_materials
     real(wp) :: traction_lower(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< loaded box low corner [m]
     real(wp) :: traction_upper(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< loaded box high corner [m]
     real(wp) :: traction_ramp_time = 0.0_wp              !< traction grows linearly over it [s]
+    character(len=path_len) :: polygon_file = ''         !< CSV polygon (shape 'polygon')
+    character(len=path_len) :: profile_file = ''         !< CSV upper profile (shape 'profile')
+    character(len=path_len) :: profile_lower_file = ''   !< CSV lower profile (shape 'profile')
+    real(wp) :: layer_thickness = 0.0_wp                 !< > 0: layer of it on one profile [m]
+    real(wp) :: profile_lower_level = level_unset        !< constant lower bound [m]
+    type(file_shape_t) :: geometry                       !< shape read from the files
   end type solid_params_t
 
   !> `&boundary` (repeated, at most one per face): conditions on one face of the domain.

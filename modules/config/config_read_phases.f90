@@ -4,7 +4,7 @@
 !! As for the other groups, each routine presets the namelist variables from the parameters (so
 !! absent variables keep their value), reads `text` and copies back on success only.
 module config_read_phases
-  use mpmice_kinds, only: wp, name_len
+  use mpmice_kinds, only: wp, name_len, path_len
   use config_materials, only: physics_params_t, ice_params_t, mpm_params_t, coupling_params_t, &
     fluid_params_t, solid_params_t, region_params_t, boundary_params_t, max_polygon_points, &
     max_history_points
@@ -177,9 +177,18 @@ contains
     character(len=*), intent(in) :: text      !< namelist text
     integer, intent(out) :: ios               !< iostat
     character(len=*), intent(inout) :: iomsg  !< iomsg
-    character(len=name_len) :: material
+    character(len=name_len) :: material, shape
     real(wp) :: lower(3), upper(3), volume_fraction, velocity(3), temperature, pressure
-    namelist /region/ material, lower, upper, volume_fraction, velocity, temperature, pressure
+    character(len=path_len) :: polygon_file, profile_file, profile_lower_file
+    real(wp) :: layer_thickness, profile_lower_level
+    namelist /region/ material, lower, upper, volume_fraction, velocity, temperature, pressure, &
+      shape, polygon_file, profile_file, profile_lower_file, layer_thickness, profile_lower_level
+    shape = p%shape
+    polygon_file = p%polygon_file
+    profile_file = p%profile_file
+    profile_lower_file = p%profile_lower_file
+    layer_thickness = p%layer_thickness
+    profile_lower_level = p%profile_lower_level
     material = p%material
     lower = p%lower
     upper = p%upper
@@ -196,6 +205,12 @@ contains
     p%velocity = velocity
     p%temperature = temperature
     p%pressure = pressure
+    p%shape = shape
+    p%polygon_file = polygon_file
+    p%profile_file = profile_file
+    p%profile_lower_file = profile_lower_file
+    p%layer_thickness = layer_thickness
+    p%profile_lower_level = profile_lower_level
   end subroutine read_region
 
   !> `&solid` (one occurrence).
@@ -216,6 +231,8 @@ contains
     real(wp) :: acceleration_duration, max_porosity, min_porosity
     integer :: npoints, particles_per_cell(3)
     logical :: tension_cutoff, geostatic
+    character(len=path_len) :: polygon_file, profile_file, profile_lower_file
+    real(wp) :: layer_thickness, profile_lower_level
     namelist /solid/ name, model, density, youngs_modulus, poisson_ratio, cohesion, &
       friction_angle, dilation_angle, tension_cutoff, tensile_strength, k0, geostatic, shape, &
       lower, upper, npoints, polygon_x, polygon_y, plane_point, plane_normal, rotation_deg, &
@@ -223,7 +240,13 @@ contains
       max_porosity, min_porosity, grain_size, prescribed_velocity, acceleration_amplitude, &
       acceleration_frequency, acceleration_duration, velocity_wavenumber, drag_law, &
       drag_coefficient, grain_bulk_modulus, traction, traction_lower, traction_upper, &
-      traction_ramp_time
+      traction_ramp_time, polygon_file, profile_file, profile_lower_file, layer_thickness, &
+      profile_lower_level
+    polygon_file = p%polygon_file
+    profile_file = p%profile_file
+    profile_lower_file = p%profile_lower_file
+    layer_thickness = p%layer_thickness
+    profile_lower_level = p%profile_lower_level
     name = p%name
     model = p%model
     density = p%density
@@ -310,6 +333,11 @@ contains
     p%traction_lower = traction_lower
     p%traction_upper = traction_upper
     p%traction_ramp_time = traction_ramp_time
+    p%polygon_file = polygon_file
+    p%profile_file = profile_file
+    p%profile_lower_file = profile_lower_file
+    p%layer_thickness = layer_thickness
+    p%profile_lower_level = profile_lower_level
   end subroutine read_solid
 
   !> `&boundary` (one occurrence).

@@ -16,6 +16,7 @@ module ice_initial
   use mpmice_errors, only: fatal, real_short_text
   use config_types, only: config_t
   use grid_layout, only: grid_t, cell_centre
+  use geometry_shapes, only: file_shape_contains
   use ice_eos, only: eos_density
   use ice_state, only: ice_state_t
   implicit none
@@ -87,7 +88,7 @@ contains
         do r = 1, cfg%nregions
           if (cfg%regions(r)%material /= c%name) cycle
           if (all(x >= cfg%regions(r)%lower .and. x <= cfg%regions(r)%upper .or. &
-            .not. grid%active)) then
+            .not. grid%active) .and. file_shape_contains(cfg%regions(r)%geometry, x)) then
             phi(m) = cfg%regions(r)%volume_fraction
             t(m) = cfg%regions(r)%temperature
             p(m) = cfg%regions(r)%pressure
