@@ -313,8 +313,8 @@ def test_geometry_variable_errors(run_mpmice, tmp_case_dir):
              "&solid(2) layer_thickness = -1.0: >= 0 [m]"),
             ("&solid name = 'bed', shape = 'box', upper = 1.0, 0.2, 0.05 /",
              "&solid(1) shape = 'box': 'profile' when profile_file"),
-            ("&region material = 'water', shape = 'circle' /",
-             "&region(1) shape = 'circle'")):
+            ("&region material = 'water', upper = 1.0, 0.5, 0.05, shape = 'circle' /",
+             "--set: &region(3) shape = 'circle': one of 'box', 'polygon', 'profile'")):
         result = run_mpmice(["case.nml", "--check", "--set", setting])
         assert result.returncode == 1, setting
         lines = result.stderr.strip().splitlines()
