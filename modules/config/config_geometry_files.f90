@@ -1,13 +1,6 @@
 !> Geometry from files (docs/geometry.md): the CSV polygons and profiles that `&solid` and
-!! `&region` name in `polygon_file`, `profile_file` and `profile_lower_file`.
-!!
-!! A CSV file holds one vertex "x, y" [m] per line (comma, semicolon, tab or blank separated);
-!! blank lines and lines starting with `#` are skipped, and a first non-comment line that
-!! does not start with a number is a header. Every other line must hold exactly two finite
-!! numbers. A polygon needs at least 3 distinct vertices, is closed implicitly (a last vertex
-!! equal to the first is dropped), must not intersect itself and must enclose a non-zero area;
-!! a profile needs at least 2 points with x strictly increasing. Any problem is one input-error
-!! line naming the file, the line and what is wrong.
+!! `&region` name in `polygon_file`, `profile_file` and `profile_lower_file` (read and checked
+!! by `config_geometry_csv`); the checks of these variables; the files' domain overlap.
 !!
 !! Relative paths are taken relative to the folder of the namelist file (of the checkpoint on
 !! `--restart`) and stored absolute in the resolved configuration, so the echo, the used
@@ -17,22 +10,21 @@
 module config_geometry_files
   use, intrinsic :: iso_c_binding, only: c_char, c_size_t, c_ptr, c_associated, c_null_char
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Bcast, MPI_INTEGER, MPI_DOUBLE_PRECISION
-  use mpmice_kinds, only: wp, path_len, msg_len
+  use mpmice_kinds, only: wp, path_len
   use config_types, only: config_t
   use config_materials, only: solid_params_t, region_params_t
   use config_text, only: real_repr, quoted
   use config_check_tools, only: config_error_t, set_error, occurrence_label
   use geometry_shapes, only: file_shape_t, shape_kind_none, shape_kind_polygon, &
-    shape_kind_profile, polygon_area, polygon_crossing, level_unset
+    shape_kind_profile, level_unset
+  use config_geometry_csv, only: read_xy_file, check_polygon_vertices, check_profile_points, &
+    file_error, int_str
   implicit none
   private
 
-  public :: read_xy_file, check_polygon_vertices, check_profile_points
   public :: geometry_paths_resolve, geometry_check_variables, geometry_files_load
   public :: geometry_files_bcast, region_shape_names, absolute_path
 
-  integer, parameter :: field_len = 256  !< longest CSV field kept (longer ones are cut)
-  integer, parameter :: max_fields = 8   !< CSV fields kept per line (more are counted)
   !> Allowed values of `&region shape`.
   character(len=*), parameter :: region_shape_names(3) = [character(len=8) :: &
     'box', 'polygon', 'profile']
@@ -48,173 +40,6 @@ module config_geometry_files
   end interface
 
 contains
-
-  !> Read the CSV file `path` of vertices "x, y". `lines(i)` is the line of vertex i. On a
-  !! problem `stat` = 1 and `errmsg` is the input-error line ending with `what` (the variable
-  !! that named the file).
-  subroutine read_xy_file(path, what, x, y, lines, stat, errmsg)
-    character(len=*), intent(in) :: path                 !< CSV file
-    character(len=*), intent(in) :: what                 !< e.g. "&solid 'bed' profile_file"
-    real(wp), allocatable, intent(out) :: x(:), y(:)     !< vertices [m]
-    integer, allocatable, intent(out) :: lines(:)        !< line number of each vertex
-    integer, intent(out) :: stat                         !< 0 ok, 1 input error
-    character(len=:), allocatable, intent(out) :: errmsg !< error line
-    character(len=:), allocatable :: text, line
-    character(len=field_len) :: fields(max_fields)
-    character(len=msg_len) :: iomsg
-    integer :: unit, ios, nbytes, start, finish, lineno, n, nf
-    logical :: exists, seen_data
-    real(wp) :: v(2)
-
-    stat = 1
-    errmsg = ''
-    allocate(x(0), y(0), lines(0))
-    inquire(file=path, exist=exists)
-    if (.not. exists) then
-      errmsg = file_error(path, 0, 'cannot read the file: no such file', what)
-      return
-    end if
-    open(newunit=unit, file=path, status='old', action='read', access='stream', &
-      form='unformatted', iostat=ios, iomsg=iomsg)
-    if (ios /= 0) then
-      errmsg = file_error(path, 0, 'cannot read the file: ' // trim(iomsg), what)
-      return
-    end if
-    inquire(unit=unit, size=nbytes)
-    if (nbytes < 0) then
-      close(unit)
-      errmsg = file_error(path, 0, 'cannot read the file: not a regular file', what)
-      return
-    end if
-    allocate(character(len=nbytes) :: text)
-    ios = 0
-    if (nbytes > 0) read(unit, iostat=ios, iomsg=iomsg) text
-    close(unit)
-    if (ios /= 0) then
-      errmsg = file_error(path, 0, 'cannot read the file: ' // trim(iomsg), what)
-      return
-    end if
-
-    start = 1
-    lineno = 0
-    seen_data = .false.
-    do while (start <= len(text))
-      finish = index(text(start:), achar(10))
-      if (finish == 0) then
-        finish = len(text) + 1
-      else
-        finish = start + finish - 1
-      end if
-      line = text(start:finish - 1)
-      start = finish + 1
-      lineno = lineno + 1
-      line = trim(adjustl(replace_separators(line)))
-      if (len(line) == 0) cycle
-      if (line(1:1) == '#') cycle
-      call split_fields(line, fields, nf)
-      if (.not. seen_data .and. .not. is_number(fields(1))) then
-        seen_data = .true.     ! the header: only before the first vertex
-        cycle
-      end if
-      seen_data = .true.
-      if (nf /= 2) then
-        errmsg = file_error(path, lineno, 'expected two values "x, y", found ' // &
-          int_str(nf) // ': ''' // line // '''', what)
-        return
-      end if
-      do n = 1, 2
-        if (.not. is_number(fields(n))) then
-          errmsg = file_error(path, lineno, 'not a finite number: ''' // trim(fields(n)) // &
-            ''' (expected two numbers "x, y" [m])', what)
-          return
-        end if
-        read(fields(n), *, iostat=ios) v(n)
-        if (ios /= 0 .or. .not. (abs(v(n)) <= huge(1.0_wp))) then
-          errmsg = file_error(path, lineno, 'not a finite number: ''' // trim(fields(n)) // &
-            '''', what)
-          return
-        end if
-      end do
-      x = [x, v(1)]
-      y = [y, v(2)]
-      lines = [lines, lineno]
-    end do
-    stat = 0
-  end subroutine read_xy_file
-
-  !> Check the vertices of a polygon read from `path` (drops a closing vertex equal to the
-  !! first): at least 3 vertices, no vertex repeated next to itself, no self-intersection,
-  !! a non-zero area.
-  subroutine check_polygon_vertices(path, what, x, y, lines, stat, errmsg)
-    character(len=*), intent(in) :: path                 !< CSV file
-    character(len=*), intent(in) :: what                 !< variable that named it
-    real(wp), allocatable, intent(inout) :: x(:), y(:)   !< vertices [m]
-    integer, allocatable, intent(inout) :: lines(:)      !< their line numbers
-    integer, intent(out) :: stat                         !< 0 ok, 1 input error
-    character(len=:), allocatable, intent(out) :: errmsg !< error line
-    integer :: n, i, a, b
-    stat = 1
-    errmsg = ''
-    n = size(x)
-    if (n >= 2) then
-      if (x(n) == x(1) .and. y(n) == y(1)) then
-        x = x(1:n - 1)
-        y = y(1:n - 1)
-        lines = lines(1:n - 1)
-        n = n - 1
-      end if
-    end if
-    if (n < 3) then
-      errmsg = file_error(path, last_line(lines), 'a polygon needs at least 3 vertices, ' // &
-        'found ' // int_str(n), what)
-      return
-    end if
-    do i = 2, n
-      if (x(i) == x(i - 1) .and. y(i) == y(i - 1)) then
-        errmsg = file_error(path, lines(i), 'vertex repeats the one on line ' // &
-          int_str(lines(i - 1)), what)
-        return
-      end if
-    end do
-    call polygon_crossing(x, y, a, b)
-    if (a > 0) then
-      errmsg = file_error(path, lines(b), 'the polygon intersects itself: the edge from ' // &
-        'this line''s vertex crosses the edge from line ' // int_str(lines(a)), what)
-      return
-    end if
-    if (.not. (abs(polygon_area(x, y)) > 0.0_wp)) then
-      errmsg = file_error(path, last_line(lines), 'the polygon encloses no area', what)
-      return
-    end if
-    stat = 0
-  end subroutine check_polygon_vertices
-
-  !> Check a profile y = f(x) read from `path`: at least 2 points, x strictly increasing.
-  subroutine check_profile_points(path, what, x, lines, stat, errmsg)
-    character(len=*), intent(in) :: path                 !< CSV file
-    character(len=*), intent(in) :: what                 !< variable that named it
-    real(wp), intent(in) :: x(:)                         !< abscissae [m]
-    integer, intent(in) :: lines(:)                      !< their line numbers
-    integer, intent(out) :: stat                         !< 0 ok, 1 input error
-    character(len=:), allocatable, intent(out) :: errmsg !< error line
-    integer :: i
-    stat = 1
-    errmsg = ''
-    if (size(x) < 2) then
-      errmsg = file_error(path, last_line(lines), 'a profile needs at least 2 points, ' // &
-        'found ' // int_str(size(x)), what)
-      return
-    end if
-    do i = 2, size(x)
-      if (.not. (x(i) > x(i - 1))) then
-        errmsg = file_error(path, lines(i), 'x = ' // real_repr(x(i)) // ' is not greater ' // &
-          'than x = ' // real_repr(x(i - 1)) // ' on line ' // int_str(lines(i - 1)) // &
-          ' (a profile needs x strictly increasing)', what)
-        return
-      end if
-    end do
-    stat = 0
-  end subroutine check_profile_points
 
   !> Make the geometry file names of `cfg` absolute: a relative name is taken relative to the
   !! folder of `source` (the namelist file).
@@ -371,6 +196,8 @@ contains
         call load_shape(s%geometry, '&' // occurrence_label('solid', k), s%shape, &
           s%polygon_file, s%profile_file, s%profile_lower_file, s%layer_thickness, &
           s%profile_lower_level, stat, errmsg)
+        if (stat == 0) call check_overlap(cfg, s%geometry, s%polygon_file, s%profile_file, &
+          s%profile_lower_file, '&' // occurrence_label('solid', k), stat, errmsg)
       end associate
       if (stat /= 0) return
     end do
@@ -379,10 +206,60 @@ contains
         call load_shape(r%geometry, '&' // occurrence_label('region', k), r%shape, &
           r%polygon_file, r%profile_file, r%profile_lower_file, r%layer_thickness, &
           r%profile_lower_level, stat, errmsg)
+        if (stat == 0) call check_overlap(cfg, r%geometry, r%polygon_file, r%profile_file, &
+          r%profile_lower_file, '&' // occurrence_label('region', k), stat, errmsg)
       end associate
       if (stat /= 0) return
     end do
   end subroutine geometry_files_load
+
+  !> A file shape must reach into the domain: the polygon's bounding box overlaps it along x
+  !! and y (active dimensions), a profile's x range overlaps it along x.
+  subroutine check_overlap(cfg, geo, polygon_file, profile_file, lower_file, g, stat, errmsg)
+    type(config_t), intent(in) :: cfg
+    type(file_shape_t), intent(in) :: geo
+    character(len=*), intent(in) :: polygon_file, profile_file, lower_file, g
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    logical :: active(2)
+    real(wp) :: lo(2), hi(2)
+    character(len=:), allocatable :: domain
+    stat = 0
+    active = cfg%grid%ncells(1:2) > 1
+    lo = cfg%grid%lower(1:2)
+    hi = cfg%grid%upper(1:2)
+    domain = ' lies outside the domain &grid lower = ' // real_repr(lo(1)) // ', ' // &
+      real_repr(lo(2)) // ', upper = ' // real_repr(hi(1)) // ', ' // real_repr(hi(2)) // ' [m]'
+    select case (geo%kind)
+    case (shape_kind_polygon)
+      if (any(active .and. ([maxval(geo%x), maxval(geo%y)] <= lo .or. &
+        [minval(geo%x), minval(geo%y)] >= hi))) then
+        stat = 1
+        errmsg = file_error(trim(polygon_file), 0, 'the polygon (x ' // real_repr(minval(geo%x)) &
+          // '..' // real_repr(maxval(geo%x)) // ', y ' // real_repr(minval(geo%y)) // '..' // &
+          real_repr(maxval(geo%y)) // ')' // domain, g // ' polygon_file')
+      end if
+    case (shape_kind_profile)
+      if (active(1) .and. size(geo%x) > 0) then
+        if (geo%x(size(geo%x)) <= lo(1) .or. geo%x(1) >= hi(1)) then
+          stat = 1
+          errmsg = file_error(trim(profile_file), 0, 'the profile (x ' // real_repr(geo%x(1)) &
+            // '..' // real_repr(geo%x(size(geo%x))) // ')' // domain, g // ' profile_file')
+          return
+        end if
+      end if
+      if (active(1) .and. size(geo%lower_x) > 0) then
+        if (geo%lower_x(size(geo%lower_x)) <= lo(1) .or. geo%lower_x(1) >= hi(1)) then
+          stat = 1
+          errmsg = file_error(trim(lower_file), 0, 'the profile (x ' // &
+            real_repr(geo%lower_x(1)) // '..' // real_repr(geo%lower_x(size(geo%lower_x))) // &
+            ')' // domain, g // ' profile_lower_file')
+        end if
+      end if
+    case default
+      continue
+    end select
+  end subroutine check_overlap
 
   !> Read the files of one shape into `geo`.
   subroutine load_shape(geo, g, shape, polygon_file, profile_file, lower_file, thickness, &
@@ -476,105 +353,4 @@ contains
     end if
   end subroutine bcast_shape
 
-  !> The input-error line for file `path`, line `lineno` (0: none), ending with `what`.
-  pure function file_error(path, lineno, problem, what) result(text)
-    character(len=*), intent(in) :: path, problem, what
-    integer, intent(in) :: lineno
-    character(len=:), allocatable :: text
-    text = 'mpmice: input error: ' // trim(path)
-    if (lineno > 0) text = text // ': line ' // int_str(lineno)
-    text = text // ': ' // problem // ' (' // trim(what) // ')'
-  end function file_error
-
-  !> Last line number in `lines` (0 when empty).
-  pure integer function last_line(lines)
-    integer, intent(in) :: lines(:)
-    last_line = 0
-    if (size(lines) > 0) last_line = lines(size(lines))
-  end function last_line
-
-  !> `s` with each separator (comma, semicolon, tab, carriage return) replaced by a blank.
-  pure function replace_separators(s) result(t)
-    character(len=*), intent(in) :: s
-    character(len=len(s)) :: t
-    integer :: i
-    t = s
-    do i = 1, len(t)
-      if (t(i:i) == ',' .or. t(i:i) == ';' .or. t(i:i) == achar(9) .or. &
-        t(i:i) == achar(13)) t(i:i) = ' '
-    end do
-  end function replace_separators
-
-  !> Blank-separated fields of `line`: `nf` counts them all, the first `size(fields)` are
-  !! stored.
-  pure subroutine split_fields(line, fields, nf)
-    character(len=*), intent(in) :: line
-    character(len=*), intent(out) :: fields(:)
-    integer, intent(out) :: nf
-    integer :: i, start
-    fields = ''
-    nf = 0
-    i = 1
-    do while (i <= len(line))
-      if (line(i:i) == ' ') then
-        i = i + 1
-        cycle
-      end if
-      start = i
-      do while (i <= len(line))
-        if (line(i:i) == ' ') exit
-        i = i + 1
-      end do
-      nf = nf + 1
-      if (nf <= size(fields)) fields(nf) = line(start:i - 1)
-    end do
-  end subroutine split_fields
-
-  !> `s` is a decimal number: optional sign, digits with at most one point, optional exponent
-  !! (e/E/d/D, optional sign, digits).
-  pure logical function is_number(s)
-    character(len=*), intent(in) :: s
-    integer :: i, n, digits, exp_digits
-    logical :: point, in_exp
-    character :: c
-    is_number = .false.
-    n = len_trim(s)
-    if (n == 0) return
-    digits = 0
-    exp_digits = 0
-    point = .false.
-    in_exp = .false.
-    do i = 1, n
-      c = s(i:i)
-      if (c >= '0' .and. c <= '9') then
-        if (in_exp) then
-          exp_digits = exp_digits + 1
-        else
-          digits = digits + 1
-        end if
-      else if (c == '+' .or. c == '-') then
-        if (i /= 1) then
-          if (.not. in_exp .or. index('eEdD', s(i - 1:i - 1)) == 0) return
-        end if
-      else if (c == '.') then
-        if (point .or. in_exp) return
-        point = .true.
-      else if (index('eEdD', c) > 0) then
-        if (in_exp .or. digits == 0) return
-        in_exp = .true.
-      else
-        return
-      end if
-    end do
-    is_number = digits > 0 .and. (.not. in_exp .or. exp_digits > 0)
-  end function is_number
-
-  !> Integer as text.
-  pure function int_str(i) result(text)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: text
-    character(len=16) :: buffer
-    write(buffer, '(i0)') i
-    text = trim(buffer)
-  end function int_str
 end module config_geometry_files

@@ -11,7 +11,7 @@
 * A restart from another working folder reads the files again from their stored absolute paths.
 * Malformed input (missing file, non-numeric value, three values on a line, fewer than 3
   vertices, a self-intersecting polygon, a profile whose x is not strictly increasing, a
-  repeated vertex): exit 1, one stderr line naming the file and the line, nothing written;
+  repeated vertex, a polygon outside the domain): exit 1, one stderr line naming the file and the line, nothing written;
   the same under --check.
 Each run takes well under a second."""
 import math
@@ -258,6 +258,7 @@ MALFORMED = {
     "bow_tie": ("0.2,0.2\n0.8,0.8\n0.8,0.2\n0.2,0.8\n", 3,
                 "intersects itself: the edge from this line's vertex crosses the edge from line 1"),
     "repeated": ("0.2,0.2\n0.8,0.2\n0.8,0.2\n0.5,0.8\n", 3, "vertex repeats the one on line 2"),
+    "outside": ("5,5\n6,5\n5,6\n", 0, "the polygon (x 5.0..6.0, y 5.0..6.0) lies outside the domain"),
 }
 
 
