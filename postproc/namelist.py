@@ -31,6 +31,25 @@ def _convert(token: str):
         return float(low.replace("d", "e"))
 
 
+def _strip_comments(text: str) -> str:
+    """``text`` without its ``!`` comments (a ``!`` inside a quoted string is kept): the echo
+    writes unset variables as comment lines (``! solid_velocity_times = unset``)."""
+    lines = []
+    for line in text.splitlines():
+        quote = None
+        for i, c in enumerate(line):
+            if quote:
+                if c == quote:
+                    quote = None
+            elif c in "'\"":
+                quote = c
+            elif c == "!":
+                line = line[:i]
+                break
+        lines.append(line)
+    return "\n".join(lines) + "\n"
+
+
 def parse_namelist_text(text: str) -> dict[str, dict[str, object]]:
     """Parse namelist text into nested dictionaries (the last occurrence of a repeated group)."""
     return dict(parse_namelist_groups(text))
@@ -39,6 +58,7 @@ def parse_namelist_text(text: str) -> dict[str, dict[str, object]]:
 def parse_namelist_groups(text: str) -> list[tuple[str, dict[str, object]]]:
     """Parse namelist text into ``(group, {variable: value})`` pairs, one per group, in order."""
     groups: list[tuple[str, dict[str, object]]] = []
+    text = _strip_comments(text)
     for match in re.finditer(r"&(\w+)(.*?)(?:^\s*/\s*$|/\s*$|/\s*\n)", text, re.S | re.M):
         group = match.group(1).lower()
         body = match.group(2)
