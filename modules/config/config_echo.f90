@@ -210,7 +210,7 @@ contains
       call add('profile_file', quoted(p%profile_file))
       call add('profile_lower_file', quoted(p%profile_lower_file))
       call add('layer_thickness', real_repr(p%layer_thickness))
-      call add('profile_lower_level', real_repr(p%profile_lower_level))
+      call add_table('profile_lower_level', table_repr([p%profile_lower_level]))
       text = text // '/' // nl
     end subroutine add_solid
 
@@ -229,7 +229,7 @@ contains
       call add('profile_file', quoted(p%profile_file))
       call add('profile_lower_file', quoted(p%profile_lower_file))
       call add('layer_thickness', real_repr(p%layer_thickness))
-      call add('profile_lower_level', real_repr(p%profile_lower_level))
+      call add_table('profile_lower_level', table_repr([p%profile_lower_level]))
       text = text // '/' // nl
     end subroutine add_region
 
