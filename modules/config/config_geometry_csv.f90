@@ -24,25 +24,32 @@ contains
 
   !> Read the CSV file `path` of vertices "x, y". `lines(i)` is the line of vertex i. On a
   !! problem `stat` = 1 and `errmsg` is the input-error line ending with `what` (the variable
-  !! that named the file).
-  subroutine read_xy_file(path, what, x, y, lines, stat, errmsg)
+  !! that named the file). With `z` present the file may hold "x, y, z" points instead (a
+  !! height map): the first data line sets the number of values of every line, and `z` gets
+  !! them (size 0 for a file of "x, y").
+  subroutine read_xy_file(path, what, x, y, lines, stat, errmsg, z)
     character(len=*), intent(in) :: path                 !< CSV file
     character(len=*), intent(in) :: what                 !< e.g. "&solid 'bed' profile_file"
     real(wp), allocatable, intent(out) :: x(:), y(:)     !< vertices [m]
     integer, allocatable, intent(out) :: lines(:)        !< line number of each vertex
     integer, intent(out) :: stat                         !< 0 ok, 1 input error
     character(len=:), allocatable, intent(out) :: errmsg !< error line
-    character(len=:), allocatable :: text, line
+    real(wp), allocatable, intent(out), optional :: z(:) !< heights [m] (3 values per line)
+    character(len=:), allocatable :: text, line, expected
     character(len=field_len) :: fields(max_fields)
     character(len=msg_len) :: iomsg
-    integer :: unit, ios, nbytes, start, finish, lineno, n, nf, f
+    integer :: unit, ios, nbytes, start, finish, lineno, n, nf, f, ncols, first_line
     logical :: exists, seen_data
-    real(wp) :: v(2)
+    real(wp) :: v(3)
+    real(wp), allocatable :: zz(:), tmp(:)
 
     stat = 1
     errmsg = ''
     n = 0
-    allocate(x(64), y(64), lines(64))
+    ncols = 0
+    first_line = 0
+    allocate(x(64), y(64), lines(64), zz(64))
+    if (present(z)) allocate(z(0))
     inquire(file=path, exist=exists)
     if (.not. exists) then
       errmsg = file_error(path, 0, 'cannot read the file: no such file', what)
@@ -91,15 +98,31 @@ contains
         cycle
       end if
       seen_data = .true.
-      if (nf /= 2) then
-        errmsg = file_error(path, lineno, 'expected two values "x, y", found ' // &
+      if (ncols == 0) then
+        ncols = 2
+        if (present(z) .and. nf == 3) ncols = 3
+        first_line = lineno
+      end if
+      if (nf /= ncols) then
+        if (ncols == 3) then
+          expected = 'three values "x, y, z" (as on line ' // int_str(first_line) // ')'
+        else if (present(z) .and. lineno == first_line) then
+          expected = 'two values "x, y" or three "x, y, z"'
+        else if (present(z)) then
+          expected = 'two values "x, y" (as on line ' // int_str(first_line) // ')'
+        else
+          expected = 'two values "x, y"'
+        end if
+        errmsg = file_error(path, lineno, 'expected ' // expected // ', found ' // &
           int_str(nf) // ': ''' // line // '''', what)
         return
       end if
-      do f = 1, 2
+      v = 0.0_wp
+      do f = 1, ncols
         if (.not. is_number(fields(f))) then
           errmsg = file_error(path, lineno, 'not a finite number: ''' // trim(fields(f)) // &
-            ''' (expected two numbers "x, y" [m])', what)
+            ''' (expected ' // trim(merge('two numbers "x, y" [m]     ', &
+            'three numbers "x, y, z" [m]', ncols == 2)) // ')', what)
           return
         end if
         read(fields(f), *, iostat=ios) v(f)
@@ -110,14 +133,21 @@ contains
         end if
       end do
       n = n + 1
-      if (n > size(x)) call grow(x, y, lines)
+      if (n > size(x)) then
+        allocate(tmp(2 * size(zz)))
+        tmp(1:size(zz)) = zz
+        call move_alloc(tmp, zz)
+        call grow(x, y, lines)
+      end if
       x(n) = v(1)
       y(n) = v(2)
+      zz(n) = v(3)
       lines(n) = lineno
     end do
     x = x(1:n)
     y = y(1:n)
     lines = lines(1:n)
+    if (present(z) .and. ncols == 3) z = zz(1:n)
     stat = 0
   end subroutine read_xy_file
 
