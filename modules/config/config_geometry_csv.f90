@@ -11,11 +11,12 @@
 module config_geometry_csv
   use mpmice_kinds, only: wp, msg_len
   use config_text, only: real_repr
-  use geometry_shapes, only: polygon_area, polygon_crossing
+  use geometry_shapes, only: polygon_area, polygon_crossing, height_map_t
   implicit none
   private
 
   public :: read_xy_file, check_polygon_vertices, check_profile_points, file_error, int_str
+  public :: height_map_from_points
 
   integer, parameter :: field_len = 256  !< longest CSV field kept (longer ones are cut)
   integer, parameter :: max_fields = 8   !< CSV fields kept per line (more are counted)
@@ -150,6 +151,71 @@ contains
     if (present(z) .and. ncols == 3) z = zz(1:n)
     stat = 0
   end subroutine read_xy_file
+
+  !> The height map of the points (x, y, z) read from `path`: rows of constant y in strictly
+  !! increasing y, each row the same x values (at least 2, strictly increasing) in the same
+  !! order as the first row; at least 2 rows.
+  subroutine height_map_from_points(path, what, x, y, z, lines, map, stat, errmsg)
+    character(len=*), intent(in) :: path                 !< CSV file
+    character(len=*), intent(in) :: what                 !< variable that named it
+    real(wp), intent(in) :: x(:), y(:), z(:)             !< points [m]
+    integer, intent(in) :: lines(:)                      !< their line numbers
+    type(height_map_t), intent(out) :: map               !< the map
+    integer, intent(out) :: stat                         !< 0 ok, 1 input error
+    character(len=:), allocatable, intent(out) :: errmsg !< error line
+    character(len=*), parameter :: layout = ' (a height map lists rows of constant y, y ' // &
+      'increasing, each with the x values of the first row)'
+    integer :: n, nx, ny, r, c, i
+    stat = 1
+    errmsg = ''
+    n = size(x)
+    nx = 1
+    do while (nx < n)
+      if (y(nx + 1) /= y(1)) exit
+      nx = nx + 1
+    end do
+    if (nx < 2 .or. n < 2 * nx) then
+      errmsg = file_error(path, last_line(lines), 'a height map needs at least 2 rows of at ' // &
+        'least 2 points, found ' // int_str(n) // ' points in rows of ' // int_str(nx) // &
+        layout, what)
+      return
+    end if
+    ny = (n + nx - 1) / nx
+    do i = 1, n
+      r = (i - 1) / nx
+      c = i - r * nx
+      if (r == 0 .and. c > 1) then
+        if (.not. (x(i) > x(i - 1))) then
+          errmsg = file_error(path, lines(i), 'x = ' // real_repr(x(i)) // ' is not greater ' &
+            // 'than x = ' // real_repr(x(i - 1)) // ' on line ' // int_str(lines(i - 1)) // &
+            layout, what)
+          return
+        end if
+      else if (r > 0 .and. c == 1) then
+        if (.not. (y(i) > y(i - nx))) then
+          errmsg = file_error(path, lines(i), 'y = ' // real_repr(y(i)) // ' is not greater ' &
+            // 'than y = ' // real_repr(y(i - nx)) // ' of the row before (line ' // &
+            int_str(lines(i - nx)) // ')' // layout, what)
+          return
+        end if
+      end if
+      if (r > 0 .and. (x(i) /= x(c) .or. y(i) /= y(r * nx + 1))) then
+        errmsg = file_error(path, lines(i), 'expected the point x = ' // real_repr(x(c)) // &
+          ', y = ' // real_repr(y(r * nx + 1)) // ', found x = ' // real_repr(x(i)) // &
+          ', y = ' // real_repr(y(i)) // layout, what)
+        return
+      end if
+    end do
+    if (n /= nx * ny) then
+      errmsg = file_error(path, last_line(lines), 'the last row holds ' // &
+        int_str(n - (ny - 1) * nx) // ' points, the first ' // int_str(nx) // layout, what)
+      return
+    end if
+    map%x = x(1:nx)
+    map%y = y(1:n:nx)
+    map%z = reshape(z, [nx, ny])
+    stat = 0
+  end subroutine height_map_from_points
 
   !> Double the capacity of the vertex arrays, keeping their content.
   pure subroutine grow(x, y, lines)

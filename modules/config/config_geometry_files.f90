@@ -16,9 +16,9 @@ module config_geometry_files
   use config_text, only: real_repr, quoted
   use config_check_tools, only: config_error_t, set_error, occurrence_label
   use geometry_shapes, only: file_shape_t, shape_kind_none, shape_kind_polygon, &
-    shape_kind_profile, level_unset
+    shape_kind_profile, level_unset, height_map_t
   use config_geometry_csv, only: read_xy_file, check_polygon_vertices, check_profile_points, &
-    file_error, int_str
+    file_error, int_str, height_map_from_points
   implicit none
   private
 
@@ -240,6 +240,10 @@ contains
           real_repr(maxval(geo%y)) // ')' // domain, g // ' polygon_file')
       end if
     case (shape_kind_profile)
+      if (geo%is_map) then
+        call check_map_overlap(cfg, geo, profile_file, lower_file, g, stat, errmsg)
+        return
+      end if
       if (active(1) .and. size(geo%x) > 0) then
         if (geo%x(size(geo%x)) <= lo(1) .or. geo%x(1) >= hi(1)) then
           stat = 1
@@ -261,6 +265,47 @@ contains
     end select
   end subroutine check_overlap
 
+  !> A height map needs an active z and must overlap the domain in x and y.
+  subroutine check_map_overlap(cfg, geo, profile_file, lower_file, g, stat, errmsg)
+    type(config_t), intent(in) :: cfg
+    type(file_shape_t), intent(in) :: geo
+    character(len=*), intent(in) :: profile_file, lower_file, g
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    character(len=:), allocatable :: path, variable
+    stat = 0
+    if (allocated(geo%upper_map%z)) then
+      call one(geo%upper_map, profile_file, 'profile_file')
+      if (stat /= 0) return
+    end if
+    if (allocated(geo%lower_map%z)) call one(geo%lower_map, lower_file, 'profile_lower_file')
+  contains
+    subroutine one(map, file, name)
+      type(height_map_t), intent(in) :: map
+      character(len=*), intent(in) :: file, name
+      logical :: active(2)
+      path = trim(file)
+      variable = g // ' ' // name
+      if (cfg%grid%ncells(3) <= 1) then
+        stat = 1
+        errmsg = file_error(path, 0, 'a height map "x, y, z" needs a 3D grid (&grid ' // &
+          'ncells(3) > 1); a 2D bed is a profile "x, y"', variable)
+        return
+      end if
+      active = cfg%grid%ncells(1:2) > 1
+      if (any(active .and. ([map%x(size(map%x)), map%y(size(map%y))] <= &
+        cfg%grid%lower(1:2) .or. [map%x(1), map%y(1)] >= cfg%grid%upper(1:2)))) then
+        stat = 1
+        errmsg = file_error(path, 0, 'the height map (x ' // real_repr(map%x(1)) // '..' // &
+          real_repr(map%x(size(map%x))) // ', y ' // real_repr(map%y(1)) // '..' // &
+          real_repr(map%y(size(map%y))) // ') lies outside the domain &grid lower = ' // &
+          real_repr(cfg%grid%lower(1)) // ', ' // real_repr(cfg%grid%lower(2)) // &
+          ', upper = ' // real_repr(cfg%grid%upper(1)) // ', ' // &
+          real_repr(cfg%grid%upper(2)) // ' [m]', variable)
+      end if
+    end subroutine one
+  end subroutine check_map_overlap
+
   !> Read the files of one shape into `geo`.
   subroutine load_shape(geo, g, shape, polygon_file, profile_file, lower_file, thickness, &
     lower_level, stat, errmsg)
@@ -270,6 +315,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer, allocatable :: lines(:)
+    logical :: has_map
     geo = file_shape_t()
     stat = 0
     errmsg = ''
@@ -284,26 +330,53 @@ contains
     else if (trim(shape) == 'profile') then
       allocate(geo%x(0), geo%y(0), geo%lower_x(0), geo%lower_y(0))
       if (len_trim(profile_file) > 0) then
-        call read_xy_file(trim(profile_file), g // ' profile_file', geo%x, geo%y, lines, &
-          stat, errmsg)
+        call read_profile(trim(profile_file), g // ' profile_file', geo%x, geo%y, &
+          geo%upper_map, has_map, stat, errmsg)
         if (stat /= 0) return
-        call check_profile_points(trim(profile_file), g // ' profile_file', geo%x, lines, &
-          stat, errmsg)
-        if (stat /= 0) return
+        geo%is_map = has_map
       end if
       if (len_trim(lower_file) > 0) then
-        call read_xy_file(trim(lower_file), g // ' profile_lower_file', geo%lower_x, &
-          geo%lower_y, lines, stat, errmsg)
+        call read_profile(trim(lower_file), g // ' profile_lower_file', geo%lower_x, &
+          geo%lower_y, geo%lower_map, has_map, stat, errmsg)
         if (stat /= 0) return
-        call check_profile_points(trim(lower_file), g // ' profile_lower_file', geo%lower_x, &
-          lines, stat, errmsg)
-        if (stat /= 0) return
+        if (len_trim(profile_file) > 0 .and. (has_map .neqv. geo%is_map)) then
+          stat = 1
+          errmsg = file_error(trim(lower_file), 0, 'a ' // trim(merge('height map "x, y, z"', &
+            'profile "x, y"      ', geo%is_map)) // ' like profile_file is needed', &
+            g // ' profile_lower_file')
+          return
+        end if
+        geo%is_map = has_map
       end if
       geo%thickness = thickness
       geo%lower_level = lower_level
       geo%kind = shape_kind_profile
     end if
   end subroutine load_shape
+
+  !> Read a profile "x, y" (into x, y; `has_map` false) or a height map "x, y, z" (into
+  !! `map`; x, y left empty) from `path` and check it.
+  subroutine read_profile(path, what, x, y, map, has_map, stat, errmsg)
+    character(len=*), intent(in) :: path, what
+    real(wp), allocatable, intent(inout) :: x(:), y(:)
+    type(height_map_t), intent(inout) :: map
+    logical, intent(out) :: has_map
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(wp), allocatable :: z(:)
+    integer, allocatable :: lines(:)
+    call read_xy_file(path, what, x, y, lines, stat, errmsg, z)
+    has_map = .false.
+    if (stat /= 0) return
+    has_map = size(z) > 0
+    if (has_map) then
+      call height_map_from_points(path, what, x, y, z, lines, map, stat, errmsg)
+      deallocate(x, y)
+      allocate(x(0), y(0))
+    else
+      call check_profile_points(path, what, x, lines, stat, errmsg)
+    end if
+  end subroutine read_profile
 
   !> Give every rank of `comm` rank 0's file shapes of `cfg` (collective; the other
   !! parameters must already agree).
@@ -323,7 +396,7 @@ contains
   subroutine bcast_shape(geo, comm)
     type(file_shape_t), intent(inout) :: geo
     type(MPI_Comm), intent(in) :: comm
-    integer :: rank, n(3)
+    integer :: rank, n(4)
     real(wp) :: levels(2)
     call MPI_Comm_rank(comm, rank)
     n = 0
@@ -331,9 +404,10 @@ contains
       n(1) = geo%kind
       if (allocated(geo%x)) n(2) = size(geo%x)
       if (allocated(geo%lower_x)) n(3) = size(geo%lower_x)
+      n(4) = merge(1, 0, geo%is_map)
       levels = [geo%thickness, geo%lower_level]
     end if
-    call MPI_Bcast(n, 3, MPI_INTEGER, 0, comm)
+    call MPI_Bcast(n, 4, MPI_INTEGER, 0, comm)
     if (n(1) == shape_kind_none) return
     call MPI_Bcast(levels, 2, MPI_DOUBLE_PRECISION, 0, comm)
     if (rank /= 0) then
@@ -341,7 +415,12 @@ contains
       geo%kind = n(1)
       geo%thickness = levels(1)
       geo%lower_level = levels(2)
+      geo%is_map = n(4) == 1
       allocate(geo%x(n(2)), geo%y(n(2)), geo%lower_x(n(3)), geo%lower_y(n(3)))
+    end if
+    if (geo%is_map) then
+      call bcast_map(geo%upper_map, rank, comm)
+      call bcast_map(geo%lower_map, rank, comm)
     end if
     if (n(2) > 0) then
       call MPI_Bcast(geo%x, n(2), MPI_DOUBLE_PRECISION, 0, comm)
@@ -352,5 +431,21 @@ contains
       call MPI_Bcast(geo%lower_y, n(3), MPI_DOUBLE_PRECISION, 0, comm)
     end if
   end subroutine bcast_shape
+
+  !> Broadcast one height map from rank 0 (z unallocated there: none).
+  subroutine bcast_map(map, rank, comm)
+    type(height_map_t), intent(inout) :: map
+    integer, intent(in) :: rank
+    type(MPI_Comm), intent(in) :: comm
+    integer :: n(2)
+    n = 0
+    if (rank == 0 .and. allocated(map%z)) n = shape(map%z)
+    call MPI_Bcast(n, 2, MPI_INTEGER, 0, comm)
+    if (n(1) == 0) return
+    if (rank /= 0) allocate(map%x(n(1)), map%y(n(2)), map%z(n(1), n(2)))
+    call MPI_Bcast(map%x, n(1), MPI_DOUBLE_PRECISION, 0, comm)
+    call MPI_Bcast(map%y, n(2), MPI_DOUBLE_PRECISION, 0, comm)
+    call MPI_Bcast(map%z, n(1) * n(2), MPI_DOUBLE_PRECISION, 0, comm)
+  end subroutine bcast_map
 
 end module config_geometry_files

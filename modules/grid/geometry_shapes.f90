@@ -11,8 +11,10 @@
 !! reaches the domain bottom). With `layer_thickness` t > 0 and one profile the band is the
 !! layer of thickness t (measured along y) below `profile_file` (lower = upper - t) or above
 !! `profile_lower_file` (upper = lower + t). Outside the x range of a profile a point is
-!! outside the band. Only x and y are tested: in 3D the shape is extruded
-!! along z.
+!! outside the band. Only x and y are tested: in 3D the shape is extruded along z. In 3D the
+!! profiles may be height maps z = f(x, y) on a rectangular grid (bilinear between its
+!! points): the band then holds the points with lower(x, y) <= z <= upper(x, y) inside the
+!! maps' x-y rectangles, with the same choices of lower bound.
 module geometry_shapes
   use mpmice_kinds, only: wp
   implicit none
@@ -21,12 +23,20 @@ module geometry_shapes
   public :: file_shape_t, shape_kind_none, shape_kind_polygon, shape_kind_profile
   public :: file_shape_contains, polygon_contains, profile_height, profile_band_contains
   public :: polygon_area, polygon_crossing, segments_intersect, level_unset
+  public :: height_map_t, map_height, map_band_contains
 
   integer, parameter :: shape_kind_none = 0     !< no file shape (the inline shape applies)
   integer, parameter :: shape_kind_polygon = 1  !< closed polygon (x, y)
   integer, parameter :: shape_kind_profile = 2  !< band between profiles
   !> Value of an unset `profile_lower_level` (the band reaches the domain bottom).
   real(wp), parameter :: level_unset = -huge(1.0_wp)
+
+  !> A height map z(x, y) on the grid x(1:nx) x y(1:ny) (both strictly increasing).
+  type :: height_map_t
+    real(wp), allocatable :: x(:)      !< grid x [m]
+    real(wp), allocatable :: y(:)      !< grid y [m]
+    real(wp), allocatable :: z(:, :)   !< heights (nx, ny) [m]
+  end type height_map_t
 
   !> A shape read from files. Allocatable: any number of vertices.
   type :: file_shape_t
@@ -37,6 +47,9 @@ module geometry_shapes
     real(wp), allocatable :: lower_y(:)           !< lower profile y [m]
     real(wp) :: thickness = 0.0_wp                !< > 0: layer of that thickness [m]
     real(wp) :: lower_level = level_unset         !< constant lower bound [m]
+    logical :: is_map = .false.                   !< profiles are height maps (3D band in z)
+    type(height_map_t) :: upper_map               !< upper height map (z unallocated: none)
+    type(height_map_t) :: lower_map               !< lower height map (z unallocated: none)
   end type file_shape_t
 
 contains
@@ -49,7 +62,11 @@ contains
     case (shape_kind_polygon)
       inside = polygon_contains(shape%x, shape%y, p(1), p(2))
     case (shape_kind_profile)
-      inside = profile_band_contains(shape, p(1), p(2))
+      if (shape%is_map) then
+        inside = map_band_contains(shape, p)
+      else
+        inside = profile_band_contains(shape, p(1), p(2))
+      end if
     case default
       inside = .true.
     end select
@@ -131,6 +148,81 @@ contains
     end if
     inside = py <= top .and. py >= bottom
   end function profile_band_contains
+
+  !> Height of `map` at (px, py) by bilinear interpolation; `covered` false (h = 0) outside
+  !! its x-y rectangle.
+  pure subroutine map_height(map, px, py, h, covered)
+    type(height_map_t), intent(in) :: map  !< height map
+    real(wp), intent(in) :: px, py         !< point [m]
+    real(wp), intent(out) :: h             !< height [m]
+    logical, intent(out) :: covered        !< inside the rectangle
+    integer :: i, j
+    real(wp) :: s, t
+    h = 0.0_wp
+    covered = .false.
+    if (.not. allocated(map%z)) return
+    if (size(map%x) < 2 .or. size(map%y) < 2) return
+    call bracket(map%x, px, i, s, covered)
+    if (.not. covered) return
+    call bracket(map%y, py, j, t, covered)
+    if (.not. covered) return
+    h = (1.0_wp - s) * (1.0_wp - t) * map%z(i, j) + s * (1.0_wp - t) * map%z(i + 1, j) &
+      + (1.0_wp - s) * t * map%z(i, j + 1) + s * t * map%z(i + 1, j + 1)
+  end subroutine map_height
+
+  !> Interval [g(i), g(i+1)] of the increasing grid `g` holding `v` and the fraction `s` of
+  !! the way; `covered` false outside [g(1), g(n)].
+  pure subroutine bracket(g, v, i, s, covered)
+    real(wp), intent(in) :: g(:)    !< grid
+    real(wp), intent(in) :: v       !< value
+    integer, intent(out) :: i       !< interval
+    real(wp), intent(out) :: s      !< fraction 0..1
+    logical, intent(out) :: covered !< v within the grid
+    integer :: hi, mid, n
+    n = size(g)
+    i = 1
+    s = 0.0_wp
+    covered = v >= g(1) .and. v <= g(n)
+    if (.not. covered) return
+    hi = n
+    do while (hi - i > 1)
+      mid = (i + hi) / 2
+      if (g(mid) <= v) then
+        i = mid
+      else
+        hi = mid
+      end if
+    end do
+    s = (v - g(i)) / (g(i + 1) - g(i))
+  end subroutine bracket
+
+  !> `p` (x, y, z) inside the band between the height maps of `shape` (is_map).
+  pure logical function map_band_contains(shape, p) result(inside)
+    type(file_shape_t), intent(in) :: shape  !< shape of kind shape_kind_profile, is_map
+    real(wp), intent(in) :: p(:)             !< point (x, y, z) [m]
+    real(wp) :: top, bottom
+    logical :: covered, has_upper
+    inside = .false.
+    has_upper = allocated(shape%upper_map%z)
+    top = huge(1.0_wp)
+    if (has_upper) then
+      call map_height(shape%upper_map, p(1), p(2), top, covered)
+      if (.not. covered) return
+    end if
+    bottom = shape%lower_level
+    if (allocated(shape%lower_map%z)) then
+      call map_height(shape%lower_map, p(1), p(2), bottom, covered)
+      if (.not. covered) return
+    end if
+    if (shape%thickness > 0.0_wp) then
+      if (has_upper) then
+        bottom = top - shape%thickness
+      else
+        top = bottom + shape%thickness
+      end if
+    end if
+    inside = p(3) <= top .and. p(3) >= bottom
+  end function map_band_contains
 
   !> Signed area of the closed polygon (x, y) [m^2] (> 0: counter-clockwise).
   pure real(wp) function polygon_area(x, y) result(area)

@@ -320,3 +320,76 @@ def test_geometry_variable_errors(run_mpmice, tmp_case_dir):
         assert result.returncode == 1, setting
         lines = result.stderr.strip().splitlines()
         assert len(lines) == 1 and words in lines[0], (setting, result.stderr)
+
+
+def _map_height(x, y):
+    return 0.4 + 0.1 * np.sin(3.0 * x) * np.cos(2.0 * y)
+
+
+MAP_X, MAP_Y = np.linspace(0.0, 1.0, 21), np.linspace(0.0, 1.0, 11)
+
+
+def _bilinear(px, py):
+    """Bilinear interpolation of the map on its grid, as the code."""
+    z = _map_height(*np.meshgrid(MAP_X, MAP_Y, indexing="ij"))
+    i = np.clip(np.searchsorted(MAP_X, px, side="right") - 1, 0, len(MAP_X) - 2)
+    j = np.clip(np.searchsorted(MAP_Y, py, side="right") - 1, 0, len(MAP_Y) - 2)
+    s = (px - MAP_X[i]) / (MAP_X[i + 1] - MAP_X[i])
+    t = (py - MAP_Y[j]) / (MAP_Y[j + 1] - MAP_Y[j])
+    return ((1 - s) * (1 - t) * z[i, j] + s * (1 - t) * z[i + 1, j]
+            + (1 - s) * t * z[i, j + 1] + s * t * z[i + 1, j + 1])
+
+
+def test_height_map_bed_in_3d(run_mpmice, tmp_case_dir):
+    """A 3D bed below a height map z(x, y) (a 21 x 11 CSV grid, rows of constant y): exactly
+    the sub-cell centres below the bilinear surface are seeded; a map missing a point and a
+    map in a 2D grid are input errors naming the file (and the line)."""
+    with open(tmp_case_dir / "map.csv", "w") as f:
+        f.write("x,y,z\n")
+        for y in MAP_Y:
+            for x in MAP_X:
+                f.write(f"{x:.15g},{y:.15g},{_map_height(x, y):.15g}\n")
+    case = """&run
+  name = 'map'
+  scene = 'mpm'
+  output_dir = 'out'
+  end_time = 1.0e-4
+  output_interval = 1.0
+/
+&grid
+  ncells = 10, 10, 10
+  lower = 0.0, 0.0, 0.0
+  upper = 1.0, 1.0, 1.0
+/
+&solid
+  name = 'bed'
+  shape = 'profile'
+  profile_file = 'map.csv'
+  particles_per_cell = 2, 2, 2
+/
+"""
+    (tmp_case_dir / "map.nml").write_text(case)
+    result = run_mpmice(["map.nml"])
+    assert result.returncode == 0, result.stdout + result.stderr
+    with h5py.File(list_dumps(str(tmp_case_dir / "out"), "map")[0], "r") as f:
+        p = {k: f[f"particles/bed/{k}"][...] for k in ("x", "y", "z")}
+    assert np.all(p["z"] <= _bilinear(p["x"], p["y"]) + 1e-12)
+    c = (np.arange(20) + 0.5) * 0.05
+    gx, gy, gz = (a.ravel() for a in np.meshgrid(c, c, c, indexing="ij"))
+    assert len(p["x"]) == np.sum(gz <= _bilinear(gx, gy))
+    # a row short of a point
+    text = (tmp_case_dir / "map.csv").read_text().splitlines()
+    del text[30]                       # line 31: x = 0.4 of the second row (y = 0.1)
+    (tmp_case_dir / "map.csv").write_text("\n".join(text) + "\n")
+    result = run_mpmice(["map.nml", "--check"])
+    _assert_input_error(result, tmp_case_dir / "map.csv", 31, "expected the point x = 0.4, y = 0.1, found x = 0.45",
+                        tmp_case_dir / "out_none")
+    # the map back (no header), in a 2D grid
+    with open(tmp_case_dir / "map.csv", "w") as f:
+        for y in MAP_Y:
+            for x in MAP_X:
+                f.write(f"{x},{y},{_map_height(x, y)}\n")
+    (tmp_case_dir / "map.nml").write_text(case.replace("10, 10, 10", "10, 10, 1"))
+    result = run_mpmice(["map.nml", "--check"])
+    _assert_input_error(result, tmp_case_dir / "map.csv", 0, "needs a 3D grid",
+                        tmp_case_dir / "out_none")
