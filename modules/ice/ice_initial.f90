@@ -2,7 +2,8 @@
 !! balance (`&physics hydrostatic_init`).
 !!
 !! Each fluid starts from its `&fluid` values; every `&region` naming it and containing the cell
-!! centre overrides them (later regions win). Without hydrostatic initialisation the bulk density
+!! centre (in its box and in its file shape, `geometry_shapes`) overrides them (later regions
+!! win). Without hydrostatic initialisation the bulk density
 !! is phi rho(p, T) with the fluid's or region's pressure. With it, gravity must point along one
 !! active axis; the pressure is integrated down every column from `&physics reference_pressure`
 !! at the top face in the discrete form the step keeps in balance:
