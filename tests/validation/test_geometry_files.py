@@ -7,7 +7,7 @@
   of 0.1 m on it (`profile_lower_file`, `layer_thickness`) and water above the bed up to
   0.7 m (`&region shape = 'profile'`): every particle lies where its shape holds, the particle
   areas match the shapes' areas, and the water share of the fluids is 1 exactly in the cells
-  whose centre lies above the bed and below 0.7 m, 0 elsewhere.
+  whose centre lies above the bed and below 0.7 m, 0 elsewhere; 2 ranks give the same.
 * A restart from another working folder reads the files again from their stored absolute paths.
 * Malformed input (missing file, non-numeric value, three values on a line, fewer than 3
   vertices, a self-intersecting polygon, a profile whose x is not strictly increasing, a
@@ -241,6 +241,15 @@ def test_bathymetry_bed_layer_and_water(run_mpmice, tmp_case_dir):
     assert wet.sum() > 100 and (~wet).sum() > 100
     assert np.array_equal(share == 1.0, wet)
     assert np.all(share[~wet] == 0.0)
+    # 2 ranks (shapes read on rank 0, broadcast): the same fractions and particles
+    result = run_mpmice(["bed.nml", "--set", "&run output_dir = 'out2' /"], nranks=2)
+    assert result.returncode == 0, result.stdout + result.stderr
+    dump2 = list_dumps(str(tmp_case_dir / "out2"), "bed")[0]
+    with h5py.File(dump2, "r") as f:
+        assert np.array_equal(f["cell/water/volume_fraction"][0].T, water)
+    for name in ("bed", "sediment"):
+        assert np.array_equal(np.sort(_particles(dump2, name)["id"]),
+                              np.sort(_particles(dump, name)["id"]))
 
 
 @pytest.fixture(autouse=True)
