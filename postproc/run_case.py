@@ -20,9 +20,15 @@ OMPI_ENV = {
 
 
 def mpmice_executable() -> str:
-    """Path of the executable: $MPMICE_EXE, else build/bin/mpmice in the repository."""
-    return os.path.abspath(os.environ.get("MPMICE_EXE")
-                           or os.path.join(ROOT, "build", "bin", "mpmice"))
+    """Path of the executable: $MPMICE_EXE, else build/bin/mpmice in the repository, else (the
+    package installed as <prefix>/share/mpmice/postproc, docs/install.md) <prefix>/bin/mpmice."""
+    if os.environ.get("MPMICE_EXE"):
+        return os.path.abspath(os.environ["MPMICE_EXE"])
+    build = os.path.join(ROOT, "build", "bin", "mpmice")
+    installed = os.path.normpath(os.path.join(ROOT, "..", "..", "bin", "mpmice"))
+    if not os.path.exists(build) and os.path.exists(installed):
+        return installed
+    return os.path.abspath(build)
 
 
 def mpirun_executable() -> str:
@@ -58,10 +64,18 @@ def mpi_environment() -> dict[str, str]:
     return env
 
 
+#: ``--set`` text that lets a run replace the output of an earlier run in its output folder.
+OVERWRITE = "&run overwrite = .true. /"
+
+
 def run_mpmice(args, nranks: int = 1, cwd: str | None = None, timeout: float = 600,
-               check: bool = True, exe: str | None = None) -> subprocess.CompletedProcess:
+               check: bool = True, exe: str | None = None,
+               overwrite: bool = True) -> subprocess.CompletedProcess:
     """Run ``mpirun -n nranks mpmice ARGS`` (text mode, output captured); with ``check`` a non-zero
-    exit raises RuntimeError with the output."""
+    exit raises RuntimeError with the output. With ``overwrite`` (the default: studies and
+    benchmarks rerun their scenes into the same folders) ``--set '&run overwrite = .true. /'`` is
+    appended, so a folder holding an earlier run's output is reused instead of refused."""
+    args = list(args) + (["--set", OVERWRITE] if overwrite else [])
     command = mpirun_command(exe or mpmice_executable(), args, nranks)
     result = subprocess.run(command, cwd=cwd, env=mpi_environment(), capture_output=True,
                             text=True, timeout=timeout, check=False)

@@ -23,7 +23,8 @@ export OMPI_MCA_hwloc_base_binding_policy="${OMPI_MCA_hwloc_base_binding_policy:
 # ROMIO for MPI-IO: Open MPI 4.1 OMPIO collective writes corrupted data here (docs/io.md)
 export OMPI_MCA_io="${OMPI_MCA_io:-^ompio}"
 
-mpirun -n "$nranks" "$root/build/bin/mpmice" "$case_file" "$@"
+# a rerun replaces the scene's earlier output (without it mpmice refuses a used output folder)
+mpirun -n "$nranks" "$root/build/bin/mpmice" "$case_file" "$@" --set '&run overwrite = .true. /'
 
 # Postprocess: the output directory and scene come from the resolved input.
 output_dir=$("$root/build/bin/mpmice" --check "$case_file" "$@" | \

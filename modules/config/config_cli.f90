@@ -7,13 +7,12 @@
 module config_cli
   use mpmice_kinds, only: path_len, msg_len
   use mpmice_errors, only: int_text
+  use mpmice_build_info, only: mpmice_version
   implicit none
   private
 
   public :: cli_t, cli_parse, cli_from_command_line, cli_usage, mpmice_version
   public :: action_run, action_check, action_help, action_version
-
-  character(len=*), parameter :: mpmice_version = '0.1.0'  !< program version
 
   integer, parameter :: action_run = 1      !< run the case (or continue a checkpoint)
   integer, parameter :: action_check = 2    !< validate and print the resolved input only

@@ -44,6 +44,7 @@ contains
     call add('min_dt_ratio', real_repr(cfg%run%min_dt_ratio))
     call add('progress_interval', real_repr(cfg%run%progress_interval))
     call add('verbosity', ints_repr([cfg%run%verbosity]))
+    call add('overwrite', logicals_repr([cfg%run%overwrite]))
     text = text // '/' // nl // '&grid' // nl
     call add('ncells', ints_repr(cfg%grid%ncells))
     call add('lower', reals_repr(cfg%grid%lower))
@@ -201,6 +202,8 @@ contains
       call add('velocity_wavenumber', reals_repr(p%velocity_wavenumber))
       call add('drag_law', quoted(p%drag_law))
       call add('drag_coefficient', real_repr(p%drag_coefficient))
+      call add('forchheimer_a', real_repr(p%forchheimer_a))
+      call add('forchheimer_b', real_repr(p%forchheimer_b))
       call add('grain_bulk_modulus', real_repr(p%grain_bulk_modulus))
       call add('traction', reals_repr(p%traction))
       call add('traction_lower', reals_repr(p%traction_lower))

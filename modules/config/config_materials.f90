@@ -40,8 +40,8 @@ module config_materials
   character(len=*), parameter :: solid_shape_names(4) = [character(len=name_len) :: &
     'box', 'polygon', 'half_space', 'profile']
   !> Allowed values of `&solid drag_law` (fluid-solid drag of scene 'mpmice').
-  character(len=*), parameter :: drag_law_names(4) = [character(len=name_len) :: &
-    'kozeny_carman', 'beetstra', 'constant', 'impermeable']
+  character(len=*), parameter :: drag_law_names(5) = [character(len=name_len) :: &
+    'kozeny_carman', 'beetstra', 'constant', 'impermeable', 'forchheimer']
   !> Allowed values of `&mpm rigid_contact` (deformable solids against rigid ones).
   character(len=*), parameter :: rigid_contact_names(2) = [character(len=name_len) :: &
     'no_slip', 'friction']
@@ -182,6 +182,8 @@ module config_materials
     real(wp) :: acceleration_duration = 0.0_wp           !< rigid: a = 0 after it [s] (0: never)
     character(len=name_len) :: drag_law = 'kozeny_carman' !< one of drag_law_names (mpmice)
     real(wp) :: drag_coefficient = 0.0_wp                !< K of drag_law 'constant' [kg/m^3/s]
+    real(wp) :: forchheimer_a = 150.0_wp                 !< linear (Ergun) a of 'forchheimer' [-]
+    real(wp) :: forchheimer_b = 1.75_wp                  !< quadratic (Ergun) b of 'forchheimer' [-]
     real(wp) :: grain_bulk_modulus = 0.0_wp              !< K_s [Pa] (0: incompressible grains)
     real(wp) :: traction(3) = [0.0_wp, 0.0_wp, 0.0_wp]   !< surface load on the skeleton [Pa]
     real(wp) :: traction_lower(3) = [0.0_wp, 0.0_wp, 0.0_wp] !< loaded box low corner [m]

@@ -51,6 +51,7 @@ module config_namelist
     variable_info_t('run', 'min_dt_ratio', 'r', 1, 0), &
     variable_info_t('run', 'progress_interval', 'r', 1, 0), &
     variable_info_t('run', 'verbosity', 'i', 1, 0), &
+    variable_info_t('run', 'overwrite', 'l', 1, 0), &
     variable_info_t('grid', 'ncells', 'i', 3, 0), &
     variable_info_t('grid', 'lower', 'r', 3, 0), &
     variable_info_t('grid', 'upper', 'r', 3, 0), &
@@ -155,6 +156,8 @@ module config_namelist
     variable_info_t('solid', 'velocity_wavenumber', 'r', 3, 0), &
     variable_info_t('solid', 'drag_law', 'c', 1, name_len), &
     variable_info_t('solid', 'drag_coefficient', 'r', 1, 0), &
+    variable_info_t('solid', 'forchheimer_a', 'r', 1, 0), &
+    variable_info_t('solid', 'forchheimer_b', 'r', 1, 0), &
     variable_info_t('solid', 'grain_bulk_modulus', 'r', 1, 0), &
     variable_info_t('solid', 'traction', 'r', 3, 0), &
     variable_info_t('solid', 'traction_lower', 'r', 3, 0), &
@@ -332,9 +335,10 @@ contains
     real(wp) :: end_time, output_interval, checkpoint_interval, wall_time_limit, progress_interval
     real(wp) :: max_energy_growth, max_particle_loss_fraction, min_dt_ratio
     integer :: max_steps, verbosity
+    logical :: overwrite
     namelist /run/ name, scene, output_dir, end_time, output_interval, checkpoint_interval, &
       max_steps, wall_time_limit, progress_interval, verbosity, max_energy_growth, &
-      max_particle_loss_fraction, min_dt_ratio
+      max_particle_loss_fraction, min_dt_ratio, overwrite
     name = p%name
     scene = p%scene
     output_dir = p%output_dir
@@ -348,6 +352,7 @@ contains
     min_dt_ratio = p%min_dt_ratio
     progress_interval = p%progress_interval
     verbosity = p%verbosity
+    overwrite = p%overwrite
     read(text, nml=run, iostat=ios, iomsg=iomsg)
     if (ios /= 0) return
     p%name = name
@@ -363,6 +368,7 @@ contains
     p%min_dt_ratio = min_dt_ratio
     p%progress_interval = progress_interval
     p%verbosity = verbosity
+    p%overwrite = overwrite
   end subroutine read_run
 
   !> `&grid`.

@@ -229,6 +229,7 @@ contains
     real(wp) :: heat_capacity, conductivity, porosity, grain_size, prescribed_velocity(3)
     real(wp) :: acceleration_amplitude(3), acceleration_frequency, velocity_wavenumber(3)
     real(wp) :: acceleration_duration, max_porosity, min_porosity
+    real(wp) :: forchheimer_a, forchheimer_b
     integer :: npoints, particles_per_cell(3)
     logical :: tension_cutoff, geostatic
     character(len=path_len) :: polygon_file, profile_file, profile_lower_file
@@ -240,8 +241,8 @@ contains
       max_porosity, min_porosity, grain_size, prescribed_velocity, acceleration_amplitude, &
       acceleration_frequency, acceleration_duration, velocity_wavenumber, drag_law, &
       drag_coefficient, grain_bulk_modulus, traction, traction_lower, traction_upper, &
-      traction_ramp_time, polygon_file, profile_file, profile_lower_file, layer_thickness, &
-      profile_lower_level
+      traction_ramp_time, forchheimer_a, forchheimer_b, polygon_file, profile_file, &
+      profile_lower_file, layer_thickness, profile_lower_level
     polygon_file = p%polygon_file
     profile_file = p%profile_file
     profile_lower_file = p%profile_lower_file
@@ -284,6 +285,8 @@ contains
     velocity_wavenumber = p%velocity_wavenumber
     drag_law = p%drag_law
     drag_coefficient = p%drag_coefficient
+    forchheimer_a = p%forchheimer_a
+    forchheimer_b = p%forchheimer_b
     grain_bulk_modulus = p%grain_bulk_modulus
     traction = p%traction
     traction_lower = p%traction_lower
@@ -328,6 +331,8 @@ contains
     p%velocity_wavenumber = velocity_wavenumber
     p%drag_law = drag_law
     p%drag_coefficient = drag_coefficient
+    p%forchheimer_a = forchheimer_a
+    p%forchheimer_b = forchheimer_b
     p%grain_bulk_modulus = grain_bulk_modulus
     p%traction = traction
     p%traction_lower = traction_lower

@@ -59,6 +59,7 @@ module config_types
     real(wp) :: min_dt_ratio = 0.0_wp                      !< step-collapse stop (0: off)
     real(wp) :: progress_interval = 10.0_wp                !< progress line interval [s wall time]
     integer :: verbosity = 1                               !< 0 quiet, 1 normal, 2 debug
+    logical :: overwrite = .false.                         !< may replace another run's output
   end type run_params_t
 
   !> `&grid`: the uniform Cartesian grid and its decomposition.

@@ -278,6 +278,8 @@ contains
         ' [s] (0: no end)')
       call check_choice(err, g, 'drag_law', p%drag_law, drag_law_names)
       call non_negative(err, g, 'drag_coefficient', p%drag_coefficient, ' [kg/m^3/s]')
+      call non_negative(err, g, 'forchheimer_a', p%forchheimer_a, ' [-] (Ergun: 150)')
+      call non_negative(err, g, 'forchheimer_b', p%forchheimer_b, ' [-] (Ergun: 1.75)')
       call check_real(err, g, 'grain_bulk_modulus', p%grain_bulk_modulus, &
         '>= 0 [Pa] (0: incompressible grains)', min_value=0.0_wp)
       call check_traction(p, g, err)

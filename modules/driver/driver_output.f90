@@ -1,7 +1,8 @@
 !> Dumps, checkpoints and failure dumps of a run, written through the HDF5/XDMF layer.
 !!
 !! Every file carries the design's root attributes (`time`, `step`, `dt`, `ndim`, `ncells`, `lower`,
-!! `dx`, ...) and the resolved input as the string attribute `namelist`, so a dump is
+!! `dx`, ...), the resolved input as the string attribute `namelist` and the program version as
+!! `mpmice_version` (module mpmice_build_info), so a dump is
 !! self-describing and a checkpoint restarts the run on its own. A checkpoint also stores the clock
 !! (`dt_next`, `output_index`, `checkpoint_index`) and the scene's full state under `/checkpoint/`;
 !! it is written to a temporary name and renamed, so an interrupted write never leaves a
@@ -10,6 +11,7 @@ module driver_output
   use mpi_f08, only: MPI_Barrier, MPI_Comm
   use mpmice_kinds, only: path_len, name_len
   use mpmice_errors, only: fatal
+  use mpmice_build_info, only: mpmice_version
   use parallel_domain, only: domain_t
   use grid_layout, only: grid_t
   use io_files, only: io_rename, io_join_path, io_dump_stem, io_file_exists
@@ -22,6 +24,7 @@ module driver_output
   private
 
   public :: write_dump, write_checkpoint, read_checkpoint, read_namelist_text
+  public :: checkpoint_version
 
   integer, parameter :: checkpoint_version = 1  !< layout version of checkpoints
 
@@ -158,5 +161,6 @@ contains
     character(len=*), intent(in) :: namelist_text !< resolved input
     call h5_write_dump_header(file, clock%time, clock%step, clock%dt, grid)
     call h5_write_attribute(file, 'namelist', namelist_text)
+    call h5_write_attribute(file, 'mpmice_version', mpmice_version)
   end subroutine write_header
 end module driver_output

@@ -1,14 +1,16 @@
 !> Run driver: decomposition, output directory and input echo, scene dispatch, final status.
 module driver_run_mod
+  use, intrinsic :: iso_fortran_env, only: error_unit
   use mpi_f08, only: MPI_Comm, MPI_COMM_WORLD, MPI_Comm_dup, MPI_Comm_free, MPI_Bcast, MPI_INTEGER
   use mpmice_kinds, only: msg_len
   use mpmice_errors, only: exit_cleanly, int_text, fatal
   use mpmice_log, only: log_info, log_is_root, log_warning, log_open_file, log_close_file
+  use mpmice_build_info, only: mpmice_version
   use config_types, only: config_t
   use config_echo, only: config_to_text, config_write_used, config_used_path
   use parallel_domain, only: domain_t, domain_init, domain_free
   use grid_layout, only: grid_t, grid_init
-  use io_files, only: io_make_directory
+  use driver_preflight, only: preflight_output_dir
   use driver_loop, only: run_scene, run_status_t
   use driver_scene, only: scene_t
   use heat_scene, only: heat_scene_t
@@ -35,7 +37,7 @@ contains
     class(scene_t), allocatable :: scene
     character(len=:), allocatable :: text
     character(len=msg_len) :: errmsg
-    character(len=:), allocatable :: log_msg
+    character(len=:), allocatable :: log_msg, dir_errmsg
     integer :: stat
 
     call MPI_Comm_dup(MPI_COMM_WORLD, world)
@@ -44,19 +46,26 @@ contains
     call grid_init(grid, dom, cfg%grid%lower, cfg%grid%upper)
     text = config_to_text(cfg)
 
-    ! Output directory and the echo of the resolved input (rank 0), failure reported on all ranks.
+    ! Output directory (refused when unusable or holding another run's output) and the echo of
+    ! the resolved input (rank 0); a failure is one line on standard error, exit status 1.
     stat = 0
     errmsg = ''
     if (dom%rank == 0) then
-      call io_make_directory(trim(cfg%run%output_dir), stat)
-      if (stat == 0) call config_write_used(cfg, config_used_path(cfg), stat, errmsg)
+      call preflight_output_dir(cfg, restart_file, stat, dir_errmsg)
+      if (stat /= 0) then
+        errmsg = dir_errmsg
+      else
+        call config_write_used(cfg, config_used_path(cfg), stat, errmsg)
+        if (stat /= 0) errmsg = 'mpmice: error: cannot write to &run output_dir = ''' // &
+          trim(cfg%run%output_dir) // ''' ' // trim(errmsg)
+      end if
+      if (stat /= 0) then
+        write(error_unit, '(a)') trim(errmsg)
+        flush(error_unit)
+      end if
     end if
     call MPI_Bcast(stat, 1, MPI_INTEGER, 0, dom%comm)
-    if (stat /= 0) then
-      if (log_is_root()) call log_info('mpmice: error: cannot write to &run output_dir = ''' // &
-        trim(cfg%run%output_dir) // ''' ' // trim(errmsg))
-      call exit_cleanly(1)
-    end if
+    if (stat /= 0) call exit_cleanly(1)
 
     ! The log file: every line printed from here on (progress, warnings, the timer table).
     call log_open_file(log_path(cfg), len(restart_file) > 0, stat, log_msg)
@@ -69,6 +78,7 @@ contains
       int_text(grid%ncells(3)))
     call log_info('mpmice: output in ' // trim(cfg%run%output_dir) // ', resolved input ' // &
       config_used_path(cfg))
+    call log_info('mpmice: version ' // mpmice_version)
 
     call make_scene(cfg, scene)
     call run_scene(scene, cfg, text, dom, grid, restart_file, status)

@@ -6,19 +6,18 @@
 module mpmice_app
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_Comm, MPI_COMM_WORLD, MPI_Comm_dup, &
-    MPI_Comm_free, MPI_Comm_rank, MPI_Bcast, MPI_INTEGER
-  use mpmice_kinds, only: msg_len
+    MPI_Comm_free, MPI_Comm_rank
   use mpmice_errors, only: exit_cleanly
   use mpmice_log, only: log_init, log_set_verbosity
   use config_types, only: config_t
   use config_cli, only: cli_t, cli_from_command_line, cli_usage, mpmice_version, action_run, &
     action_check, action_help, action_version
-  use config_parse, only: group_error_text
   use config_load, only: config_load_run
   use config_echo, only: config_to_text
   use driver_run_mod, only: driver_run
   use io_files, only: io_select_mpiio
-  use driver_output, only: read_namelist_text
+  use driver_restart, only: restart_load
+  use driver_preflight, only: preflight_memory
   implicit none
   private
 
@@ -31,7 +30,7 @@ contains
     type(MPI_Comm) :: comm
     type(cli_t) :: cli
     type(config_t) :: cfg
-    character(len=:), allocatable :: errmsg, source, stored_text
+    character(len=:), allocatable :: errmsg, source
     integer :: rank, stat
     logical :: root
 
@@ -58,17 +57,17 @@ contains
     end select
 
     if (len_trim(cli%restart_file) > 0) then
-      ! the configuration is the resolved input stored in the checkpoint, then the --set texts
+      ! the resolved input stored in the checkpoint, then the --set texts; changes the
+      ! checkpoint cannot honour are refused, the output folder is the checkpoint's
       source = trim(cli%restart_file)
-      call check_restart_file(source, comm, stat, errmsg)
-      call stop_on_error(stat, errmsg, root)
-      call read_namelist_text(source, comm, stored_text)
-      call config_load_run(cfg, source, cli%sets(1:cli%nsets), comm, stat, errmsg, &
-        base_text=stored_text)
+      call restart_load(source, cli%sets(1:cli%nsets), comm, cfg, stat, errmsg)
     else
       source = trim(cli%case_file)
       call config_load_run(cfg, source, cli%sets(1:cli%nsets), comm, stat, errmsg)
     end if
+    call stop_on_error(stat, errmsg, root)
+    ! a run that cannot fit in the memory of its nodes is refused, also by --check
+    call preflight_memory(cfg, comm, stat, errmsg)
     call stop_on_error(stat, errmsg, root)
 
     if (cli%action == action_check) then
@@ -99,42 +98,4 @@ contains
     call exit_cleanly(1)
   end subroutine stop_on_error
 
-  !> Collective: rank 0 checks that the checkpoint `path` exists and is an HDF5 file.
-  subroutine check_restart_file(path, comm, stat, errmsg)
-    character(len=*), intent(in) :: path                  !< checkpoint file
-    type(MPI_Comm), intent(in) :: comm                    !< communicator
-    integer, intent(out) :: stat                          !< 0 ok, 1 input error (all ranks)
-    character(len=:), allocatable, intent(out) :: errmsg  !< error line (rank 0)
-    character(len=*), parameter :: hdf5_signature = char(137) // 'HDF' // achar(13) // &
-      achar(10) // achar(26) // achar(10)
-    character(len=8) :: head
-    character(len=msg_len) :: iomsg
-    integer :: rank, unit, ios
-    logical :: exists
-    call MPI_Comm_rank(comm, rank)
-    stat = 0
-    errmsg = ''
-    if (rank == 0) then
-      inquire(file=path, exist=exists)
-      if (.not. exists) then
-        stat = 1
-        errmsg = group_error_text(path, '', 'cannot read the checkpoint: no such file')
-      else
-        open(newunit=unit, file=path, status='old', action='read', access='stream', &
-          form='unformatted', iostat=ios, iomsg=iomsg)
-        if (ios == 0) then
-          read(unit, iostat=ios, iomsg=iomsg) head
-          close(unit)
-        end if
-        if (ios /= 0) then
-          stat = 1
-          errmsg = group_error_text(path, '', 'cannot read the checkpoint: ' // trim(iomsg))
-        else if (head /= hdf5_signature) then
-          stat = 1
-          errmsg = group_error_text(path, '', 'not an HDF5 checkpoint')
-        end if
-      end if
-    end if
-    call MPI_Bcast(stat, 1, MPI_INTEGER, 0, comm)
-  end subroutine check_restart_file
 end module mpmice_app

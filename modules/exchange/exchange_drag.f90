@@ -12,7 +12,14 @@
 !! * 'beetstra': F(phi_s, Re) of eqs. 20-21 as printed, Re = n rho_f d |u_s - u_f| / mu (eq. 19);
 !! * 'constant': f_d = K (u_s - u_f) with K = `&solid drag_coefficient` for the whole pore fluid,
 !!   shared among the fluids by volume fraction: c = K / (n phi_s);
-!! * 'impermeable': c = 1e15 kg/m^3/s (the fluid moves with a structure: Uintah's value).
+!! * 'impermeable': c = 1e15 kg/m^3/s (the fluid moves with a structure: Uintah's value);
+!! * 'forchheimer': the Ergun / van Gent law for coarse grains,
+!!   -dp/dx = a mu phi_s^2 / (n^3 d^2) q + b rho_f phi_s / (n^3 d) |q| q, q = n (u_f - u_s) the
+!!   Darcy flux, a and b from `&solid forchheimer_a`, `forchheimer_b` (Ergun: 150, 1.75). The
+!!   drag on the pore fluid balances n (-dp/dx) in a steady rigid column, so phi_s c w = -dp/dx
+!!   with w = |u_s - u_f| and c = a mu phi_s / (n^2 d^2) + b rho_f w / (n d). a = 180, b = 0 is
+!!   'kozeny_carman' exactly. w is the slip of the velocities at the start of the step (lagged,
+!!   as for 'beetstra'): the exchange stays linear and implicit, and a steady state is exact.
 module exchange_drag
   use mpmice_kinds, only: wp
   implicit none
@@ -20,11 +27,16 @@ module exchange_drag
 
   public :: drag_law_from_name, drag_reduced_coefficient, beetstra_factor, kozeny_carman_factor
   public :: drag_kozeny_carman, drag_beetstra, drag_constant, drag_impermeable
+  public :: drag_forchheimer, ergun_a, ergun_b, forchheimer_gradient, forchheimer_flux
 
   integer, parameter :: drag_kozeny_carman = 1  !< F = 10 phi / (1 - phi)^2
   integer, parameter :: drag_beetstra = 2       !< F(phi, Re) of eqs. 20-21
   integer, parameter :: drag_constant = 3       !< constant K per volume
   integer, parameter :: drag_impermeable = 4    !< structure: very stiff coupling
+  integer, parameter :: drag_forchheimer = 5    !< Ergun / van Gent: linear + quadratic in q
+
+  real(wp), parameter :: ergun_a = 150.0_wp     !< Ergun's linear coefficient a [-]
+  real(wp), parameter :: ergun_b = 1.75_wp      !< Ergun's quadratic coefficient b [-]
 
   real(wp), parameter :: impermeable_coefficient = 1.0e15_wp  !< c of an impermeable solid
 
@@ -40,6 +52,8 @@ contains
       law = drag_constant
     case ('impermeable')
       law = drag_impermeable
+    case ('forchheimer')
+      law = drag_forchheimer
     case default
       law = drag_kozeny_carman
     end select
@@ -64,10 +78,47 @@ contains
       (1.0_wp + 10.0_wp**(3.0_wp * phi_s) * re**(-(1.0_wp + 4.0_wp * phi_s) / 2.0_wp))
   end function beetstra_factor
 
+  !> Pressure gradient -dp/dx [Pa/m] that drives the Darcy flux q [m/s] through a rigid bed of
+  !! the Forchheimer law in the Ergun / van Gent form (sign of q):
+  !! a mu (1-n)^2 / (n^3 d^2) q + b rho (1-n) / (n^3 d) |q| q.
+  elemental real(wp) function forchheimer_gradient(q, porosity, grain_size, viscosity, &
+      rho_fluid, a, b) result(g)
+    real(wp), intent(in) :: q            !< Darcy flux n (u_f - u_s) [m/s]
+    real(wp), intent(in) :: porosity     !< n [-], 0 < n < 1
+    real(wp), intent(in) :: grain_size   !< grain diameter d [m]
+    real(wp), intent(in) :: viscosity    !< mu [Pa s]
+    real(wp), intent(in) :: rho_fluid    !< intrinsic fluid density [kg/m^3]
+    real(wp), intent(in) :: a            !< linear coefficient [-]
+    real(wp), intent(in) :: b            !< quadratic coefficient [-]
+    real(wp) :: phi_s
+    phi_s = 1.0_wp - porosity
+    g = (a * viscosity * phi_s**2 / (porosity**3 * grain_size**2) + &
+      b * rho_fluid * phi_s / (porosity**3 * grain_size) * abs(q)) * q
+  end function forchheimer_gradient
+
+  !> Darcy flux q [m/s] of `forchheimer_gradient` for a given -dp/dx [Pa/m]: the root of
+  !! B |q| q + A q = G with the sign of G, q = 2 G / (A + sqrt(A^2 + 4 B |G|)) (no
+  !! cancellation at small B |G|; A > 0 or B > 0).
+  elemental real(wp) function forchheimer_flux(gradient, porosity, grain_size, viscosity, &
+      rho_fluid, a, b) result(q)
+    real(wp), intent(in) :: gradient     !< -dp/dx [Pa/m]
+    real(wp), intent(in) :: porosity     !< n [-], 0 < n < 1
+    real(wp), intent(in) :: grain_size   !< grain diameter d [m]
+    real(wp), intent(in) :: viscosity    !< mu [Pa s]
+    real(wp), intent(in) :: rho_fluid    !< intrinsic fluid density [kg/m^3]
+    real(wp), intent(in) :: a            !< linear coefficient [-]
+    real(wp), intent(in) :: b            !< quadratic coefficient [-]
+    real(wp) :: phi_s, lin, quad
+    phi_s = 1.0_wp - porosity
+    lin = a * viscosity * phi_s**2 / (porosity**3 * grain_size**2)
+    quad = b * rho_fluid * phi_s / (porosity**3 * grain_size)
+    q = 2.0_wp * gradient / (lin + sqrt(lin**2 + 4.0_wp * quad * abs(gradient)))
+  end function forchheimer_flux
+
   !> Reduced drag coefficient c [kg/m^3/s] between a fluid (viscosity mu, intrinsic density
   !! rho_f) and the solid (fraction phi_s, grain size d) at slip speed |u_s - u_f|.
   pure real(wp) function drag_reduced_coefficient(law, phi_s, grain_size, viscosity, &
-      rho_fluid, slip, coefficient) result(c)
+      rho_fluid, slip, coefficient, forchheimer_a, forchheimer_b) result(c)
     integer, intent(in) :: law             !< drag_kozeny_carman, ...
     real(wp), intent(in) :: phi_s          !< solid volume fraction [-], 0 < phi_s < 1
     real(wp), intent(in) :: grain_size     !< grain diameter d [m]
@@ -75,7 +126,9 @@ contains
     real(wp), intent(in) :: rho_fluid      !< intrinsic fluid density [kg/m^3]
     real(wp), intent(in) :: slip           !< |u_s - u_f| [m/s]
     real(wp), intent(in) :: coefficient    !< K of the constant law [kg/m^3/s]
-    real(wp) :: re, n
+    real(wp), intent(in), optional :: forchheimer_a  !< a of 'forchheimer' [-] (ergun_a)
+    real(wp), intent(in), optional :: forchheimer_b  !< b of 'forchheimer' [-] (ergun_b)
+    real(wp) :: re, n, a, b
     c = 0.0_wp
     if (phi_s <= 0.0_wp) return
     n = 1.0_wp - phi_s
@@ -90,6 +143,13 @@ contains
       c = coefficient / (n * phi_s)
     case (drag_impermeable)
       c = impermeable_coefficient
+    case (drag_forchheimer)
+      a = ergun_a
+      b = ergun_b
+      if (present(forchheimer_a)) a = forchheimer_a
+      if (present(forchheimer_b)) b = forchheimer_b
+      c = a * viscosity * phi_s / (n**2 * grain_size**2) + b * rho_fluid * slip / &
+        (n * grain_size)
     case default
       c = 0.0_wp    ! not reached: the configuration accepts only the laws above
     end select

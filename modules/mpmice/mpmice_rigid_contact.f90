@@ -185,7 +185,7 @@ contains
             if (dep(2 + s, c(1), c(2), c(3)) <= 0.0_wp) cycle
             cs = cs + dep(2 + s, c(1), c(2), c(3)) * scale * drag_reduced_coefficient( &
               solids(s)%drag_law, phi_k, solids(s)%grain_size, f%viscosity, rho_f, slip, &
-              solids(s)%drag_coefficient)
+              solids(s)%drag_coefficient, solids(s)%forchheimer_a, solids(s)%forchheimer_b)
             wsum = wsum + dep(2 + s, c(1), c(2), c(3))
           end do
           sp%drag(c(1), c(2), c(3), m) = 0.0_wp

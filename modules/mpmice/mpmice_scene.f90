@@ -156,6 +156,8 @@ contains
         self%coupling(s)%drag_law = drag_law_from_name(c%drag_law)
         self%coupling(s)%grain_size = c%grain_size
         self%coupling(s)%drag_coefficient = c%drag_coefficient
+        self%coupling(s)%forchheimer_a = c%forchheimer_a
+        self%coupling(s)%forchheimer_b = c%forchheimer_b
         if (c%grain_bulk_modulus > 0.0_wp) self%coupling(s)%grain_kappa = 1.0_wp / &
           c%grain_bulk_modulus
         self%coupling(s)%grain_density = c%density

@@ -358,7 +358,8 @@ contains
                   if (mixed .and. solids(s)%drag_law == drag_impermeable) cycle
                   cs = cs + dep(2 + s, i, j, k) * scale * drag_reduced_coefficient( &
                     solids(s)%drag_law, phi_body, solids(s)%grain_size, f%viscosity, rho_f, &
-                    slip, solids(s)%drag_coefficient)
+                    slip, solids(s)%drag_coefficient, solids(s)%forchheimer_a, &
+                    solids(s)%forchheimer_b)
                 end do
                 sp%drag(i, j, k, m) = cs / wsum
               end associate

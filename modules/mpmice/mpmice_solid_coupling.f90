@@ -16,6 +16,8 @@ module mpmice_solid_coupling
     integer :: drag_law = 1                 !< exchange_drag law id
     real(wp) :: grain_size = 1.0e-3_wp      !< d [m]
     real(wp) :: drag_coefficient = 0.0_wp   !< K of the constant law [kg/m^3/s]
+    real(wp) :: forchheimer_a = 150.0_wp    !< linear coefficient of the Forchheimer law [-]
+    real(wp) :: forchheimer_b = 1.75_wp     !< quadratic coefficient of the Forchheimer law [-]
     real(wp) :: grain_kappa = 0.0_wp        !< 1 / grain bulk modulus [1/Pa] (0: incompressible)
     real(wp) :: grain_density = 2650.0_wp   !< rho_s of the grains [kg/m^3]
     real(wp) :: heat_capacity = 800.0_wp    !< c_s [J/kg/K]

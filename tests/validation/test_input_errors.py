@@ -170,7 +170,10 @@ BAD_MPMICE_INPUTS = [
     ("mpmice_without_solid", "", ["&run scene = 'ice' /"],
      ["--set", "&run scene = 'ice'", "no &solid group", "1 &fluid, 1 &solid"]),
     ("drag_law_unknown", "", ["&solid name = 'soil', drag_law = 'ergun' /"],
-     ["--set", "&solid(1) drag_law = 'ergun'", "kozeny_carman, beetstra, constant, impermeable"]),
+     ["--set", "&solid(1) drag_law = 'ergun'",
+      "kozeny_carman, beetstra, constant, impermeable, forchheimer"]),
+    ("forchheimer_b_negative", "&solid name = 's2', upper = 1, 1, 1, forchheimer_b = -1 /",
+     [], ["case.nml", "&solid(2) forchheimer_b = -1.0", ">= 0 [-] (Ergun: 1.75)"]),
     ("drag_coefficient_negative", "&solid name = 's2', upper = 1, 1, 1, drag_coefficient = -1 /",
      [], ["case.nml", "&solid(2) drag_coefficient = -1.0", ">= 0 [kg/m^3/s]"]),
     ("grain_bulk_modulus_negative",
@@ -508,6 +511,7 @@ def test_mpmice_check_echo_and_coupling_set(run_mpmice, tmp_case_dir):
     soil = solids[0]
     assert soil["drag_law"] == "kozeny_carman"
     assert soil["drag_coefficient"] == 0.0 and soil["grain_bulk_modulus"] == 0.0
+    assert soil["forchheimer_a"] == 150.0 and soil["forchheimer_b"] == 1.75
     assert soil["traction"] == [0.0, -1.0e4, 0.0]
     assert soil["traction_lower"] == [0.0, 0.9, 0.0]
     assert soil["traction_upper"] == [1.0, 1.0, 1.0]

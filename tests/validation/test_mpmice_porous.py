@@ -220,6 +220,9 @@ def test_darcy_analysis_on_synthetic_dumps(tmp_path, monkeypatch):
         assert r["u_outside"] / r["darcy_flux_exact"] == pytest.approx(1.001, rel=1e-12)
         assert r["solid_fraction_cells"] == pytest.approx(r["phi_s"], abs=1e-12)
         assert r["time"] == pytest.approx(0.1)
+        assert r["cell_error_max"] == pytest.approx(1e-3, rel=1e-9)
+        assert r["cell_error_interior"] == pytest.approx(1e-3, rel=1e-9)
+        assert r["steady_change_cells"] == pytest.approx(1e-6, rel=1e-3)
     mpmice_darcy.print_table(results)
     mpmice_darcy.plot(results, str(tmp_path / "d.png"))
     mpmice_darcy.write_csv(results, str(tmp_path / "d.csv"))
@@ -282,28 +285,51 @@ def terzaghi_scene(mpmice_exe, monkeypatch, _scene_probe_dir, unavailable):
     monkeypatch.setenv("MPMICE_EXE", str(mpmice_exe))
 
 
-def check_darcy(results, tolerance=5e-3):
-    """Pore velocity in the column and Darcy flux in the free water (n U_f of eq. 77, errata
-    E11) both within `tolerance` (measured: 1.5e-4 at most, the water's compressibility at
-    1 atm); steady to 1e-3 between the last two dumps."""
-    worst = max(results, key=lambda r: abs(r["rel_error"]))
-    assert abs(worst["rel_error"]) < tolerance, worst
+#: Measured on the 15 cases (python -m postproc.mpmice_darcy): the largest |relative error|
+#: of the column mean 1.50e-4, of any cell 1.53e-3 (the column's first cell and the first free
+#: cell after it, at 1 atm; linear in dp), of the cells away from the column's ends 2.50e-5
+#: (the water's compressibility: the density falls by dp / K_f = 5e-5 per atm along the
+#: column), the largest change of a cell between the last two dumps 1.31e-8 of the largest
+#: velocity and of the column mean 5.8e-10. Each bound is 2-3x its measurement.
+DARCY_BOUNDS = {"mean": 3e-4, "cell": 3e-3, "interior": 5e-5, "steady_cells": 3e-8,
+                "steady_mean": 1.5e-9}
+
+
+def check_darcy(results, bounds=None):
+    """Every cell against eq. 77 (pore velocity U_f inside the column, the Darcy flux n U_f in
+    the free water, errata E11), the column mean, and how steady every cell is between the last
+    two dumps, within DARCY_BOUNDS. Per cell, because the column mean of an odd-even velocity
+    pattern cancels (docs/validation/mpmice_darcy.md)."""
+    bounds = DARCY_BOUNDS if bounds is None else bounds
     for r in results:
-        assert r["steady_change"] < 1e-3, r
-        assert abs(r["u_outside"] / r["darcy_flux_exact"] - 1.0) < tolerance, r
+        assert abs(r["rel_error"]) < bounds["mean"], r
+        assert abs(r["u_outside"] / r["darcy_flux_exact"] - 1.0) < bounds["mean"], r
+        assert r["cell_error_max"] < bounds["cell"], r
+        assert r["cell_error_interior"] < bounds["interior"], r
+        assert r["steady_change_cells"] < bounds["steady_cells"], r
+        assert r["steady_change"] < bounds["steady_mean"], r
 
 
-#: Fast subset: the extreme solid fractions and pressure drops.
-DARCY_SUBSET = ((0.6, 1.0), (0.66, 0.5), (0.7, 0.25))
-
-
-def test_darcy_subset(darcy_scene, tmp_path):
-    """3 of the 15 cases: steady pore velocity in the column within 0.5 % of eq. 77."""
-    check_darcy(mpmice_darcy.run_darcy(str(tmp_path), DARCY_SUBSET))
+def test_darcy_check_fails_on_an_odd_even_pattern(tmp_path, monkeypatch):
+    """A +-1 % odd-even pattern on eq. 77 leaves the column mean exact and fails check_darcy."""
+    monkeypatch.setattr(mpmice_darcy, "run_mpmice", fake_darcy_run(0.0))
+    result = mpmice_darcy.run_darcy(str(tmp_path), [(0.6, 0.5)])
+    good = dict(result[0], steady_change=0.0, steady_change_cells=0.0)  # the fake drifts 1e-6
+    assert good["cell_error_max"] < 1e-12
+    check_darcy([good])
+    dump = mpmice_darcy.read_run_dumps(good["output_dir"], mpmice_darcy.NAME, last=1)[0]
+    u = dump["cell"]["water/velocity_x"]
+    u[:, 0, 0] *= 1.0 + 0.01 * (-1.0) ** np.arange(u.shape[0])
+    odd_even = mpmice_darcy.analyse_case([dump], 0.6, 0.5)
+    assert abs(odd_even["rel_error"]) < 1e-12
+    assert odd_even["cell_error_max"] == pytest.approx(0.01, rel=1e-9)
+    with pytest.raises(AssertionError):
+        check_darcy([dict(good, **{k: odd_even[k] for k in ("cell_error_max",
+                                                            "cell_error_interior")})])
 
 
 def test_darcy_all_cases(darcy_scene, tmp_path):
-    """The paper's 15 cases (Fig. 4) within 0.5 % of eq. 77."""
+    """The paper's 15 cases (Fig. 4) against eq. 77 in every cell, within DARCY_BOUNDS."""
     check_darcy(mpmice_darcy.run_darcy(str(tmp_path)))
 
 
@@ -348,22 +374,12 @@ def test_terzaghi_quasi_static_100_cells(terzaghi_scene, tmp_path):
 
 
 def test_terzaghi_converges(terzaghi_scene, tmp_path):
-    """At T_v = 0.5 the error falls with the cell count: 50 -> 100 cells, at least by 2x
-    (measured 2.02 % -> 0.47 %, order 2.1)."""
+    """At T_v = 0.5 the error falls with the cell count: 50 -> 100 cells, at least by 2x, an
+    observed order above 1 (measured 1.99 % -> 0.69 %, 2.9x, order 1.5)."""
     study = mpmice_terzaghi.run_terzaghi(str(tmp_path), (50, 100),
                                          extra_set=["&run end_time = 0.125 /"])
     e50, e100 = study["error_at_tv"][0.5]
     assert e100 < e50 / 2.0, (e50, e100)
 
 
-@pytest.mark.mpi
-def test_terzaghi_rank_invariance(terzaghi_scene, tmp_path):
-    """50 cells to t = 0.05 s on 1 and 2 ranks: max |p1 - p2| / p0 < 1e-9 over all dumps with
-    the pressure solved to 1e-12 (measured 3e-11; the 1 rank direct solve and the 2 rank PCG
-    differ by the solver tolerance: 1.9e-9 at the default 1e-10)."""
-    extra = ["&run end_time = 0.05 /", "&solver tolerance = 1.0e-12 /"]
-    one = mpmice_terzaghi.run_terzaghi(str(tmp_path), 50, 1, extra)["runs"][50]
-    two = mpmice_terzaghi.run_terzaghi(str(tmp_path), 50, 2, extra)["runs"][50]
-    assert np.array_equal(one["time"], two["time"])
-    diff = np.max(np.abs(one["pressure"] - two["pressure"])) / one["p0"]
-    assert diff < 1e-9, diff
+# Rank invariance of the Terzaghi column (1 against 2 and 4 ranks): test_mpmice_parallel.py.

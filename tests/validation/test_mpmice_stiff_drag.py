@@ -101,8 +101,9 @@ def assert_failed(result):
 
 
 def test_darcy_stiff_implicit_gives_eq77(solver, tmp_path):
-    """Implicit: the interior pore velocity (mean of cells 7..12 of 20) is eq. 77 to 1e-3
-    (measured 8e-6 .. 6e-8 at 200 .. 300 s)."""
+    """Implicit: the interior pore velocity (mean of cells 7..12 of 20) is eq. 77 to 1e-7 at
+    every dump from 200 s (measured 1.3e-8, 2.2e-8, -3.0e-8 at 200, 250, 300 s; -7.6e-6 at
+    150 s, still relaxing over t_D = 490 s / pi^2)."""
     out = str(tmp_path / "implicit")
     result = run_mpmice(darcy_args(out, "implicit"), cwd=str(tmp_path), check=False, timeout=300)
     assert result.returncode == 0, (result.stdout + result.stderr)[-3000:]
@@ -114,7 +115,7 @@ def test_darcy_stiff_implicit_gives_eq77(solver, tmp_path):
     assert len(late) >= 2
     for dump in late:
         error = stiff.interior_velocity(dump) / u_exact - 1.0
-        assert abs(error) < 1e-3, (dump["time"], error)
+        assert abs(error) < 1e-7, (dump["time"], error)
 
 
 def test_darcy_stiff_explicit_fails(solver, tmp_path):
@@ -150,31 +151,27 @@ def terzaghi_implicit(mpmice_exe, tmp_path_factory):
     return result.returncode, result.stdout + result.stderr, dumps
 
 
-def test_terzaghi_stiff_implicit_is_stable(terzaghi_implicit):
-    """Implicit, 50 cells, d = 1 um: finishes (status 0) to t = 0.02 s with finite pressures."""
-    code, text, dumps = terzaghi_implicit
-    assert code == 0, text[-3000:]
-    assert dumps and dumps[-1]["time"] == pytest.approx(IMPLICIT_END)
-    for dump in dumps:
-        assert np.all(np.isfinite(dump["cell"]["pressure"]))
-
-
 def test_terzaghi_stiff_implicit_matches_exact(terzaghi_implicit):
-    """Implicit, d = 1 um, t = 0.02 s: excess pressure within 1 % of p0 of the exact solution
-    (p0 but in a 0.2 mm layer) below the top 5 cells (measured 0.13 %), and no odd-even pair in
-    the top cells: the second cell from the drained top within 1 % of p0 (measured 1.001 p0; the
+    """Implicit, 50 cells, d = 1 um: finishes (status 0) at t = 0.02 s with finite pressures
+    in every dump, and at t = 0.02 s the excess pressure is within 0.4 % of p0 of the exact
+    solution (p0 but in a 0.2 mm layer) below the top 5 cells (measured 0.13 %), and no odd-even
+    pair in the top cells: the second cell from the drained top within 0.2 % of p0 (measured
+    1.0006 p0; the
     top cell, holding the unresolved drained layer, 0.76 p0). Before the open-face fraction fix
     (docs/accuracy.md, map (a)) the top two cells alternated, 0.78 / 1.63 p0. The time: the step
     load's undrained wave, numerically damped at this dt, settles over ~15 ms (level below the
     top 0.854 / 0.992 / 1.002 / 1.001 at 5 / 10 / 15 / 20 ms)."""
     code, text, dumps = terzaghi_implicit
     assert code == 0, text[-3000:]
+    assert dumps and dumps[-1]["time"] == pytest.approx(IMPLICIT_END)
+    for dump in dumps:
+        assert np.all(np.isfinite(dump["cell"]["pressure"]))
     params = stiff.terzaghi_params(GRAIN)
     result = stiff.analyse_terzaghi_dump(dumps[-1], params, top_cells=5)
-    assert result["max_error_below_top"] < 1e-2, result
+    assert result["max_error_below_top"] < 4e-3, result
     _, p0 = mpmice_terzaghi.consolidation_constants()
     excess = dumps[-1]["cell"]["pressure"][0, :, 0] - mpmice_terzaghi.PARAMS["reference_pressure"]
-    assert abs(excess[-2] / p0 - 1.0) < 1e-2, excess[-4:] / p0
+    assert abs(excess[-2] / p0 - 1.0) < 2e-3, excess[-4:] / p0
 
 
 def test_terzaghi_stiff_explicit_fails(solver, tmp_path):
@@ -187,9 +184,10 @@ def test_terzaghi_stiff_explicit_fails(solver, tmp_path):
 
 def test_fixed_decimal_dt_lands_on_output_times(solver, tmp_path):
     """The Darcy namelist as is (d = 1 mm) with dt fixed at 1e-5 s, dumps every 0.05 s, to
-    0.1 s: must finish (status 0). (The summed time used to miss the output time by more than a
-    landing slack of 1e-9 dt and fail on the 1e-14 s remainder; driver_clock now also accepts
-    1e-12 of the time itself.)"""
+    0.1 s: finishes (status 0) with exactly the dumps at t = 0, 0.05 and 0.1 s (to 1e-12 s: the
+    summed steps land on the output times) at steps 0, 5000 and 10000. (The summed time used to
+    miss the output time by more than a landing slack of 1e-9 dt and fail on the 1e-14 s
+    remainder; driver_clock now also accepts 1e-12 of the time itself.)"""
     out = str(tmp_path / "fixed_dt")
     result = run_mpmice([mpmice_darcy.NAMELIST,
                          "--set", "&time dt_init = 1.0e-5, dt_max = 1.0e-5 /",
@@ -197,3 +195,8 @@ def test_fixed_decimal_dt_lands_on_output_times(solver, tmp_path):
                                   f"output_dir = '{out}' /"],
                         cwd=str(tmp_path), check=False, timeout=300)
     assert result.returncode == 0, (result.stdout + result.stderr)[-2000:]
+    dumps = [read_dump(p) for p in list_dumps(out, mpmice_darcy.NAME)]
+    times = [d["time"] for d in dumps]
+    assert len(times) == 3, times
+    assert np.max(np.abs(np.array(times) - [0.0, 0.05, 0.1])) < 1e-12, times
+    assert [d["step"] for d in dumps] == [0, 5000, 10000]

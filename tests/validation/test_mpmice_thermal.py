@@ -42,13 +42,14 @@ def test_cavity_rayleigh_number_of_the_paper():
 
 def test_porous_conduction_second_order(tmp_path):
     """Column of 10, 20, 40 cells against the mixture's series solution at t = 6e5 s: L2 error
-    below 1e-3 dT at 10 cells, observed order >= 1.8, fluid and solid in equilibrium (1e-6 K)."""
+    below 1e-3 dT at 10 cells (measured 5.6e-4), observed order >= 1.8 (2.6, 2.2), fluid and
+    solid in equilibrium to 2e-7 K (measured 7.8e-8 K at 10 cells)."""
     l2 = []
     for n in (10, 20, 40):
         dumps = heat.run(str(tmp_path), n)
         e = heat.errors(dumps[-1])
         assert e["time"] == pytest.approx(6.0e5)
-        assert e["phase_difference"] < 1e-6
+        assert e["phase_difference"] < 2e-7, (n, e["phase_difference"])
         assert e["max_solid"] < 2.0 * e["max_fluid"] + 1e-6
         l2.append(e["l2_fluid"])
     assert l2[0] < 1e-3
@@ -59,7 +60,7 @@ def test_porous_conduction_second_order(tmp_path):
 def test_heat_exchange_conserves_energy(tmp_path):
     """Adiabatic column, water at T0 + 2 K, skeleton at T0: both relax to the capacity-weighted
     mean (rho_bar_f c_f (T0 + 2) + phi_s rho_s c_s T0) / (rho_bar_f c_f + phi_s rho_s c_s) to
-    1e-8 K; total energy conserved to 1e-12 relative."""
+    5e-9 K (measured 2.2e-9 K); total energy conserved to 5e-15 relative (measured 6.7e-16)."""
     dumps = _run(tmp_path, heat.NAMELIST, "exchange", heat.NAME,
                  "&grid ncells = 5, 1, 1 /", "&run end_time = 100.0, output_interval = 100.0 /",
                  "&time dt_max = 10.0 /", "&coupling heat_exchange_coefficient = 1.0e6 /",
@@ -76,15 +77,16 @@ def test_heat_exchange_conserves_energy(tmp_path):
     c_f = float(np.mean(first["cell"]["water/density"])) * heat.C_F
     c_s = heat.PHI_S * heat.RHO_S * heat.C_S
     mean = (c_f * (heat.T0 + 2.0) + c_s * heat.T0) / (c_f + c_s)
-    assert abs(energy(last) / energy(first) - 1.0) < 1e-12
+    assert abs(energy(last) / energy(first) - 1.0) < 5e-15
     # relaxation time 1 / (H phi_f phi_s (1/C_f + 1/C_s)) = 3 s: equal after 100 s
-    assert np.max(np.abs(last["cell"]["water/temperature"] - mean)) < 1e-8
-    assert np.max(np.abs(last["cell"]["skeleton/temperature"] - mean)) < 1e-8
+    assert np.max(np.abs(last["cell"]["water/temperature"] - mean)) < 5e-9
+    assert np.max(np.abs(last["cell"]["skeleton/temperature"] - mean)) < 5e-9
 
 
 def test_porous_medium_at_rest_under_gravity(tmp_path):
     """The cavity with adiabatic walls and uniform temperature stays at rest: after 1000 steps
-    (2e6 s) the water speed is below 1e-12 m/s and its temperature unchanged to 1e-9 K (the
+    (2e6 s) the water speed is below 5e-17 m/s (measured 5.5e-18) and the temperatures unchanged
+    to 5e-12 K (measured 6.8e-13 K) (the
     fluids' bulk density in the wall face pressure once gave a 0.3 g imbalance here whose drag
     heated the water by 0.03 K per day)."""
     dumps = _run(tmp_path, cavity.NAMELIST, "rest", cavity.NAME,
@@ -95,31 +97,49 @@ def test_porous_medium_at_rest_under_gravity(tmp_path):
     c = dumps[-1]["cell"]
     assert dumps[-1]["step"] >= 1000
     speed = np.hypot(c["water/velocity_x"], c["water/velocity_y"])
-    assert np.max(speed) < 1e-12
-    assert np.max(np.abs(c["water/temperature"] - 283.15)) < 1e-9
-    assert np.max(np.abs(c["skeleton/temperature"] - 283.15)) < 1e-9
+    assert np.max(speed) < 5e-17, np.max(speed)
+    assert np.max(np.abs(c["water/temperature"] - 283.15)) < 5e-12
+    assert np.max(np.abs(c["skeleton/temperature"] - 283.15)) < 5e-12
 
 
-def _cavity(tmp_path, label, n, nranks=1, ra=None):
+def _cavity(tmp_path, label, n, nranks=1, ra=None, thermal_times=0.3, dumps=3):
     grain = cavity.grain_for(ra) if ra else cavity.PAPER_GRAIN
-    end = 0.3 * cavity.THERMAL_TIME
+    end = thermal_times * cavity.THERMAL_TIME
     return _run(tmp_path, cavity.NAMELIST, label, cavity.NAME,
                 f"&grid ncells = {n}, {n}, 1, upper = 1.0, 1.0, {1.0 / n} /",
-                f"&run end_time = {end}, output_interval = {end / 3} /",
+                f"&run end_time = {end}, output_interval = {end / dumps} /",
                 f"&solid name = 'skeleton', grain_size = {grain}, upper = 1.0, 1.0, {1.0 / n} /",
                 nranks=nranks)
 
 
-def test_thermal_cavity_ra10(tmp_path):
-    """Ra = 10 on 16 x 16 cells to 0.3 thermal times: the mean hot-wall Nusselt number within
-    3 % of the benchmark 1.08 and equal to the cold wall's (energy balance, 1e-3); hot water
-    rises at the hot wall."""
-    dumps = _cavity(tmp_path, "ra10", 16, ra=10.0)
+def _check_darcy_rayleigh(dumps, ra, tolerance, steady):
+    """Hot-wall Nu of the last dump within `tolerance` of the benchmark, changed by less than
+    `steady` (relative) since the dump before, equal to the cold wall's to 1e-5 (energy
+    balance); hot water rises at the hot wall and sinks at the cold one."""
     hot, cold = cavity.wall_nusselt(dumps[-1])
-    assert abs(hot / 1.08 - 1.0) < 0.03, hot
-    assert abs(hot - cold) < 1e-3 * hot
+    previous, _ = cavity.wall_nusselt(dumps[-2])
+    assert abs(hot / cavity.BENCHMARK[ra] - 1.0) < tolerance, hot
+    assert abs(hot / previous - 1.0) < steady, (previous, hot)
+    assert abs(hot - cold) < 1e-5 * hot, (hot, cold)
+    n = dumps[-1]["cell"]["water/velocity_y"].shape[1]
     v = dumps[-1]["cell"]["water/velocity_y"][:, :, 0]
-    assert v[0, 8] > 0.0 > v[-1, 8]
+    assert v[0, n // 2] > 0.0 > v[-1, n // 2]
+
+
+def test_thermal_cavity_ra10(tmp_path):
+    """Ra = 10 on 16 x 16 cells to 0.5 thermal times (~2 s): the mean hot-wall Nusselt number
+    within 0.5 % of the benchmark 1.08 (measured 1.0784, -0.15 %; published values 1.065-1.079),
+    steady to 2e-4 (measured 5e-5 over the last 0.1 thermal times), hot = cold wall to 1e-5."""
+    _check_darcy_rayleigh(_cavity(tmp_path, "ra10", 16, ra=10.0, thermal_times=0.5, dumps=5),
+                          10.0, 0.005, 2e-4)
+
+
+def test_thermal_cavity_ra100(tmp_path):
+    """Ra = 100, where convection carries two thirds of the heat, on 20 x 20 cells to 0.3
+    thermal times (~5 s): within 3 % of the benchmark 3.1 (measured 3.0239, -2.45 %; 40 x 40:
+    see docs/validation/mpmice_thermal.md), steady to 5e-5 (measured 7e-6), hot = cold wall to
+    1e-5."""
+    _check_darcy_rayleigh(_cavity(tmp_path, "ra100", 20, ra=100.0), 100.0, 0.03, 5e-5)
 
 
 @pytest.mark.mpi
