@@ -222,6 +222,11 @@ contains
       call add('critical_solid_fraction', real_repr(p%critical_solid_fraction))
       call add('dilatancy_constant', real_repr(p%dilatancy_constant))
       call add('fluid_viscosity', real_repr(p%fluid_viscosity))
+      call add('polygon_file', quoted(p%polygon_file))
+      call add('profile_file', quoted(p%profile_file))
+      call add('profile_lower_file', quoted(p%profile_lower_file))
+      call add('layer_thickness', real_repr(p%layer_thickness))
+      call add_table('profile_lower_level', table_repr([p%profile_lower_level]))
       text = text // '/' // nl
     end subroutine add_solid
 
@@ -235,6 +240,12 @@ contains
       call add('velocity', reals_repr(p%velocity))
       call add('temperature', real_repr(p%temperature))
       call add('pressure', real_repr(p%pressure))
+      call add('shape', quoted(p%shape))
+      call add('polygon_file', quoted(p%polygon_file))
+      call add('profile_file', quoted(p%profile_file))
+      call add('profile_lower_file', quoted(p%profile_lower_file))
+      call add('layer_thickness', real_repr(p%layer_thickness))
+      call add_table('profile_lower_level', table_repr([p%profile_lower_level]))
       text = text // '/' // nl
     end subroutine add_region
 

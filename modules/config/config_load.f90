@@ -9,6 +9,8 @@ module config_load
   use config_parse, only: config_load_text, config_origin_t, origin_source, group_error_text
   use config_validate, only: config_error_t, config_check
   use config_echo, only: config_to_text
+  use config_geometry_files, only: geometry_paths_resolve, geometry_check_variables, &
+    geometry_files_load, geometry_files_bcast
   implicit none
   private
 
@@ -77,6 +79,8 @@ contains
   !! names), then validation for a run on `nranks` ranks. With `base_text` that text
   !! replaces the file's content (a restart passes the text stored in the checkpoint, with the
   !! checkpoint's path as `source`). Error lines name the input that set the bad variable.
+  !! Geometry file names are made absolute (relative to the folder of `source`) and the files
+  !! read and checked (`config_geometry_files`).
   subroutine config_resolve(cfg, source, sets, nranks, stat, errmsg, base_text)
     type(config_t), intent(out) :: cfg                     !< resolved configuration
     character(len=*), intent(in) :: source                 !< case file (or checkpoint) name
@@ -99,12 +103,16 @@ contains
       call config_load_text(cfg, sets(i), '--set', stat, errmsg, origin, overrides=.true.)
       if (stat /= 0) return
     end do
+    call geometry_paths_resolve(cfg, source)
     call config_check(cfg, nranks, err)
+    if (.not. err%found) call geometry_check_variables(cfg, err)
     if (err%found) then
       stat = 1
       errmsg = input_error_text(origin_source(origin, err%group, err%variable, source), &
         err%group, err%variable, err%value, err%allowed)
+      return
     end if
+    call geometry_files_load(cfg, stat, errmsg)
   end subroutine config_resolve
 
   !> Collective over `comm`: rank 0 resolves the configuration (`config_resolve`) for a run on
@@ -145,6 +153,7 @@ contains
       if (stat /= 0) call fatal('config_bcast: ' // errmsg)
       cfg = fresh
     end if
+    call geometry_files_bcast(cfg, comm)
   end subroutine config_bcast
 
   !> Broadcast a deferred-length string from rank 0.

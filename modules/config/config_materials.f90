@@ -7,7 +7,8 @@
 !! `config_t` (at most `max_fluids`, ... elements), and every occurrence starts from the type's
 !! defaults. `config_types` re-exports everything public here.
 module config_materials
-  use mpmice_kinds, only: wp, name_len
+  use mpmice_kinds, only: wp, name_len, path_len
+  use geometry_shapes, only: file_shape_t, level_unset
   implicit none
   private
 
@@ -37,8 +38,8 @@ module config_materials
     'linear_elastic', 'neo_hookean', 'mohr_coulomb', 'rigid', 'cam_clay', &
     'modified_cam_clay', 'critical_state_sand']
   !> Allowed values of `&solid shape`.
-  character(len=*), parameter :: solid_shape_names(3) = [character(len=name_len) :: &
-    'box', 'polygon', 'half_space']
+  character(len=*), parameter :: solid_shape_names(4) = [character(len=name_len) :: &
+    'box', 'polygon', 'half_space', 'profile']
   !> Allowed values of `&solid drag_law` (fluid-solid drag of scene 'mpmice').
   character(len=*), parameter :: drag_law_names(5) = [character(len=name_len) :: &
     'kozeny_carman', 'beetstra', 'constant', 'impermeable', 'forchheimer']
@@ -131,6 +132,14 @@ module config_materials
     real(wp) :: velocity(3) = [0.0_wp, 0.0_wp, 0.0_wp]   !< velocity inside [m/s]
     real(wp) :: temperature = 300.0_wp                   !< temperature inside [K]
     real(wp) :: pressure = 101325.0_wp                   !< pressure inside [Pa]
+    !> 'box' (the box alone), 'polygon' or 'profile': the box and the file shape (docs/geometry.md)
+    character(len=name_len) :: shape = 'box'
+    character(len=path_len) :: polygon_file = ''         !< CSV polygon (shape 'polygon')
+    character(len=path_len) :: profile_file = ''         !< CSV upper profile (shape 'profile')
+    character(len=path_len) :: profile_lower_file = ''   !< CSV lower profile (shape 'profile')
+    real(wp) :: layer_thickness = 0.0_wp                 !< > 0: layer of it on one profile [m]
+    real(wp) :: profile_lower_level = level_unset        !< constant lower bound [m]
+    type(file_shape_t) :: geometry                       !< shape read from the files
   end type region_params_t
 
   !> `&solid` (repeated): one solid body: constitutive model, geometry, particles, initial state.
@@ -197,6 +206,12 @@ module config_materials
     real(wp) :: critical_solid_fraction = 0.585_wp  !< phi_m, quasi-static critical packing
     real(wp) :: dilatancy_constant = 4.09_wp    !< K of tan(psi) = K (phi - phi_eq)
     real(wp) :: fluid_viscosity = 0.0_wp        !< eta_f of J [Pa s] (0: quasi-static)
+    character(len=path_len) :: polygon_file = ''         !< CSV polygon (shape 'polygon')
+    character(len=path_len) :: profile_file = ''         !< CSV upper profile (shape 'profile')
+    character(len=path_len) :: profile_lower_file = ''   !< CSV lower profile (shape 'profile')
+    real(wp) :: layer_thickness = 0.0_wp                 !< > 0: layer of it on one profile [m]
+    real(wp) :: profile_lower_level = level_unset        !< constant lower bound [m]
+    type(file_shape_t) :: geometry                       !< shape read from the files
   end type solid_params_t
 
   !> `&boundary` (repeated, at most one per face): conditions on one face of the domain.

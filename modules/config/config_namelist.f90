@@ -176,6 +176,11 @@ module config_namelist
     variable_info_t('solid', 'critical_solid_fraction', 'r', 1, 0), &
     variable_info_t('solid', 'dilatancy_constant', 'r', 1, 0), &
     variable_info_t('solid', 'fluid_viscosity', 'r', 1, 0), &
+    variable_info_t('solid', 'polygon_file', 'c', 1, path_len), &
+    variable_info_t('solid', 'profile_file', 'c', 1, path_len), &
+    variable_info_t('solid', 'profile_lower_file', 'c', 1, path_len), &
+    variable_info_t('solid', 'layer_thickness', 'r', 1, 0), &
+    variable_info_t('solid', 'profile_lower_level', 'r', 1, 0), &
     variable_info_t('region', 'material', 'c', 1, name_len), &
     variable_info_t('region', 'lower', 'r', 3, 0), &
     variable_info_t('region', 'upper', 'r', 3, 0), &
@@ -183,6 +188,12 @@ module config_namelist
     variable_info_t('region', 'velocity', 'r', 3, 0), &
     variable_info_t('region', 'temperature', 'r', 1, 0), &
     variable_info_t('region', 'pressure', 'r', 1, 0), &
+    variable_info_t('region', 'shape', 'c', 1, name_len), &
+    variable_info_t('region', 'polygon_file', 'c', 1, path_len), &
+    variable_info_t('region', 'profile_file', 'c', 1, path_len), &
+    variable_info_t('region', 'profile_lower_file', 'c', 1, path_len), &
+    variable_info_t('region', 'layer_thickness', 'r', 1, 0), &
+    variable_info_t('region', 'profile_lower_level', 'r', 1, 0), &
     variable_info_t('boundary', 'face', 'c', 1, name_len), &
     variable_info_t('boundary', 'fluid', 'c', 1, name_len), &
     variable_info_t('boundary', 'pressure', 'r', 1, 0), &

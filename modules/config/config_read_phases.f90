@@ -4,7 +4,7 @@
 !! As for the other groups, each routine presets the namelist variables from the parameters (so
 !! absent variables keep their value), reads `text` and copies back on success only.
 module config_read_phases
-  use mpmice_kinds, only: wp, name_len
+  use mpmice_kinds, only: wp, name_len, path_len
   use config_materials, only: physics_params_t, ice_params_t, mpm_params_t, coupling_params_t, &
     fluid_params_t, solid_params_t, region_params_t, boundary_params_t, max_polygon_points, &
     max_history_points
@@ -177,9 +177,18 @@ contains
     character(len=*), intent(in) :: text      !< namelist text
     integer, intent(out) :: ios               !< iostat
     character(len=*), intent(inout) :: iomsg  !< iomsg
-    character(len=name_len) :: material
+    character(len=name_len) :: material, shape
     real(wp) :: lower(3), upper(3), volume_fraction, velocity(3), temperature, pressure
-    namelist /region/ material, lower, upper, volume_fraction, velocity, temperature, pressure
+    character(len=path_len) :: polygon_file, profile_file, profile_lower_file
+    real(wp) :: layer_thickness, profile_lower_level
+    namelist /region/ material, lower, upper, volume_fraction, velocity, temperature, pressure, &
+      shape, polygon_file, profile_file, profile_lower_file, layer_thickness, profile_lower_level
+    shape = p%shape
+    polygon_file = p%polygon_file
+    profile_file = p%profile_file
+    profile_lower_file = p%profile_lower_file
+    layer_thickness = p%layer_thickness
+    profile_lower_level = p%profile_lower_level
     material = p%material
     lower = p%lower
     upper = p%upper
@@ -196,6 +205,12 @@ contains
     p%velocity = velocity
     p%temperature = temperature
     p%pressure = pressure
+    p%shape = shape
+    p%polygon_file = polygon_file
+    p%profile_file = profile_file
+    p%profile_lower_file = profile_lower_file
+    p%layer_thickness = layer_thickness
+    p%profile_lower_level = profile_lower_level
   end subroutine read_region
 
   !> `&solid` (one occurrence).
@@ -221,6 +236,8 @@ contains
     real(wp) :: fluid_viscosity
     integer :: npoints, particles_per_cell(3)
     logical :: tension_cutoff, geostatic
+    character(len=path_len) :: polygon_file, profile_file, profile_lower_file
+    real(wp) :: layer_thickness, profile_lower_level
     namelist /solid/ name, model, density, youngs_modulus, poisson_ratio, cohesion, &
       friction_angle, dilation_angle, tension_cutoff, tensile_strength, k0, geostatic, shape, &
       lower, upper, npoints, polygon_x, polygon_y, plane_point, plane_normal, rotation_deg, &
@@ -231,7 +248,13 @@ contains
       traction_ramp_time, forchheimer_a, forchheimer_b, critical_state_ratio, &
       compression_index, swelling_index, preconsolidation_pressure, ocr, shear_modulus, &
       min_pressure, friction_mu1, friction_mu2, viscous_j0, critical_solid_fraction, &
-      dilatancy_constant, fluid_viscosity
+      dilatancy_constant, fluid_viscosity, polygon_file, profile_file, profile_lower_file, &
+      layer_thickness, profile_lower_level
+    polygon_file = p%polygon_file
+    profile_file = p%profile_file
+    profile_lower_file = p%profile_lower_file
+    layer_thickness = p%layer_thickness
+    profile_lower_level = p%profile_lower_level
     name = p%name
     model = p%model
     density = p%density
@@ -348,6 +371,11 @@ contains
     p%critical_solid_fraction = critical_solid_fraction
     p%dilatancy_constant = dilatancy_constant
     p%fluid_viscosity = fluid_viscosity
+    p%polygon_file = polygon_file
+    p%profile_file = profile_file
+    p%profile_lower_file = profile_lower_file
+    p%layer_thickness = layer_thickness
+    p%profile_lower_level = profile_lower_level
   end subroutine read_solid
 
   !> `&boundary` (one occurrence).

@@ -332,6 +332,7 @@ contains
             reals_repr(p%lower) // ') along active dimensions [m]')
         end if
       case ('polygon')
+        if (len_trim(p%polygon_file) > 0) return  ! vertices from the file: config_geometry_files
         call check_int(err, g, 'npoints', p%npoints, '3..' // ints_repr([max_polygon_points]) &
           // ' for shape = ''polygon''', min_value=3, max_value=max_polygon_points)
         if (err%found) return

@@ -2,7 +2,8 @@
 !! balance (`&physics hydrostatic_init`).
 !!
 !! Each fluid starts from its `&fluid` values; every `&region` naming it and containing the cell
-!! centre overrides them (later regions win). Without hydrostatic initialisation the bulk density
+!! centre (in its box and in its file shape, `geometry_shapes`) overrides them (later regions
+!! win). Without hydrostatic initialisation the bulk density
 !! is phi rho(p, T) with the fluid's or region's pressure. With it, gravity must point along one
 !! active axis; the pressure is integrated down every column from `&physics reference_pressure`
 !! at the top face in the discrete form the step keeps in balance:
@@ -16,6 +17,7 @@ module ice_initial
   use mpmice_errors, only: fatal, real_short_text
   use config_types, only: config_t
   use grid_layout, only: grid_t, cell_centre
+  use geometry_shapes, only: file_shape_contains
   use ice_eos, only: eos_density
   use ice_state, only: ice_state_t
   implicit none
@@ -87,7 +89,7 @@ contains
         do r = 1, cfg%nregions
           if (cfg%regions(r)%material /= c%name) cycle
           if (all(x >= cfg%regions(r)%lower .and. x <= cfg%regions(r)%upper .or. &
-            .not. grid%active)) then
+            .not. grid%active) .and. file_shape_contains(cfg%regions(r)%geometry, x)) then
             phi(m) = cfg%regions(r)%volume_fraction
             t(m) = cfg%regions(r)%temperature
             p(m) = cfg%regions(r)%pressure

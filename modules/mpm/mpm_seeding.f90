@@ -1,8 +1,9 @@
 !> Particle seeding of one solid from its `&solid` shape: `particles_per_cell` particles per cell
 !! and dimension at the centres of the equal sub-cells of every owned cell, kept when the centre
-!! lies inside the shape (box with optional rotation about z around its centre, polygon in x-y,
-!! half-space {x : (x - plane_point) . plane_normal <= 0}). Inactive dimensions are ignored by
-!! the shape tests.
+!! lies inside the shape (box with optional rotation about z around its centre, polygon in x-y
+!! given inline or read from `polygon_file`, half-space {x : (x - plane_point) . plane_normal
+!! <= 0}, or the band between profiles read from files, `geometry_shapes`). Inactive dimensions
+!! are ignored by the shape tests.
 !!
 !! Each particle gets volume V_c / prod(ppc), mass (1 - porosity) density V, the initial velocity
 !! (uniform, or shaped by `velocity_wavenumber`),
@@ -17,6 +18,7 @@ module mpm_seeding
   use grid_layout, only: grid_t
   use config_materials, only: solid_params_t
   use mpm_particles, only: particles_t, particles_reserve, identity_f
+  use geometry_shapes, only: file_shape_contains, shape_kind_polygon, shape_kind_profile
   implicit none
   private
 
@@ -121,6 +123,10 @@ contains
       end if
       inside = all(.not. active .or. (y >= s%lower .and. y <= s%upper))
     case ('polygon')
+      if (s%geometry%kind == shape_kind_polygon) then   ! vertices from polygon_file
+        inside = file_shape_contains(s%geometry, x)
+        return
+      end if
       ! even-odd rule in the x-y plane
       n = s%npoints
       inside = .false.
@@ -132,6 +138,9 @@ contains
         end if
         j = i
       end do
+    case ('profile')
+      inside = s%geometry%kind == shape_kind_profile
+      if (inside) inside = file_shape_contains(s%geometry, x)
     case ('half_space')
       inside = sum(merge(x - s%plane_point, 0.0_wp, active) * s%plane_normal) <= 0.0_wp
     case default
