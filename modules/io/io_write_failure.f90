@@ -1,0 +1,130 @@
+!> A failed write of an output file (dump, checkpoint): the run ends with one line naming the
+!! file and the system's reason (`strerror(errno)`, e.g. "No space left on device"), the partly
+!! written file removed, and exit status 3 (a run failure, docs/io.md).
+!!
+!! The HDF5 layer calls `io_write_failed` when a call on a file open for writing fails; the
+!! dump and checkpoint writers write under a temporary name (`.tmp`) and rename, so no partly
+!! written file is ever left under a final name. The fault injection
+!! `MPMICE_FAULT=enospc_dump_step:N` (`mpmice_faults`, docs/testing.md) makes the dump of step N
+!! fail as on a full disk, for tests where no small file system can be mounted.
+module io_write_failure
+  use, intrinsic :: iso_c_binding, only: c_int, c_ptr, c_char, c_null_char, c_associated, &
+    c_f_pointer
+  use, intrinsic :: iso_fortran_env, only: error_unit
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Comm_size, MPI_Abort, MPI_Initialized, MPI_Finalized, &
+    MPI_Finalize
+  implicit none
+  private
+
+  public :: io_system_error, io_system_error_text, io_remove_file, io_write_failed
+  public :: enospc
+
+  integer, parameter :: enospc = 28  !< errno of a full file system (Linux)
+
+  interface
+    !> glibc: address of the calling thread's errno.
+    function c_errno_location() result(p) bind(c, name='__errno_location')
+      import :: c_ptr
+      type(c_ptr) :: p
+    end function c_errno_location
+
+    !> C library strerror(): the message of an errno value.
+    function c_strerror(code) result(p) bind(c, name='strerror')
+      import :: c_ptr, c_int
+      integer(c_int), value :: code
+      type(c_ptr) :: p
+    end function c_strerror
+
+    !> C library unlink(): remove a file.
+    function c_unlink(path) result(status) bind(c, name='unlink')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: status
+    end function c_unlink
+
+    !> C library exit().
+    subroutine c_exit(status) bind(c, name='exit')
+      import :: c_int
+      integer(c_int), value :: status
+    end subroutine c_exit
+  end interface
+
+contains
+
+  !> The current errno of the calling thread (read it right after the failing call).
+  function io_system_error() result(code)
+    integer :: code
+    integer(c_int), pointer :: errno_value
+    type(c_ptr) :: p
+    code = 0
+    p = c_errno_location()
+    if (.not. c_associated(p)) return
+    call c_f_pointer(p, errno_value)
+    code = int(errno_value)
+  end function io_system_error
+
+  !> strerror(code) as Fortran text ('' for code 0).
+  function io_system_error_text(code) result(text)
+    integer, intent(in) :: code  !< errno value
+    character(len=:), allocatable :: text
+    character(kind=c_char), pointer :: chars(:)
+    type(c_ptr) :: p
+    integer :: n
+    text = ''
+    if (code == 0) return
+    p = c_strerror(int(code, c_int))
+    if (.not. c_associated(p)) return
+    call c_f_pointer(p, chars, [1024])
+    n = 0
+    do while (n < 1024)
+      if (chars(n + 1) == c_null_char) exit
+      n = n + 1
+    end do
+    allocate(character(len=n) :: text)
+    text = transfer(chars(1:n), text)
+  end function io_system_error_text
+
+  !> Remove the file `path` if it exists (errors ignored).
+  subroutine io_remove_file(path)
+    character(len=*), intent(in) :: path  !< file to remove
+    integer(c_int) :: status
+    status = c_unlink(trim(path) // c_null_char)
+  end subroutine io_remove_file
+
+  !> End the run after a failed write of `written` (the temporary file, removed here) meant for
+  !! `final` (named in the message): one line on standard error, exit status 3. A run on one rank
+  !! finalizes MPI and exits; on several ranks the others may be inside a collective call, so
+  !! the job ends with `MPI_Abort(..., 3)` (the launcher adds its own lines).
+  subroutine io_write_failed(written, final, operation, code)
+    character(len=*), intent(in) :: written    !< file being written (removed)
+    character(len=*), intent(in) :: final      !< the file's final name
+    character(len=*), intent(in) :: operation  !< the failing operation
+    integer, intent(in) :: code                !< errno after the failure (0: unknown)
+    character(len=:), allocatable :: reason
+    logical :: initialized, finalized
+    integer :: nranks
+    reason = io_system_error_text(code)
+    if (len(reason) == 0) reason = 'write failed'
+    write(error_unit, '(a)') 'mpmice: run failed: cannot write ' // trim(final) // ': ' // &
+      lower_first(reason) // ' (' // operation // '); the partial file was removed'
+    flush(error_unit)
+    call io_remove_file(written)
+    call MPI_Initialized(initialized)
+    call MPI_Finalized(finalized)
+    if (initialized .and. .not. finalized) then
+      call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+      if (nranks > 1) call MPI_Abort(MPI_COMM_WORLD, 3)
+      call MPI_Finalize()
+    end if
+    call c_exit(3_c_int)
+  end subroutine io_write_failed
+
+  !> `text` with its first letter in lower case ("No space" -> "no space").
+  pure function lower_first(text) result(lowered)
+    character(len=*), intent(in) :: text  !< text
+    character(len=len(text)) :: lowered
+    lowered = text
+    if (len(text) == 0) return
+    if (text(1:1) >= 'A' .and. text(1:1) <= 'Z') lowered(1:1) = achar(iachar(text(1:1)) + 32)
+  end function lower_first
+end module io_write_failure
