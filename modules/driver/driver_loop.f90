@@ -20,6 +20,7 @@ module driver_loop
   use driver_scene, only: scene_t
   use driver_stops, only: stops_watch_state, stops_start, stops_check_dt, stops_check_state
   use io_files, only: io_join_path
+  use io_write_failure, only: io_close_checked
   implicit none
   private
 
@@ -221,6 +222,7 @@ contains
     type(clock_t), intent(in) :: clock          !< run clock
     type(run_status_t), intent(in) :: status    !< how the run ended
     integer :: unit, ios
+    character(len=:), allocatable :: reason
     open(newunit=unit, file=io_join_path(cfg%run%output_dir, trim(cfg%run%name) // '.status'), &
       status='replace', action='write', iostat=ios)
     if (ios /= 0) then
@@ -232,6 +234,9 @@ contains
     write(unit, '(a,es23.16)') 'time = ', clock%time
     write(unit, '(a)') 'checkpoint = ' // trim(status%checkpoint)
     write(unit, '(a)') 'reason = ' // trim(status%reason)
-    close(unit)
+    call io_close_checked(unit, io_join_path(cfg%run%output_dir, trim(cfg%run%name) // &
+      '.status'), ios, reason)
+    if (ios /= 0) call log_warning('cannot write the status file in ' // &
+      trim(cfg%run%output_dir) // ': ' // reason)
   end subroutine write_status_file
 end module driver_loop

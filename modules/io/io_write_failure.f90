@@ -10,16 +10,17 @@
 module io_write_failure
   use, intrinsic :: iso_c_binding, only: c_int, c_ptr, c_char, c_null_char, c_associated, &
     c_f_pointer
-  use, intrinsic :: iso_fortran_env, only: error_unit
-  use mpi_f08, only: MPI_COMM_WORLD, MPI_Comm_size, MPI_Abort, MPI_Initialized, MPI_Finalized, &
-    MPI_Finalize
+  use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Comm_size, MPI_Abort, MPI_Initialized, MPI_Finalized
   implicit none
   private
 
-  public :: io_system_error, io_system_error_text, io_remove_file, io_write_failed
+  public :: io_system_error, io_system_error_text, io_remove_file, io_write_failed, io_check_size
+  public :: io_close_checked
   public :: enospc
 
   integer, parameter :: enospc = 28  !< errno of a full file system (Linux)
+  integer, parameter :: enoent = 2   !< errno of a missing file
 
   interface
     !> glibc: address of the calling thread's errno.
@@ -42,8 +43,9 @@ module io_write_failure
       integer(c_int) :: status
     end function c_unlink
 
-    !> C library exit().
-    subroutine c_exit(status) bind(c, name='exit')
+    !> POSIX _exit(): end the process without the atexit handlers (HDF5's would close a file
+    !! that failed to write through MPI-IO after MPI_Finalize and crash).
+    subroutine c_exit(status) bind(c, name='_exit')
       import :: c_int
       integer(c_int), value :: status
     end subroutine c_exit
@@ -69,7 +71,7 @@ contains
     character(len=:), allocatable :: text
     character(kind=c_char), pointer :: chars(:)
     type(c_ptr) :: p
-    integer :: n
+    integer :: n, k
     text = ''
     if (code == 0) return
     p = c_strerror(int(code, c_int))
@@ -80,8 +82,11 @@ contains
       if (chars(n + 1) == c_null_char) exit
       n = n + 1
     end do
+    deallocate(text)
     allocate(character(len=n) :: text)
-    text = transfer(chars(1:n), text)
+    do k = 1, n
+      text(k:k) = chars(k)
+    end do
   end function io_system_error_text
 
   !> Remove the file `path` if it exists (errors ignored).
@@ -91,31 +96,88 @@ contains
     status = c_unlink(trim(path) // c_null_char)
   end subroutine io_remove_file
 
+  !> Check the file `path` just closed after writing `expected` bytes: gfortran reports no
+  !! error when a write fails for a full disk, so the size on disk tells. Returns `stat` 0 when
+  !! complete, else 1 with `reason` (`strerror(errno)`, or 'incomplete write').
+  subroutine io_check_size(path, expected, stat, reason)
+    character(len=*), intent(in) :: path                   !< file written and closed
+    integer, intent(in) :: expected                        !< bytes written
+    integer, intent(out) :: stat                           !< 0 complete, 1 not
+    character(len=:), allocatable, intent(out) :: reason   !< why not
+    integer :: code, nbytes
+    code = io_system_error()
+    reason = ''
+    stat = 0
+    inquire(file=path, size=nbytes)
+    if (nbytes == expected) return
+    stat = 1
+    reason = io_system_error_text(code)
+    if (code /= enospc .and. code /= 122) reason = ''   ! ENOSPC or EDQUOT, else unknown
+    if (len(reason) == 0) reason = 'incomplete write (' // int_string(nbytes) // ' of ' // &
+      int_string(expected) // ' bytes)'
+    reason = lower_first(reason)
+  end subroutine io_check_size
+
+  !> Close the unit `unit`, open for writing `path`, and check that everything written reached
+  !! the file (`io_check_size`; gfortran stays silent on a full disk). `stat` 0 when complete,
+  !! else 1 with `reason`.
+  subroutine io_close_checked(unit, path, stat, reason)
+    integer, intent(in) :: unit                            !< open unit
+    character(len=*), intent(in) :: path                   !< its file
+    integer, intent(out) :: stat                           !< 0 complete, 1 not
+    character(len=:), allocatable, intent(out) :: reason   !< why not
+    character(len=256) :: iomsg
+    integer :: expected, ios
+    flush(unit, iostat=ios, iomsg=iomsg)
+    inquire(unit=unit, size=expected)
+    close(unit, iostat=ios, iomsg=iomsg)
+    call io_check_size(path, expected, stat, reason)
+    if (stat == 0 .and. ios /= 0) then
+      stat = 1
+      reason = trim(iomsg)
+    end if
+  end subroutine io_close_checked
+
+  !> An integer as text.
+  pure function int_string(n) result(text)
+    integer, intent(in) :: n  !< value
+    character(len=:), allocatable :: text
+    character(len=16) :: buffer
+    write(buffer, '(i0)') n
+    text = trim(buffer)
+  end function int_string
+
   !> End the run after a failed write of `written` (the temporary file, removed here) meant for
   !! `final` (named in the message): one line on standard error, exit status 3. A run on one rank
-  !! finalizes MPI and exits; on several ranks the others may be inside a collective call, so
-  !! the job ends with `MPI_Abort(..., 3)` (the launcher adds its own lines).
-  subroutine io_write_failed(written, final, operation, code)
+  !! exits; on several ranks the others may be inside a collective call, so the job ends with
+  !! `MPI_Abort(..., 3)` (the launcher adds its own lines).
+  subroutine io_write_failed(written, final, operation, code, message)
     character(len=*), intent(in) :: written    !< file being written (removed)
     character(len=*), intent(in) :: final      !< the file's final name
     character(len=*), intent(in) :: operation  !< the failing operation
     integer, intent(in) :: code                !< errno after the failure (0: unknown)
+    character(len=*), intent(in), optional :: message !< the reason as text, instead of `code`
     character(len=:), allocatable :: reason
     logical :: initialized, finalized
     integer :: nranks
+    flush(output_unit)
     reason = io_system_error_text(code)
+    if (present(message)) reason = trim(message)
     if (len(reason) == 0) reason = 'write failed'
-    write(error_unit, '(a)') 'mpmice: run failed: cannot write ' // trim(final) // ': ' // &
-      lower_first(reason) // ' (' // operation // '); the partial file was removed'
-    flush(error_unit)
-    call io_remove_file(written)
+    nranks = 1
     call MPI_Initialized(initialized)
     call MPI_Finalized(finalized)
-    if (initialized .and. .not. finalized) then
-      call MPI_Comm_size(MPI_COMM_WORLD, nranks)
-      if (nranks > 1) call MPI_Abort(MPI_COMM_WORLD, 3)
-      call MPI_Finalize()
+    if (initialized .and. .not. finalized) call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+    ! on several ranks, a rank that finds the file gone (ENOENT) failed after another removed it
+    if (nranks == 1 .or. code /= enoent) then
+      write(error_unit, '(a)') 'mpmice: run failed: cannot write ' // trim(final) // ': ' // &
+        trim(lower_first(reason)) // ' (' // operation // '); the partial file was removed'
+      flush(error_unit)
     end if
+    call io_remove_file(written)
+    if (nranks > 1) call MPI_Abort(MPI_COMM_WORLD, 3)
+    ! not MPI_Finalize: HDF5 1.10 closes its open files in a finalize callback, and closing the
+    ! file that failed crashes there
     call c_exit(3_c_int)
   end subroutine io_write_failed
 
