@@ -6,7 +6,7 @@ module driver_loop
   use mpi_f08, only: MPI_Bcast, MPI_LOGICAL
   use mpmice_kinds, only: wp, path_len
   use mpmice_errors, only: int_text, real_short_text
-  use mpmice_log, only: log_info, log_warning
+  use mpmice_log, only: log_info, log_warning, log_warning_summary
   use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop, timer_summary
   use mpmice_progress, only: progress_t, progress_init, progress_update, progress_elapsed
   use config_types, only: config_t
@@ -193,6 +193,7 @@ contains
       // 'reference ' // real_short_text(energy_peak) // ' (&run max_energy_growth = ' // &
       real_short_text(cfg%run%max_energy_growth) // ')')
     call scene%summary(dom, grid)
+    call log_warning_summary()
     call timer_summary(timers, dom%comm, progress_elapsed(progress))
     call scene%free()
   end subroutine run_scene
