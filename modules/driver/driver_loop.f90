@@ -83,7 +83,15 @@ contains
     slowest_step_s = 0.0_wp
     stopped_early = .false.
     rejected = 0
-    do while (.not. clock_finished(clock))
+    ! a signal that came during start-up (the handler is installed before MPI_Init) stops the run
+    ! before its first step, with a checkpoint of the initial (or restored) state
+    signum = global_max(dom, signal_received())
+    if (signum > 0 .and. .not. clock_finished(clock)) then
+      status%reason = 'stopped on ' // signal_name(signum) // ' before step ' // &
+        int_text(clock%step + 1)
+      stopped_early = .true.
+    end if
+    do while (.not. clock_finished(clock) .and. .not. stopped_early)
       step_start_s = progress_elapsed(progress)
       dt_limit = scene%stable_dt(dom, grid)
       stop_reason = stops_check_dt(cfg, clock, dt_limit)
