@@ -351,8 +351,9 @@ contains
         self%state%coef(:, :, :, 1), self%state%coef(:, :, :, 2), self%state%coef(:, :, :, 3))
       call timer_stop(timers, self%t_operator)
       self%state%dp = 0.0_wp
-      if (self%steps + 1 == self%fault_nan_step .and. outer == 1 .and. dom%rank == 0) &
+      if (self%steps + 1 == self%fault_nan_step .and. outer == 1 .and. dom%rank == 0) then
         self%state%rhs(grid%lo(1), grid%lo(2), grid%lo(3)) = ieee_value(1.0_wp, ieee_quiet_nan)
+      end if
       call timer_start(timers, self%t_pcg)
       if (outer == 1) then
         call struct_solver_solve(self%solver, grid, self%state%rhs, self%state%dp, pcg, relres, &

@@ -127,10 +127,11 @@ contains
     integer, intent(out) :: stat                           !< 0 complete, 1 not
     character(len=:), allocatable, intent(out) :: reason   !< why not
     character(len=256) :: iomsg
-    integer :: expected, ios
+    integer :: expected, ios, ios_close
     flush(unit, iostat=ios, iomsg=iomsg)
     inquire(unit=unit, size=expected)
-    close(unit, iostat=ios, iomsg=iomsg)
+    close(unit, iostat=ios_close, iomsg=iomsg)
+    if (ios == 0) ios = ios_close
     call io_check_size(path, expected, stat, reason)
     if (stat == 0 .and. ios /= 0) then
       stat = 1
