@@ -60,7 +60,7 @@ contains
     ! dump under its final name (a failed write ends the run, io_write_failure)
     call h5_create(file, h5_path // '.tmp', dom%comm, final_path=h5_path)
     call write_header(file, grid, clock, namelist_text)
-    if (fault_dump_step > 0 .and. clock%step == fault_dump_step) then
+    if (fault_dump_step >= 0 .and. clock%step == fault_dump_step .and. dom%rank == 0) then
       call io_write_failed(h5_path // '.tmp', h5_path, 'MPMICE_FAULT', enospc)
     end if
     call scene%write_state(file, dom, grid, .false.)

@@ -75,7 +75,7 @@ module ice_scene
     !> a NaN met in the pressure equation ended the step (the run then fails, see
     !! ice_pressure_iteration)
     logical :: nonfinite = .false.
-    integer :: fault_nan_step = 0             !< MPMICE_FAULT=nan_pressure_step:N (0: none)
+    integer :: fault_nan_step = -1            !< MPMICE_FAULT=nan_pressure_step:N (-1: none)
     integer :: total_outer = 0                !< outer iterations summed
     integer :: max_outer_seen = 0             !< largest outer-iteration count
     integer :: total_pcg = 0                  !< PCG iterations summed
