@@ -101,7 +101,8 @@ contains
     call config_load_text(cfg, text, source, stat, errmsg, origin, groups=groups)
     if (stat /= 0) return
     echo = is_echo_text(text)
-    if (.not. echo) then
+    if (.not. present(base_text)) then
+      ! a case file (a checkpoint's text always holds &run)
       call check_run_group(groups, source, stat, errmsg)
       if (stat /= 0) return
     end if
