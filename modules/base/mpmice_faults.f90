@@ -4,6 +4,7 @@
 !! | fault | what happens |
 !! |---|---|
 !! | `nan_pressure_step:N` | a NaN enters the right-hand side of the pressure equation in step N (ICE and MPMICE scenes) |
+!! | `huge_pressure_step:N` | the same with 1e153 instead of NaN: finite, but hypre's PCG overflows and stops with an error |
 !! | `enospc_dump_step:N` | the dump of step N fails as on a full disk (ENOSPC) |
 !!
 !! Unset (the normal case) every query returns -1 and nothing changes.

@@ -76,6 +76,7 @@ module ice_scene
     !! ice_pressure_iteration)
     logical :: nonfinite = .false.
     integer :: fault_nan_step = -1            !< MPMICE_FAULT=nan_pressure_step:N (-1: none)
+    integer :: fault_huge_step = -1           !< MPMICE_FAULT=huge_pressure_step:N (-1: none)
     integer :: total_outer = 0                !< outer iterations summed
     integer :: max_outer_seen = 0             !< largest outer-iteration count
     integer :: total_pcg = 0                  !< PCG iterations summed
@@ -124,7 +125,8 @@ contains
     self%t_lagrange = timer_register(timers, 'ICE Lagrangian values')
     self%t_advect = timer_register(timers, 'ICE advection')
     self%t_halo = timer_register(timers, 'ICE halo exchange')
-    self%fault_nan_step = fault_step('nan_pressure_step')   ! testing aid (docs/testing.md)
+    self%fault_nan_step = fault_step('nan_pressure_step')   ! testing aids (docs/testing.md)
+    self%fault_huge_step = fault_step('huge_pressure_step')
     self%gravity = cfg%physics%gravity
     self%k_exchange = cfg%ice%exchange_coefficient
     self%h_exchange = cfg%ice%heat_exchange_coefficient
@@ -351,8 +353,12 @@ contains
         self%state%coef(:, :, :, 1), self%state%coef(:, :, :, 2), self%state%coef(:, :, :, 3))
       call timer_stop(timers, self%t_operator)
       self%state%dp = 0.0_wp
-      if (self%steps + 1 == self%fault_nan_step .and. outer == 1 .and. dom%rank == 0) then
-        self%state%rhs(grid%lo(1), grid%lo(2), grid%lo(3)) = ieee_value(1.0_wp, ieee_quiet_nan)
+      if (outer == 1 .and. dom%rank == 0) then
+        associate (r => self%state%rhs(grid%lo(1), grid%lo(2), grid%lo(3)))
+          if (self%steps + 1 == self%fault_nan_step) r = ieee_value(1.0_wp, ieee_quiet_nan)
+          ! finite, but PCG's products overflow: hypre stops with an error
+          if (self%steps + 1 == self%fault_huge_step) r = 1.0e153_wp
+        end associate
       end if
       call timer_start(timers, self%t_pcg)
       if (outer == 1) then

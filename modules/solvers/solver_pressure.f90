@@ -50,7 +50,7 @@ module solver_pressure
   use parallel_domain, only: domain_t
   use grid_layout, only: grid_t
   use solver_hypre_api, only: hypre_c_comm, hypre_check, HYPRE_ERROR_CONV, HYPRE_Init, &
-    HYPRE_ClearError, &
+    HYPRE_ClearError, HYPRE_ERROR_GENERIC, HYPRE_ClearAllErrors, &
     HYPRE_StructGridCreate, HYPRE_StructGridDestroy, HYPRE_StructGridSetExtents, &
     HYPRE_StructGridSetPeriodic, HYPRE_StructGridAssemble, &
     HYPRE_StructStencilCreate, HYPRE_StructStencilDestroy, HYPRE_StructStencilSetElement, &
@@ -431,6 +431,18 @@ contains
     if (iand(ierr, HYPRE_ERROR_CONV) /= 0) then
       ierr = HYPRE_ClearError(HYPRE_ERROR_CONV)
     end if
+    if (iand(ierr, HYPRE_ERROR_GENERIC) /= 0) then
+      ! PCG stops with this flag (on every rank: its norms are global) when it meets a NaN or
+      ! an Inf, which finite data can still produce by overflow: a non-finite result for the
+      ! caller, like a system with a NaN (above), not an internal error
+      ierr = HYPRE_ClearAllErrors()
+      x(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), grid%lo(3):grid%hi(3)) = &
+        ieee_value(1.0_wp, ieee_quiet_nan)
+      iterations = 0
+      relative_residual = ieee_value(1.0_wp, ieee_quiet_nan)
+      converged = .false.
+      return
+    end if
     call hypre_check(ierr, 'HYPRE_StructPCGSolve')
     call hypre_check(HYPRE_StructPCGGetNumIterations(solver%pcg, its), &
       'HYPRE_StructPCGGetNumIterations')
@@ -456,28 +468,36 @@ contains
     end if
   end subroutine struct_solver_solve
 
-  !> x = NaN in the owned cells whose right-hand side or operator row is not finite, 0 in the
-  !! others (a system with a NaN or Inf is not solved).
+  !> x = NaN in the owned cells whose right-hand side (or its square) or operator row is not
+  !! finite, 0 in the others (a system with a NaN or Inf is not solved); NaN everywhere when no
+  !! cell of any rank is to blame (the sum of squares overflowed). Collective.
   subroutine mark_nonfinite(solver, grid, rhs, x)
     type(struct_solver_t), intent(in) :: solver     !< solver with an operator set
     type(grid_t), intent(in) :: grid                !< block geometry
     real(wp), intent(in) :: rhs(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)  !< right-hand side
     real(wp), intent(inout) :: x(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< result
     integer :: i, j, k, m, width
-    real(wp) :: nan
+    real(wp) :: nan, marked(1)
     nan = ieee_value(1.0_wp, ieee_quiet_nan)
     width = solver%nentries
+    marked = 0.0_wp
     m = 0
     do k = grid%lo(3), grid%hi(3)
       do j = grid%lo(2), grid%hi(2)
         do i = grid%lo(1), grid%hi(1)
           x(i, j, k) = 0.0_wp
-          if (.not. ieee_is_finite(rhs(i, j, k)) .or. &
-            .not. all(ieee_is_finite(solver%matrix_values(m + 1:m + width)))) x(i, j, k) = nan
+          if (.not. ieee_is_finite(rhs(i, j, k)**2) .or. &
+            .not. all(ieee_is_finite(solver%matrix_values(m + 1:m + width)))) then
+            x(i, j, k) = nan
+            marked(1) = marked(1) + 1.0_wp
+          end if
           m = m + width
         end do
       end do
     end do
+    call MPI_Allreduce(MPI_IN_PLACE, marked, 1, MPI_DOUBLE_PRECISION, MPI_SUM, solver%fcomm)
+    if (marked(1) == 0.0_wp) x(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), &
+      grid%lo(3):grid%hi(3)) = nan
   end subroutine mark_nonfinite
 
   !> Destroy the hypre objects and release the buffers (safe on a solver never initialised).

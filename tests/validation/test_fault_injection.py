@@ -54,14 +54,15 @@ def mpmice_lines(stderr: str) -> list[str]:
 
 # --- a NaN in the pressure equation (case 7) --------------------------------------------------
 
-@pytest.mark.parametrize("namelist, name, nranks, only_cell", [
-    (CAVITY, "cavity", 1, True),        # hypre PCG + PFMG: the system is not solved
-    (CAVITY, "cavity", 2, True),
-    (TERZAGHI, "terzaghi", 1, False),   # coupled scene; the direct line solve spreads the NaN
+@pytest.mark.parametrize("namelist, name, nranks, only_cell, fault", [
+    (CAVITY, "cavity", 1, True, "nan"),        # hypre PCG + PFMG: the system is not solved
+    (CAVITY, "cavity", 2, True, "nan"),
+    (TERZAGHI, "terzaghi", 1, False, "nan"),   # coupled scene; the direct line solve spreads it
+    (CAVITY, "cavity", 2, False, "huge"),      # PCG overflows: hypre's error flag, NaN result
 ])
 def test_nan_in_pressure_equation_fails_with_dump(run_mpmice, tmp_case_dir, monkeypatch,
-                                                  namelist, name, nranks, only_cell):
-    monkeypatch.setenv("MPMICE_FAULT", "nan_pressure_step:3")
+                                                  namelist, name, nranks, only_cell, fault):
+    monkeypatch.setenv("MPMICE_FAULT", f"{fault}_pressure_step:3")
     result = run_mpmice([str(namelist), "--set", "&run output_dir = 'out' /"], nranks=nranks,
                         timeout=120)
     assert result.returncode == 3, result.stdout + result.stderr
