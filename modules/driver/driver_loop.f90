@@ -31,7 +31,8 @@ module driver_loop
   !> How a run ended.
   type :: run_status_t
     integer :: exit_code = 0                  !< 0 finished or stopped cleanly, 3 failed
-    character(len=16) :: state = 'finished'   !< finished, stopped (continuable) or failed
+    !> finished, stopped (continuable) or failed; running while the run goes on
+    character(len=16) :: state = 'finished'
     character(len=path_len) :: reason = ''    !< one-line reason
     character(len=path_len) :: checkpoint = '' !< checkpoint to continue from (stopped runs)
   end type run_status_t
@@ -63,6 +64,16 @@ contains
       cfg%time%dt_growth)
     call progress_init(progress, cfg%run%progress_interval, 0.0_wp, cfg%run%end_time)
 
+    ! until the run ends, its status file says 'running': a run that dies on the way (killed, or
+    ! an output file that cannot be written) leaves no stale 'stopped' for job scripts to continue
+    if (dom%rank == 0) then
+      status%state = 'running'
+      status%reason = 'running, or ended without a final state (killed, or an output file ' // &
+        'could not be written)'
+      call write_status_file(cfg, clock, status)
+      status%state = 'finished'
+      status%reason = ''
+    end if
     call timer_start(timers, t_output)
     if (len_trim(restart_file) > 0) then
       call read_checkpoint(scene, dom, grid, restart_file, clock)

@@ -3,7 +3,8 @@
 * a NaN that first appears in the pressure equation: exit status 3 with the failed-state dump
   (`MPMICE_FAULT=nan_pressure_step:N`, modules/base/mpmice_faults.f90);
 * a full disk: one line naming the file and "no space left on device", exit status 3, no partial
-  file under a final name; with the disk full before the start, no empty `used.nml`. On a real
+  file under a final name, the status file left at `running`; with the disk full before the
+  start, no empty `used.nml`. On a real
   200 KiB tmpfs when this process may mount one (root); otherwise the dump's failure is injected
   (`MPMICE_FAULT=enospc_dump_step:N`) and the already-full case uses the fault as well;
 * kills during dumps: every file under a dump's final name is a complete dump (dumps are
@@ -121,6 +122,8 @@ def test_full_disk_during_a_dump(run_mpmice, tmp_case_dir, monkeypatch):
         assert not os.path.exists(failed_file)
         assert_no_partial_files(out)
         assert len(list_dumps(str(out), "heat2d")) == 2, sorted(os.listdir(out))
+        # no final state: a job chain must not take the run for finished or continuable
+        assert read_status(out / "heat2d.status")["state"] == "running"
 
 
 def test_disk_full_before_the_start(run_mpmice, tmp_case_dir, monkeypatch):
@@ -158,6 +161,7 @@ def test_injected_full_disk_on_two_ranks(run_mpmice, tmp_case_dir, monkeypatch):
     out = tmp_case_dir / "out"
     assert_no_partial_files(out)
     assert [os.path.basename(p) for p in list_dumps(str(out), "heat2d")] == ["heat2d_000000.h5"]
+    assert read_status(out / "heat2d.status")["state"] == "running"
 
 
 # --- kills during dumps (case 9) --------------------------------------------------------------
@@ -189,6 +193,7 @@ def test_kill_during_dumps_leaves_only_complete_dumps(tmp_case_dir, mpmice_exe):
         for path in dumps:
             with h5py.File(path) as dump:
                 assert dump["cell/temperature"].shape == (1, 256, 512), path
+        assert read_status(out / "heat2d.status")["state"] == "running"
 
 
 def test_list_dumps_skips_unreadable_files(tmp_path):
