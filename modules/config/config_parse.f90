@@ -221,7 +221,7 @@ contains
     s = text
     ! a UTF-8 byte-order mark at the start is not text
     if (len(text) >= 3) then
-      if (text(1:3) == achar(239) // achar(187) // achar(191)) s(1:3) = ' '
+      if (text(1:3) == char(239) // char(187) // char(191)) s(1:3) = ' '
     end if
     q = ' '
     in_comment = .false.
