@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import os
 import re
+import warnings
 
 import h5py
 import numpy as np
@@ -94,15 +95,35 @@ def list_dumps(output_dir: str, name: str) -> list[str]:
     """Dump files ``<output_dir>/<name>_<step>.h5`` (6 or more digits) sorted by step.
 
     Checkpoints and other files whose name has more after ``<name>_`` than the step number
-    (``<name>_checkpoint_000100.h5``) are not listed.
+    (``<name>_checkpoint_000100.h5``) are not listed, nor temporary files (``.h5.tmp``). A file
+    that is not a readable dump (a truncated file left by an older version or another program)
+    is skipped with a warning (``UserWarning``) naming it.
     """
     pattern = re.compile(r"^" + re.escape(name) + r"_(\d{6,})\.h5$")
     found = []
     for entry in os.listdir(output_dir):
         match = pattern.match(entry)
         if match:
-            found.append((int(match.group(1)), os.path.join(output_dir, entry)))
+            path = os.path.join(output_dir, entry)
+            problem = dump_problem(path)
+            if problem:
+                warnings.warn(f"skipping {path}: {problem}", stacklevel=2)
+                continue
+            found.append((int(match.group(1)), path))
     return [path for _, path in sorted(found)]
+
+
+def dump_problem(path: str) -> str:
+    """Why ``path`` is not a readable dump ('' when it is one): it must open as HDF5 and carry
+    the root attributes ``time`` and ``step``."""
+    try:
+        with h5py.File(path, "r") as f:
+            missing = [key for key in ("time", "step") if key not in f.attrs]
+    except (OSError, ValueError) as err:
+        return f"not a readable HDF5 file ({err})"
+    if missing:
+        return "no root attribute " + ", ".join(missing)
+    return ""
 
 
 def read_run_dumps(output_dir: str, name: str, last: int | None = None) -> list[dict]:

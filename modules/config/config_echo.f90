@@ -14,6 +14,7 @@ module config_echo
     boundary_params_t, history_unset
   use config_text, only: real_repr, reals_repr, ints_repr, logicals_repr, quoted
   use parallel_domain, only: blocks_given
+  use io_write_failure, only: io_check_size, io_remove_file
   implicit none
   private
 
@@ -300,12 +301,20 @@ contains
     integer, intent(out), optional :: stat                 !< 0 on success
     character(len=*), intent(out), optional :: errmsg      !< reason on failure
     character(len=msg_len) :: iomsg
+    character(len=:), allocatable :: text, reason
     integer :: unit, ios
+    text = config_to_text(cfg)
     open(newunit=unit, file=path, status='replace', action='write', access='stream', &
       form='unformatted', iostat=ios, iomsg=iomsg)
     if (ios == 0) then
-      write(unit, iostat=ios, iomsg=iomsg) config_to_text(cfg)
+      write(unit, iostat=ios, iomsg=iomsg) text
       close(unit)
+      ! a full disk: gfortran reports nothing, the size on disk tells; no partial file stays
+      if (ios == 0) call io_check_size(path, len(text), ios, reason)
+      if (ios /= 0) then
+        if (allocated(reason)) iomsg = reason
+        call io_remove_file(path)
+      end if
     end if
     if (present(stat)) stat = ios
     if (present(errmsg)) errmsg = ''

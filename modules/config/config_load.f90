@@ -11,6 +11,7 @@ module config_load
   use config_echo, only: config_to_text
   use config_geometry_files, only: geometry_paths_resolve, geometry_check_variables, &
     geometry_files_load, geometry_files_bcast
+  use config_scene_groups, only: is_echo_text, check_run_group, check_scene_groups
   implicit none
   private
 
@@ -91,17 +92,30 @@ contains
     character(len=*), intent(in), optional :: base_text    !< configuration text to use instead
     type(config_origin_t) :: origin
     type(config_error_t) :: err
+    character(len=:), allocatable :: text, groups, set_groups, all_set_groups
+    logical :: echo
     integer :: i
 
     if (present(base_text)) then
-      call config_load_text(cfg, base_text, source, stat, errmsg, origin)
+      text = base_text
     else
-      call config_load_file(cfg, source, stat, errmsg, origin)
-    end if
-    if (stat /= 0) return
-    do i = 1, size(sets)
-      call config_load_text(cfg, sets(i), '--set', stat, errmsg, origin, overrides=.true.)
+      call config_read_text_file(source, text, stat, errmsg)
       if (stat /= 0) return
+    end if
+    call config_load_text(cfg, text, source, stat, errmsg, origin, groups=groups)
+    if (stat /= 0) return
+    echo = is_echo_text(text)
+    if (.not. present(base_text)) then
+      ! a case file (a checkpoint's text always holds &run)
+      call check_run_group(groups, source, stat, errmsg)
+      if (stat /= 0) return
+    end if
+    all_set_groups = ''
+    do i = 1, size(sets)
+      call config_load_text(cfg, sets(i), '--set', stat, errmsg, origin, overrides=.true., &
+        groups=set_groups)
+      if (stat /= 0) return
+      all_set_groups = all_set_groups // set_groups
     end do
     call geometry_paths_resolve(cfg, source)
     call config_check(cfg, nranks, err)
@@ -112,6 +126,11 @@ contains
         err%group, err%variable, err%value, err%allowed)
       return
     end if
+    ! a valid input's groups must be those of its scene (an echo holds every singleton group)
+    call check_scene_groups(cfg%run%scene, groups, source, echo, stat, errmsg)
+    if (stat /= 0) return
+    call check_scene_groups(cfg%run%scene, all_set_groups, '--set', .false., stat, errmsg)
+    if (stat /= 0) return
     call geometry_files_load(cfg, stat, errmsg)
   end subroutine config_resolve
 

@@ -16,7 +16,7 @@
 !! Messages and provenance name the occurrence as `&fluid(2)`.
 module config_parse
   use mpmice_kinds, only: msg_len, name_len
-  use mpmice_errors, only: input_error_text
+  use mpmice_errors, only: input_error_text, int_text
   use config_types, only: config_t
   use config_namelist, only: group_names, variables, find_variable, group_variable_names, &
     describe_value, namelist_assign
@@ -45,7 +45,7 @@ contains
   !! partly updated on failure. `origin`, when given, records the source of every assignment.
   !! With `overrides = .true.` (the `--set` texts) repeated groups select an existing occurrence
   !! instead of appending one (see the module header).
-  subroutine config_load_text(cfg, text, source, stat, errmsg, origin, overrides)
+  subroutine config_load_text(cfg, text, source, stat, errmsg, origin, overrides, groups)
     type(config_t), intent(inout) :: cfg                    !< configuration to update
     character(len=*), intent(in) :: text                    !< namelist text (may hold newlines)
     character(len=*), intent(in) :: source                  !< name of the input for messages
@@ -53,9 +53,11 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg    !< the error line when stat /= 0
     type(config_origin_t), intent(inout), optional :: origin !< provenance of each variable
     logical, intent(in), optional :: overrides              !< `--set` semantics
+    !> the names of the groups the text holds, each followed by a blank (`run grid fluid `)
+    character(len=:), allocatable, intent(out), optional :: groups
     character(len=len(text)) :: s
     character(len=:), allocatable :: group
-    integer :: n, i, j, seen(size(group_names)), g, body_end, k
+    integer :: n, i, j, seen(size(group_names)), g, body_end, k, quote_at
     logical :: select_existing
 
     select_existing = .false.
@@ -64,6 +66,7 @@ contains
     stat = 0
     errmsg = ''
     seen = 0
+    if (present(groups)) groups = ''
     call clean_text(text, s)
     n = len(s)
     i = 1
@@ -98,11 +101,18 @@ contains
           return
         end if
       end if
-      call find_group_end(s, j, body_end)
+      call find_group_end(s, j, body_end, quote_at)
+      if (quote_at > 0) then
+        call fail(group_error_text(source, group, 'unterminated quote (' // s(quote_at:quote_at) &
+          // ') opened on line ' // int_text(line_number(text, quote_at)) // ': ' // &
+          excerpt(line_rest(text, quote_at))))
+        return
+      end if
       if (body_end <= 0) then
         call fail(group_error_text(source, group, 'group not terminated by ''/'''))
         return
       end if
+      if (present(groups)) groups = groups // group // ' '
       if (g > 0) then
         call apply_group(cfg, group, s(j:body_end - 1), source, stat, errmsg, origin)
       else
@@ -209,12 +219,17 @@ contains
     integer :: k
     logical :: in_comment
     s = text
+    ! a UTF-8 byte-order mark at the start is not text
+    if (len(text) >= 3) then
+      if (text(1:3) == char(239) // char(187) // char(191)) s(1:3) = ' '
+    end if
     q = ' '
     in_comment = .false.
     do k = 1, len(text)
       c = text(k:k)
       if (in_comment) then
-        if (c == achar(10)) in_comment = .false.
+        ! a comment ends at a line end: LF (Unix, Windows) or a lone CR (old Mac)
+        if (c == achar(10) .or. c == achar(13)) in_comment = .false.
         s(k:k) = ' '
       else if (q /= ' ') then
         if (c == q) q = ' '
@@ -231,28 +246,66 @@ contains
   end subroutine clean_text
 
   !> Position of the `/` that ends the group body starting at `start` (outside strings); 0 if the
-  !! text ends first or another group starts first.
-  pure subroutine find_group_end(s, start, pos)
+  !! text ends first or another group starts first. `quote_at` is the position of a quote that
+  !! is never closed (0 if none).
+  pure subroutine find_group_end(s, start, pos, quote_at)
     character(len=*), intent(in) :: s  !< cleaned text
     integer, intent(in) :: start       !< first character after the group name
     integer, intent(out) :: pos        !< position of the terminator, 0 if none
+    integer, intent(out) :: quote_at   !< position of an unterminated quote, 0 if none
     character :: q
     integer :: k
     q = ' '
     pos = 0
+    quote_at = 0
     do k = start, len(s)
       if (q /= ' ') then
         if (s(k:k) == q) q = ' '
       else if (s(k:k) == "'" .or. s(k:k) == '"') then
         q = s(k:k)
+        quote_at = k
       else if (s(k:k) == '&') then
+        quote_at = 0
         return
       else if (s(k:k) == '/') then
         pos = k
+        quote_at = 0
         return
       end if
     end do
+    if (q == ' ') quote_at = 0
   end subroutine find_group_end
+
+  !> `text` from `pos` to the end of its line.
+  pure function line_rest(text, pos) result(rest)
+    character(len=*), intent(in) :: text  !< raw text
+    integer, intent(in) :: pos            !< start position
+    character(len=:), allocatable :: rest
+    integer :: k
+    do k = pos, len(text)
+      if (text(k:k) == achar(10) .or. text(k:k) == achar(13)) exit
+    end do
+    rest = text(pos:k - 1)
+  end function line_rest
+
+  !> Line number of position `pos` of `text` (lines end with LF, CR LF or a lone CR).
+  pure integer function line_number(text, pos)
+    character(len=*), intent(in) :: text  !< raw text
+    integer, intent(in) :: pos            !< position in it
+    integer :: k
+    line_number = 1
+    do k = 1, min(pos, len(text) + 1) - 1
+      if (text(k:k) == achar(10)) then
+        line_number = line_number + 1
+      else if (text(k:k) == achar(13)) then
+        if (k == len(text)) then
+          line_number = line_number + 1
+        else if (text(k + 1:k + 1) /= achar(10)) then
+          line_number = line_number + 1
+        end if
+      end if
+    end do
+  end function line_number
 
   !> Positions of the `=` of each assignment of a group body (outside strings), and where the
   !! name before each starts; `starts(neq + 1)` and `eqs(neq + 1)` are `len(body) + 1`.

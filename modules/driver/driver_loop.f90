@@ -6,7 +6,7 @@ module driver_loop
   use mpi_f08, only: MPI_Bcast, MPI_LOGICAL
   use mpmice_kinds, only: wp, path_len
   use mpmice_errors, only: int_text, real_short_text
-  use mpmice_log, only: log_info, log_warning
+  use mpmice_log, only: log_info, log_warning, log_warning_summary
   use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop, timer_summary
   use mpmice_progress, only: progress_t, progress_init, progress_update, progress_elapsed
   use config_types, only: config_t
@@ -20,6 +20,7 @@ module driver_loop
   use driver_scene, only: scene_t
   use driver_stops, only: stops_watch_state, stops_start, stops_check_dt, stops_check_state
   use io_files, only: io_join_path
+  use io_write_failure, only: io_close_checked
   implicit none
   private
 
@@ -30,7 +31,8 @@ module driver_loop
   !> How a run ended.
   type :: run_status_t
     integer :: exit_code = 0                  !< 0 finished or stopped cleanly, 3 failed
-    character(len=16) :: state = 'finished'   !< finished, stopped (continuable) or failed
+    !> finished, stopped (continuable) or failed; running while the run goes on
+    character(len=16) :: state = 'finished'
     character(len=path_len) :: reason = ''    !< one-line reason
     character(len=path_len) :: checkpoint = '' !< checkpoint to continue from (stopped runs)
   end type run_status_t
@@ -62,6 +64,16 @@ contains
       cfg%time%dt_growth)
     call progress_init(progress, cfg%run%progress_interval, 0.0_wp, cfg%run%end_time)
 
+    ! until the run ends, its status file says 'running': a run that dies on the way (killed, or
+    ! an output file that cannot be written) leaves no stale 'stopped' for job scripts to continue
+    if (dom%rank == 0) then
+      status%state = 'running'
+      status%reason = 'running, or ended without a final state (killed, or an output file ' // &
+        'could not be written)'
+      call write_status_file(cfg, clock, status)
+      status%state = 'finished'
+      status%reason = ''
+    end if
     call timer_start(timers, t_output)
     if (len_trim(restart_file) > 0) then
       call read_checkpoint(scene, dom, grid, restart_file, clock)
@@ -82,7 +94,15 @@ contains
     slowest_step_s = 0.0_wp
     stopped_early = .false.
     rejected = 0
-    do while (.not. clock_finished(clock))
+    ! a signal that came during start-up (the handler is installed before MPI_Init) stops the run
+    ! before its first step, with a checkpoint of the initial (or restored) state
+    signum = global_max(dom, signal_received())
+    if (signum > 0 .and. .not. clock_finished(clock)) then
+      status%reason = 'stopped on ' // signal_name(signum) // ' before step ' // &
+        int_text(clock%step + 1)
+      stopped_early = .true.
+    end if
+    do while (.not. clock_finished(clock) .and. .not. stopped_early)
       step_start_s = progress_elapsed(progress)
       dt_limit = scene%stable_dt(dom, grid)
       stop_reason = stops_check_dt(cfg, clock, dt_limit)
@@ -192,6 +212,7 @@ contains
       // 'reference ' // real_short_text(energy_peak) // ' (&run max_energy_growth = ' // &
       real_short_text(cfg%run%max_energy_growth) // ')')
     call scene%summary(dom, grid)
+    call log_warning_summary()
     call timer_summary(timers, dom%comm, progress_elapsed(progress))
     call scene%free()
   end subroutine run_scene
@@ -221,6 +242,7 @@ contains
     type(clock_t), intent(in) :: clock          !< run clock
     type(run_status_t), intent(in) :: status    !< how the run ended
     integer :: unit, ios
+    character(len=:), allocatable :: reason
     open(newunit=unit, file=io_join_path(cfg%run%output_dir, trim(cfg%run%name) // '.status'), &
       status='replace', action='write', iostat=ios)
     if (ios /= 0) then
@@ -232,6 +254,9 @@ contains
     write(unit, '(a,es23.16)') 'time = ', clock%time
     write(unit, '(a)') 'checkpoint = ' // trim(status%checkpoint)
     write(unit, '(a)') 'reason = ' // trim(status%reason)
-    close(unit)
+    call io_close_checked(unit, io_join_path(cfg%run%output_dir, trim(cfg%run%name) // &
+      '.status'), ios, reason)
+    if (ios /= 0) call log_warning('cannot write the status file in ' // &
+      trim(cfg%run%output_dir) // ': ' // reason)
   end subroutine write_status_file
 end module driver_loop

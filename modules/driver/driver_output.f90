@@ -18,6 +18,8 @@ module driver_output
   use io_hdf5, only: h5_file_t, h5_create, h5_open, h5_close, h5_write_attribute, &
     h5_read_attribute, h5_write_dump_header, h5_attribute_exists
   use io_xdmf, only: xdmf_write_dump, xdmf_update_series, xdmf_particles_t
+  use io_write_failure, only: io_write_failed, enospc
+  use mpmice_faults, only: fault_step
   use driver_clock, only: clock_t
   use driver_scene, only: scene_t
   implicit none
@@ -48,21 +50,32 @@ contains
     character(len=:), allocatable :: stem, h5_path
     character(len=name_len), allocatable :: cell_paths(:)
     type(xdmf_particles_t), allocatable :: particle_sets(:)
+    integer :: fault_dump_step
 
+    fault_dump_step = fault_step('enospc_dump_step')   ! testing aid, docs/testing.md
     if (kind == 'failed') then
       stem = io_dump_stem(trim(name) // '_failed', clock%step)
     else
       stem = io_dump_stem(name, clock%step)
     end if
     h5_path = io_join_path(output_dir, stem // '.h5')
-    call h5_create(file, h5_path, dom%comm)
+    ! written under a temporary name and renamed: a kill or a full disk never leaves a partial
+    ! dump under its final name (a failed write ends the run, io_write_failure)
+    call h5_create(file, h5_path // '.tmp', dom%comm, final_path=h5_path)
     call write_header(file, grid, clock, namelist_text)
+    if (fault_dump_step >= 0 .and. clock%step == fault_dump_step .and. dom%rank == 0) then
+      call io_write_failed(h5_path // '.tmp', h5_path, 'MPMICE_FAULT', enospc)
+    end if
     call scene%write_state(file, dom, grid, .false.)
     call h5_close(file)
+    if (dom%rank == 0) call io_rename(h5_path // '.tmp', h5_path)
+    call MPI_Barrier(dom%comm)
     if (xdmf .and. dom%rank == 0) then
       call scene%output_layout(cell_paths, particle_sets)
-      call xdmf_write_dump(io_join_path(output_dir, stem // '.xmf'), stem // '.h5', grid, &
+      call xdmf_write_dump(io_join_path(output_dir, stem // '.xmf.tmp'), stem // '.h5', grid, &
         clock%time, cell_paths, particle_sets)
+      call io_rename(io_join_path(output_dir, stem // '.xmf.tmp'), &
+        io_join_path(output_dir, stem // '.xmf'))
       if (kind /= 'failed') then
         call xdmf_update_series(io_join_path(output_dir, trim(name) // '.xmf'), &
           io_join_path(output_dir, stem // '.xmf'), clock%time)
@@ -88,7 +101,7 @@ contains
     final_path = io_join_path(output_dir, io_dump_stem(trim(name) // '_checkpoint', clock%step) &
       // '.h5')
     tmp_path = final_path // '.tmp'
-    call h5_create(file, tmp_path, dom%comm)
+    call h5_create(file, tmp_path, dom%comm, final_path=final_path)
     call write_header(file, grid, clock, namelist_text)
     call h5_write_attribute(file, 'checkpoint_version', checkpoint_version)
     call h5_write_attribute(file, 'dt_next', clock%dt_next)

@@ -9,6 +9,7 @@ module mpmice_app
     MPI_Comm_free, MPI_Comm_rank
   use mpmice_errors, only: exit_cleanly
   use mpmice_log, only: log_init, log_set_verbosity
+  use mpmice_signals, only: signals_install
   use config_types, only: config_t
   use config_cli, only: cli_t, cli_from_command_line, cli_usage, mpmice_version, action_run, &
     action_check, action_help, action_version
@@ -34,9 +35,14 @@ contains
     integer :: rank, stat
     logical :: root
 
+    ! SIGTERM/SIGUSR1 from the first instant: a signal during start-up stops the run cleanly
+    ! before its first step (docs/batch.md); installed again after MPI_Init in case the MPI
+    ! library replaced it
+    call signals_install()
     ! ROMIO for MPI-IO unless the user chose: Open MPI 4.1 OMPIO corrupted collective writes (docs/io.md)
     call io_select_mpiio()
     call MPI_Init()
+    call signals_install()
     call MPI_Comm_dup(MPI_COMM_WORLD, comm)
     call MPI_Comm_rank(comm, rank)
     root = rank == 0

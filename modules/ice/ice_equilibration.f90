@@ -4,7 +4,7 @@
 !! compressibilities kappa_m = v_m / c_m^2 used by the implicit pressure equation (eq. 35).
 !! With one fluid phi = 1, rho_micro = rho_bar and p = p_eos(rho_bar, T) directly.
 module ice_equilibration
-  use, intrinsic :: iso_fortran_env, only: error_unit
+  use mpmice_log, only: log_repeated
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t, cell_centre
   use ice_eos, only: eos_pressure, eos_density, eos_dp_drho, eos_sound_speed2
@@ -129,7 +129,7 @@ contains
     end do
     text = text // ' pressure reached ' // &
       real_short_text(state%pressure(c(1), c(2), c(3))) // ' Pa'
-    write(error_unit, '(a)') text
+    call log_repeated(text)
   end subroutine report_equilibration_failure
 
   !> Newton iteration on sum phi_m(p) - n = 0 over the fluids marked `active` (eqs. 10-11 with

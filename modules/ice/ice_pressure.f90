@@ -9,7 +9,7 @@
 !! sum phi = 1 at the end of the step) is below the outer tolerance.
 !! Face pressure (eq. 37): p_f = (p_L rho_R + p_R rho_L)/(rho_L + rho_R), rho = sum_m rho_bar_m.
 module ice_pressure
-  use, intrinsic :: iso_fortran_env, only: error_unit
+  use mpmice_log, only: log_repeated
   use mpmice_kinds, only: wp
   use mpmice_errors, only: real_short_text
   use grid_layout, only: grid_t, cell_centre
@@ -240,7 +240,7 @@ contains
     text = text // ' pressure ' // real_short_text(state%pressure(c(1), c(2), c(3))) // &
       ' Pa, dp_total ' // real_short_text(state%dp_total(c(1), c(2), c(3))) // &
       ' Pa, diagonal ' // real_short_text(state%diag(c(1), c(2), c(3)))
-    write(error_unit, '(a)') text
+    call log_repeated(text)
   end subroutine report_pressure_failure
 
   !> After a solve (dp valid in one ghost layer): p += dp, dp_total += dp on the owned cells and

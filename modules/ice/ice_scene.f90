@@ -8,11 +8,12 @@
 !! Face conditions from `&boundary` (`ice_bc`): no-slip or free-slip walls, adiabatic or fixed
 !! temperature.
 module ice_scene
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
   use mpmice_kinds, only: wp, name_len
   use mpmice_errors, only: fatal, int_text, real_short_text
   use mpmice_log, only: log_info, log_warning
   use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
+  use mpmice_faults, only: fault_step
   use config_types, only: config_t
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_exchange_cell, halo_free
@@ -71,6 +72,11 @@ module ice_scene
     real(wp) :: smagorinsky = 0.0_wp          !< Smagorinsky constant C_s (0: no eddy viscosity)
     real(wp) :: compression = 0.0_wp          !< interface compression C (0: off)
     integer :: steps = 0                      !< accepted steps
+    !> a NaN met in the pressure equation ended the step (the run then fails, see
+    !! ice_pressure_iteration)
+    logical :: nonfinite = .false.
+    integer :: fault_nan_step = -1            !< MPMICE_FAULT=nan_pressure_step:N (-1: none)
+    integer :: fault_huge_step = -1           !< MPMICE_FAULT=huge_pressure_step:N (-1: none)
     integer :: total_outer = 0                !< outer iterations summed
     integer :: max_outer_seen = 0             !< largest outer-iteration count
     integer :: total_pcg = 0                  !< PCG iterations summed
@@ -119,6 +125,8 @@ contains
     self%t_lagrange = timer_register(timers, 'ICE Lagrangian values')
     self%t_advect = timer_register(timers, 'ICE advection')
     self%t_halo = timer_register(timers, 'ICE halo exchange')
+    self%fault_nan_step = fault_step('nan_pressure_step')   ! testing aids (docs/testing.md)
+    self%fault_huge_step = fault_step('huge_pressure_step')
     self%gravity = cfg%physics%gravity
     self%k_exchange = cfg%ice%exchange_coefficient
     self%h_exchange = cfg%ice%heat_exchange_coefficient
@@ -209,7 +217,8 @@ contains
   end function ice_scene_stable_dt
 
   !> One ICE step; rejected (state unchanged) when the outer iteration does not converge or a
-  !! mass becomes negative.
+  !! mass becomes negative. A NaN or Inf in the pressure equation ends the step at once, taken
+  !! with the NaN pressure, so that the run fails (exit status 3) with the state dumped.
   subroutine ice_scene_step(self, dom, grid, time, dt, timers, accepted)
     class(ice_scene_t), intent(inout) :: self    !< scene
     type(domain_t), intent(in) :: dom            !< decomposition
@@ -242,7 +251,9 @@ contains
     call timer_stop(timers, self%t_face)
 
     if (.not. ice_pressure_iteration(self, dom, grid, time, dt, timers, self%theta)) then
-      call ice_step_reject(self)
+      ! non-finite: taken as it is, so the run loop's check fails the run and dumps the state
+      accepted = self%nonfinite
+      if (.not. self%nonfinite) call ice_step_reject(self)
       return
     end if
 
@@ -342,6 +353,13 @@ contains
         self%state%coef(:, :, :, 1), self%state%coef(:, :, :, 2), self%state%coef(:, :, :, 3))
       call timer_stop(timers, self%t_operator)
       self%state%dp = 0.0_wp
+      if (outer == 1 .and. dom%rank == 0) then
+        associate (r => self%state%rhs(grid%lo(1), grid%lo(2), grid%lo(3)))
+          if (self%steps + 1 == self%fault_nan_step) r = ieee_value(1.0_wp, ieee_quiet_nan)
+          ! finite, but PCG's products overflow: hypre stops with an error
+          if (self%steps + 1 == self%fault_huge_step) r = 1.0e153_wp
+        end associate
+      end if
       call timer_start(timers, self%t_pcg)
       if (outer == 1) then
         call struct_solver_solve(self%solver, grid, self%state%rhs, self%state%dp, pcg, relres, &
@@ -359,9 +377,20 @@ contains
       call halo_exchange_cell(self%halo, dom, grid, self%state%dp, 1)
       call ice_bc_fill(grid, self%bc, self%state%dp, bc_dp)
       call ice_pressure_correct(self%state, grid, dt, weight)
+      ! a NaN or Inf in the system (the solver's residual is then NaN on every rank): no retry
+      ! with a shorter step can help; the pressure keeps the NaN in the cells concerned
+      if (.not. ieee_is_finite(relres)) exit
       residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt))
     end do
     call timer_stop(timers, self%t_pressure)
+    if (.not. ieee_is_finite(relres)) then
+      self%nonfinite = .true.
+      ok = .false.
+      call log_warning('ICE pressure equation: non-finite values at t = ' // &
+        real_short_text(time) // ' s; the step ends here and the run fails with its state ' // &
+        'dumped')
+      return
+    end if
     ok = residual <= self%outer_tolerance
     if (.not. ok) then
       call report_pressure_failure(self%state, grid, residual)

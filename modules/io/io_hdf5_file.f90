@@ -22,10 +22,11 @@ module io_hdf5_file
     h5lexists_f, h5gcreate_f, h5gclose_f, h5dcreate_f, h5dopen_f, h5dclose_f, h5dget_space_f, &
     h5screate_simple_f, h5sclose_f, h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, &
     H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5F_ACC_RDWR_F, &
-    H5F_LIBVER_V18_F, H5FD_MPIO_COLLECTIVE_F, H5FD_MPIO_INDEPENDENT_F
+    H5F_LIBVER_V18_F, H5FD_MPIO_COLLECTIVE_F, H5FD_MPIO_INDEPENDENT_F, h5eset_auto_f, h5eprint_f
   use mpmice_kinds, only: path_len
   use mpmice_errors, only: fatal
   use io_files, only: io_file_exists
+  use io_write_failure, only: io_system_error, io_write_failed
   implicit none
   private
 
@@ -44,19 +45,29 @@ module io_hdf5_file
     logical :: collective = .true.                 !< collective MPI-IO (see h5_collective_xfer)
     logical :: is_open = .false.                   !< set by h5_create/h5_open, cleared by h5_close
     character(len=path_len) :: path = ''           !< file name (for messages)
+    !> created by h5_create: a failed call ends the run as a failed write (io_write_failure)
+    logical :: output = .false.
+    character(len=path_len) :: final_path = ''     !< name the file gets when complete ('' path)
   end type h5_file_t
 
 contains
 
-  !> Create (truncate) `path` collectively over `comm` for writing.
-  subroutine h5_create(file, path, comm)
+  !> Create (truncate) `path` collectively over `comm` for writing. A failing HDF5 call on the
+  !! file (a full disk, a missing permission) ends the run with one line and exit status 3 and
+  !! removes `path` (`io_write_failed`); the message names `final_path` when given (the name the
+  !! caller renames `path` to when it is complete).
+  subroutine h5_create(file, path, comm, final_path)
     type(h5_file_t), intent(inout) :: file  !< file handle to fill (must not be open)
     character(len=*), intent(in) :: path    !< file name
     type(MPI_Comm), intent(in) :: comm      !< communicator of all writers
+    character(len=*), intent(in), optional :: final_path !< final name, for messages
     integer(hid_t) :: fapl
     integer :: hdferr
 
     call start_open(file, path, comm)
+    file%output = .true.
+    file%final_path = path
+    if (present(final_path)) file%final_path = final_path
     call make_fapl(file, fapl)
     call h5fcreate_f(trim(path), H5F_ACC_TRUNC_F, file%id, hdferr, access_prp=fapl)
     call h5_check(hdferr, 'h5fcreate_f (create file)', file)
@@ -79,6 +90,7 @@ contains
     ro = .true.
     if (present(readonly)) ro = readonly
     call start_open(file, path, comm)
+    file%output = .false.
     if (.not. io_file_exists(path)) call fatal('h5_open: no such file: ' // trim(path))
     call make_fapl(file, fapl)
     flags = H5F_ACC_RDWR_F
@@ -103,6 +115,7 @@ contains
     call MPI_Barrier(file%comm)
     file%id = -1_hid_t
     file%is_open = .false.
+    file%output = .false.
     file%comm = MPI_COMM_NULL
   end subroutine h5_close
 
@@ -119,6 +132,9 @@ contains
     ! h5open_f initialises the Fortran interface; calling it again is harmless.
     call h5open_f(hdferr)
     call h5_check(hdferr, 'h5open_f (library start-up)', file)
+    ! no automatic error stacks: h5_check reports a failure in one line (and prints the stack
+    ! of a failed read before stopping)
+    call h5eset_auto_f(0, hdferr)
     file%comm = comm
     call MPI_Comm_rank(comm, file%rank)
     call MPI_Comm_size(comm, file%nranks)
@@ -171,7 +187,11 @@ contains
     character(len=*), intent(in) :: operation       !< what was attempted
     type(h5_file_t), intent(in) :: file             !< file concerned
     character(len=*), intent(in), optional :: object !< object path inside the file
+    integer :: code, ignored
     if (hdferr >= 0) return
+    code = io_system_error()   ! first: any later call may change errno
+    if (file%output) call io_write_failed(file%path, file%final_path, 'HDF5 ' // operation, code)
+    call h5eprint_f(ignored)
     if (present(object)) then
       call fatal('HDF5: ' // operation // ' failed on ' // trim(file%path) // ':/' &
         // h5_clean_path(object))

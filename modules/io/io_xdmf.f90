@@ -20,6 +20,7 @@ module io_xdmf
   use mpmice_errors, only: fatal, int_text, real_text
   use grid_layout, only: grid_t
   use io_files, only: io_file_exists, io_rename
+  use io_write_failure, only: io_write_failed, io_close_checked
   implicit none
   private
 
@@ -49,14 +50,14 @@ contains
     type(xdmf_particles_t), intent(in), optional :: particles(:) !< particle sets to show
     integer :: unit, stat, p
     character(len=msg_len) :: msg
+    character(len=:), allocatable :: reason
     logical :: collection
 
     collection = .false.
     if (present(particles)) collection = any(particles%count > 0_i8)
     open(newunit=unit, file=trim(path_xmf), status='replace', action='write', iostat=stat, &
       iomsg=msg)
-    if (stat /= 0) call fatal('xdmf_write_dump: cannot open ' // trim(path_xmf) // ': ' &
-      // trim(msg))
+    if (stat /= 0) call write_failed(path_xmf, 'open', msg)
     call put(unit, path_xmf, '<?xml version="1.0" ?>')
     call put(unit, path_xmf, '<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>')
     call put(unit, path_xmf, '<Xdmf Version="2.0">')
@@ -81,9 +82,8 @@ contains
     call put(unit, path_xmf, end_mark)
     call put(unit, path_xmf, '  </Domain>')
     call put(unit, path_xmf, '</Xdmf>')
-    close(unit, iostat=stat, iomsg=msg)
-    if (stat /= 0) call fatal('xdmf_write_dump: cannot close ' // trim(path_xmf) // ': ' &
-      // trim(msg))
+    call io_close_checked(unit, path_xmf, stat, reason)
+    if (stat /= 0) call write_failed(path_xmf, 'close', reason)
   end subroutine xdmf_write_dump
 
   !> Add the dump described by `dump_xmf` (written by `xdmf_write_dump`, at `time`) to the
@@ -97,10 +97,11 @@ contains
     character(len=:), allocatable :: tmp
     integer :: out, stat
     character(len=msg_len) :: msg
+    character(len=:), allocatable :: reason
 
     tmp = trim(series_xmf) // '.tmp'
     open(newunit=out, file=tmp, status='replace', action='write', iostat=stat, iomsg=msg)
-    if (stat /= 0) call fatal('xdmf_update_series: cannot open ' // tmp // ': ' // trim(msg))
+    if (stat /= 0) call write_failed(tmp, 'open', msg)
     call put(out, tmp, '<?xml version="1.0" ?>')
     call put(out, tmp, '<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>')
     call put(out, tmp, '<Xdmf Version="2.0">')
@@ -112,8 +113,8 @@ contains
     call put(out, tmp, '    </Grid>')
     call put(out, tmp, '  </Domain>')
     call put(out, tmp, '</Xdmf>')
-    close(out, iostat=stat, iomsg=msg)
-    if (stat /= 0) call fatal('xdmf_update_series: cannot close ' // tmp // ': ' // trim(msg))
+    call io_close_checked(out, tmp, stat, reason)
+    if (stat /= 0) call write_failed(tmp, 'close', reason)
     call io_rename(tmp, series_xmf)
   end subroutine xdmf_update_series
 
@@ -351,8 +352,22 @@ contains
     integer :: stat
     character(len=msg_len) :: msg
     write(unit, '(a)', iostat=stat, iomsg=msg) text
-    if (stat /= 0) call fatal('XDMF: cannot write ' // trim(path) // ': ' // trim(msg))
+    if (stat /= 0) call write_failed(path, 'write', msg)
   end subroutine put
+
+  !> A failed write of the XDMF file `path`: the run ends with one line and exit status 3 and
+  !! the file is removed (`io_write_failed`); a temporary `.tmp` file is named by its final name.
+  subroutine write_failed(path, operation, msg)
+    character(len=*), intent(in) :: path       !< file being written
+    character(len=*), intent(in) :: operation  !< open, write or close
+    character(len=*), intent(in) :: msg        !< the run-time library's message
+    character(len=:), allocatable :: final
+    final = trim(path)
+    if (len(final) > 4) then
+      if (final(len(final) - 3:) == '.tmp') final = final(1:len(final) - 4)
+    end if
+    call io_write_failed(trim(path), final, 'XDMF ' // operation, 0, message=msg)
+  end subroutine write_failed
 
   !> A 64-bit integer as text.
   pure function i8_text(n) result(text)

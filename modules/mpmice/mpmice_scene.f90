@@ -382,6 +382,11 @@ contains
 
       ! eq. 35 with the solid's volume flux and coefficient (ice_pressure)
       if (.not. ice_pressure_iteration(fl, dom, grid, time, dt, timers)) then
+        ! non-finite: taken as it is, so the run loop's check fails the run and dumps the state
+        if (fl%nonfinite) then
+          accepted = .true.
+          return
+        end if
         ! the retry's porous predictor reads the last accepted final face velocities
         do m = 1, st%nfluids
           do s = 1, 3

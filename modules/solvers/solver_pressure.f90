@@ -42,6 +42,7 @@
 module solver_pressure
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_ptr, c_null_ptr, c_associated, &
     c_funloc
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
   use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_SUM, MPI_DOUBLE_PRECISION
   use mpmice_kinds, only: wp, msg_len
   use mpmice_errors, only: fatal
@@ -49,7 +50,7 @@ module solver_pressure
   use parallel_domain, only: domain_t
   use grid_layout, only: grid_t
   use solver_hypre_api, only: hypre_c_comm, hypre_check, HYPRE_ERROR_CONV, HYPRE_Init, &
-    HYPRE_ClearError, &
+    HYPRE_ClearError, HYPRE_ERROR_GENERIC, HYPRE_ClearAllErrors, &
     HYPRE_StructGridCreate, HYPRE_StructGridDestroy, HYPRE_StructGridSetExtents, &
     HYPRE_StructGridSetPeriodic, HYPRE_StructGridAssemble, &
     HYPRE_StructStencilCreate, HYPRE_StructStencilDestroy, HYPRE_StructStencilSetElement, &
@@ -358,7 +359,7 @@ contains
     real(wp), intent(in), optional :: absolute_tolerance
     integer(c_int) :: ierr, its
     real(c_double) :: norm
-    real(wp) :: bb(1), tolerance
+    real(wp) :: bb(2), tolerance
     character(len=msg_len) :: text
 
     call check_ready(solver, grid, 'struct_solver_solve', .true.)
@@ -379,9 +380,20 @@ contains
     end if
 
     call pack_owned(grid, rhs, solver%vector_values)
-    bb(1) = 0.0_wp
+    bb = 0.0_wp
     if (solver%nowned > 0) bb(1) = real(dot_product(solver%vector_values, solver%vector_values), wp)
-    call MPI_Allreduce(MPI_IN_PLACE, bb, 1, MPI_DOUBLE_PRECISION, MPI_SUM, solver%fcomm)
+    ! non-finite operator entries of this rank (hypre would stop with an error on them)
+    bb(2) = real(count(.not. ieee_is_finite(solver%matrix_values)), wp)
+    call MPI_Allreduce(MPI_IN_PLACE, bb, 2, MPI_DOUBLE_PRECISION, MPI_SUM, solver%fcomm)
+    if (.not. ieee_is_finite(bb(1)) .or. bb(2) > 0.0_wp) then
+      ! a NaN or Inf in the system: no solve; x is NaN in the cells whose equation holds one, so
+      ! the caller sees where (ice_pressure_iteration ends the step, the run fails with a dump)
+      call mark_nonfinite(solver, grid, rhs, x)
+      iterations = 0
+      relative_residual = ieee_value(1.0_wp, ieee_quiet_nan)
+      converged = .false.
+      return
+    end if
     if (bb(1) == 0.0_wp) then
       solver%vector_values = 0.0_c_double
       call unpack_owned(grid, solver%vector_values, x)
@@ -419,6 +431,18 @@ contains
     if (iand(ierr, HYPRE_ERROR_CONV) /= 0) then
       ierr = HYPRE_ClearError(HYPRE_ERROR_CONV)
     end if
+    if (iand(ierr, HYPRE_ERROR_GENERIC) /= 0) then
+      ! PCG stops with this flag (on every rank: its norms are global) when it meets a NaN or
+      ! an Inf, which finite data can still produce by overflow: a non-finite result for the
+      ! caller, like a system with a NaN (above), not an internal error
+      ierr = HYPRE_ClearAllErrors()
+      x(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), grid%lo(3):grid%hi(3)) = &
+        ieee_value(1.0_wp, ieee_quiet_nan)
+      iterations = 0
+      relative_residual = ieee_value(1.0_wp, ieee_quiet_nan)
+      converged = .false.
+      return
+    end if
     call hypre_check(ierr, 'HYPRE_StructPCGSolve')
     call hypre_check(HYPRE_StructPCGGetNumIterations(solver%pcg, its), &
       'HYPRE_StructPCGGetNumIterations')
@@ -443,6 +467,38 @@ contains
       call log_warning(trim(text))
     end if
   end subroutine struct_solver_solve
+
+  !> x = NaN in the owned cells whose right-hand side (or its square) or operator row is not
+  !! finite, 0 in the others (a system with a NaN or Inf is not solved); NaN everywhere when no
+  !! cell of any rank is to blame (the sum of squares overflowed). Collective.
+  subroutine mark_nonfinite(solver, grid, rhs, x)
+    type(struct_solver_t), intent(in) :: solver     !< solver with an operator set
+    type(grid_t), intent(in) :: grid                !< block geometry
+    real(wp), intent(in) :: rhs(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)  !< right-hand side
+    real(wp), intent(inout) :: x(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< result
+    integer :: i, j, k, m, width
+    real(wp) :: nan, marked(1)
+    nan = ieee_value(1.0_wp, ieee_quiet_nan)
+    width = solver%nentries
+    marked = 0.0_wp
+    m = 0
+    do k = grid%lo(3), grid%hi(3)
+      do j = grid%lo(2), grid%hi(2)
+        do i = grid%lo(1), grid%hi(1)
+          x(i, j, k) = 0.0_wp
+          if (.not. ieee_is_finite(rhs(i, j, k)**2) .or. &
+            .not. all(ieee_is_finite(solver%matrix_values(m + 1:m + width)))) then
+            x(i, j, k) = nan
+            marked(1) = marked(1) + 1.0_wp
+          end if
+          m = m + width
+        end do
+      end do
+    end do
+    call MPI_Allreduce(MPI_IN_PLACE, marked, 1, MPI_DOUBLE_PRECISION, MPI_SUM, solver%fcomm)
+    if (marked(1) == 0.0_wp) x(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), &
+      grid%lo(3):grid%hi(3)) = nan
+  end subroutine mark_nonfinite
 
   !> Destroy the hypre objects and release the buffers (safe on a solver never initialised).
   subroutine struct_solver_free(solver)

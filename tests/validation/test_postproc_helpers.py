@@ -2,6 +2,8 @@
 without runs of mpmice (~1 s)."""
 import os
 
+import h5py
+
 from postproc import figures, mpm_common
 from postproc.mpmice_io import list_dumps
 from postproc.run_case import ROOT
@@ -33,7 +35,10 @@ def test_list_dumps_order_and_exclusions(tmp_path):
     names = ["case_000010.h5", "case_000002.h5", "case_1000000.h5", "case_checkpoint_000010.h5",
              "case_failed_000011.h5", "case_000010.xmf", "case2_000001.h5", "other_000001.h5"]
     for name in names:
-        (tmp_path / name).write_bytes(b"")
+        # a minimal dump: list_dumps skips files without the root attributes time and step
+        with h5py.File(tmp_path / name, "w") as f:
+            f.attrs["time"] = 0.0
+            f.attrs["step"] = 0
     expected = [str(tmp_path / n) for n in ("case_000002.h5", "case_000010.h5", "case_1000000.h5")]
     assert list_dumps(str(tmp_path), "case") == expected
     assert mpm_common.dump_paths is list_dumps
