@@ -35,10 +35,10 @@ module ice_bc
   public :: ice_bc_t, ice_bc_init, ice_bc_fill, bc_scalar, bc_temperature, bc_pressure, bc_dp
   public :: bc_wall, bc_free_slip, bc_open, bc_inflow, bc_outflow
 
-  integer, parameter :: bc_scalar = 0       !< kind: even scalar (density, pressure, ...)
-  integer, parameter :: bc_temperature = -1 !< kind: temperature-like (fixed walls: odd about T_w)
-  integer, parameter :: bc_pressure = -2    !< kind: pressure (open faces: odd about p_b)
-  integer, parameter :: bc_dp = -3          !< kind: pressure correction (open faces: odd about 0)
+  integer, parameter :: bc_scalar = 0       !< field kind = even scalar (density, pressure, ...)
+  integer, parameter :: bc_temperature = -1 !< field kind = temperature-like (fixed walls: odd about T_w)
+  integer, parameter :: bc_pressure = -2    !< field kind = pressure (open faces: odd about p_b)
+  integer, parameter :: bc_dp = -3          !< field kind = pressure correction (open faces: odd about 0)
 
   integer, parameter :: bc_wall = 1         !< fluid condition 'wall'
   integer, parameter :: bc_free_slip = 2    !< fluid condition 'free_slip'

@@ -448,7 +448,7 @@ contains
     end do
   end subroutine exchange_lagrangian
 
-  !> Dump: `cell/pressure` and `cell/<fluid>/<field>`; checkpoint: the primitive fields and the
+  !> Writes to a dump `cell/pressure` and `cell/<fluid>/<field>`; checkpoint: the primitive fields and the
   !! pressure under `checkpoint/` (everything the next step reads).
   subroutine ice_scene_write_state(self, file, dom, grid, checkpoint)
     class(ice_scene_t), intent(inout) :: self  !< scene

@@ -38,7 +38,7 @@ module mpm_constitutive
     type(css_params_t) :: css                !< critical-state sand parameters
     !> solid fraction 1 - n0 at J = 1 (`&solid porosity`); the packing is phi = phi0 / J
     real(wp) :: solid_fraction0 = 1.0_wp
-    !> Mohr-Coulomb: J = det F beyond which the grains lose contact (the porosity
+    !> For Mohr-Coulomb, the J = det F beyond which the grains lose contact (the porosity
     !! 1 - (1 - n0) / J passes `&solid max_porosity`): no effective stress, no stiffness
     real(wp) :: j_loose = huge(1.0_wp)
     !> J at which a contractant Mohr-Coulomb particle (psi < 0) reaches its densest packing

@@ -10,7 +10,7 @@ module mpm_nodes
 
   public :: mpm_nodes_t, nodes_init, nodes_free, nq
 
-  !> scattered: mass, momentum(3), force(3); rigid mass, momentum(3), mass gradient(3)
+  !> Components scattered to the nodes = mass, momentum(3), force(3); rigid mass, momentum(3), mass gradient(3)
   integer, parameter :: nq = 14
 
   !> Node fields of one solid material.
