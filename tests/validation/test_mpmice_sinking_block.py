@@ -30,8 +30,9 @@ def _excess(dump):
 
 def test_sinking_block_keeps_the_pressure_of_the_water_around_it(tmp_path):
     """At t = 0.02, 0.04, 0.06 s the mean excess pore pressure inside the block is within 1.5 kPa
-    of the water beside it (measured 68, -45, 357 Pa; before the fix 76, -716, -18691 Pa) and at
-    t = 0.06 s no interior cell is off by more than 5 kPa (measured 1.9 kPa; before 46 kPa)."""
+    of the water beside it (measured 68, -45, 357 Pa; without departure 16 of docs/mpmice.md
+    76, -716, -18691 Pa) and at t = 0.06 s no interior cell is off by more than 5 kPa (measured
+    1.9 kPa; without it 46 kPa)."""
     out = str(tmp_path / "sink")
     run_mpmice([NAMELIST, "--set", f"&run output_dir = '{out}', end_time = 0.06, "
                 "output_interval = 0.02 /"], cwd=str(tmp_path), timeout=300)

@@ -181,9 +181,9 @@ def test_drained_base_is_mirrored_terzaghi(solver, tmp_path):
 
 def test_drained_base_adaptive_step_has_no_dump_spike(solver, tmp_path):
     """The mirrored column with the adaptive step (cfl 0.5), dumps every 12.5 ms to 50 ms. The
-    step before the first dump used to be clipped to ~4e-8 s against ~4e-6 s; the per-step
-    solid-fraction relaxation had no time to drain and the base cell read 0.97 p0 in that dump
-    (relative L2 error 12 %). The clock now balances the last two steps before an event
+    step before the first dump must not be clipped (to ~4e-8 s against ~4e-6 s, the per-step
+    solid-fraction relaxation would have no time to drain and the base cell would read 0.97 p0 in
+    that dump: relative L2 error 12 %). The clock balances the last two steps before an event
     (driver_clock, no step below half the proposed one): measured base cell 0.011 p0, relative
     L2 error 0.14 / 0.23 / 0.22 / 0.22 % at 12.5 / 25 / 37.5 / 50 ms."""
     out = str(tmp_path / "mirrored_adaptive")
