@@ -218,7 +218,7 @@ contains
   !! sum has its root at an absurd pressure: 1e-90 Pa, which the iteration cannot reach, or
   !! 1e-11 Pa (4e-20 kg/m^3 of air), which it reaches, the trace then filling 3e-4 of the cell
   !! with a compressibility of 1e25 /Pa that no pressure solve can balance (the 5 mm debris
-  !! flow's failure, docs/applications.md). Left with one fluid, the pressure comes from its
+  !! flow's failure, docs/mpmice.md departure 10). Left with one fluid, the pressure comes from its
   !! equation of state directly (it may then be negative: tension). Not converged when there
   !! is no trace to leave out (or nothing else).
   pure subroutine trace_fallback(state, i, j, k, porosity, tolerance, max_iterations, p, &

@@ -4,7 +4,8 @@ A step is rejected when the equilibration or the pressure's outer iteration fail
 retries it with half the step. The retry must start from the accepted state: if the cell
 pressure kept the failed attempt's values (up to 1e32 Pa, the next equilibration's initial
 guess) and the coupled scene's porous face predictor read the failed attempt's face velocities,
-every retry of the 5 mm debris flow at t = 0.714 s would fail again (docs/applications.md).
+every retry of the 5 mm debris flow at t = 0.714 s would fail again (docs/accuracy.md, "Failure
+detection in the run loop").
 
 Scene: the submerged sand block (namelists/mpmice_submerged_block_2d.nml: water, air, a porous
 Mohr-Coulomb block, 40 x 20 cells). `&ice max_outer_iterations = 1` with an outer tolerance no
