@@ -1,0 +1,93 @@
+"""Underwater granular column collapse of Rondon, Pouliquen & Aussillous (2011), dense against loose
+(namelists/mpmice_rondon_dense_2d.nml and mpmice_rondon_loose_2d.nml, issue 32 item 4;
+docs/validation/rondon2011.md). Both packings run coarse (the scenes' 5 mm cells) for END_TIME of
+the collapse and are checked against the experiment's qualitative targets: the base excess pore
+pressure has the experiment's sign (dense: suction, loose: positive) and the loose column runs out
+farther and faster than the dense one. Today's soil is Mohr-Coulomb with a constant dilation angle;
+all three hold with it at 0.5 s (the numbers in each test); the loose pressure's magnitude
+(6 times weaker than measured) and the full-length targets (final run-out, peak times) are left to
+the full runs of docs/validation/rondon2011.md. The reader of the experiment's files is tested on the data
+themselves; that test alone needs ../shared/reference/experiments/rondon2011 and skips (allowed
+even under MPMICE_REQUIRE_ALL, conftest ``allowed_skip``) only when that folder is absent."""
+import os
+
+import numpy as np
+import pytest
+
+from postproc import mpmice_rondon as rondon
+from postproc.mpmice_io import read_run_dumps
+from postproc.run_case import ROOT, run_mpmice
+
+END_TIME = 0.5               # s of the collapse (~45 s per packing at 5 mm cells)
+
+
+@pytest.fixture(scope="module")
+def series(mpmice_exe, tmp_path_factory):
+    """Both packings run to END_TIME with dumps every 0.05 s: {case: model_series}."""
+    out = {}
+    base = tmp_path_factory.mktemp("rondon")
+    for case in rondon.CASES:
+        run_dir = str(base / case)
+        run_mpmice([f"{ROOT}/namelists/mpmice_rondon_{case}_2d.nml", "--set",
+                    f"&run output_dir = '{run_dir}', end_time = {END_TIME}, "
+                    "output_interval = 0.05 /"], cwd=str(base), timeout=900, exe=str(mpmice_exe))
+        out[case] = rondon.model_series(read_run_dumps(run_dir, rondon.NAME))
+    return out
+
+
+@pytest.mark.slow
+def test_dense_base_pressure_is_suction(series):
+    """Dense column: the base excess pore pressure at x = 2 cm is negative (suction) in every
+    dump after t = 0, and its peak lies within 40 % of the experiment's -126 Pa (issue target;
+    measured -138 Pa at 0.3 s, the experiment's at 1.1 s)."""
+    p = series["dense"]["pressure"][1:]
+    assert np.all(p < 0.0), p
+    assert abs(p.min() / -126.0 - 1.0) < 0.4, p
+
+
+@pytest.mark.slow
+def test_loose_base_pressure_is_positive(series):
+    """Loose column: the base excess pore pressure at x = 2 cm peaks positive (largest |p| > 0)
+    and is positive on average over the dumps after t = 0 (measured: peak +24 Pa at 0.4 s, mean
+    +11 Pa, single dumps down to -3 Pa; the experiment: +144 Pa at 2 s, so the model's is 6 times
+    weaker: docs/validation/rondon2011.md)."""
+    p = series["loose"]["pressure"][1:]
+    k = int(np.argmax(np.abs(p)))
+    assert p[k] > 0.0, p
+    assert p.mean() > 0.0, p
+
+
+@pytest.mark.slow
+def test_loose_runs_out_farther_and_faster(series):
+    """At END_TIME the loose front is ahead of the dense one by at least 1 cm, and the loose
+    front has advanced at least 3 times as far as the dense one (issue target: the dense collapse
+    at least 3 times slower). Measured: loose 9.95 cm, dense 6.19 cm; advances 3.95 and 0.19 cm.
+    Experiment at 0.55-0.64 s (front files shifted to start at L0): loose 15.3 cm, dense 7.7 cm."""
+    dense, loose = series["dense"]["front"], series["loose"]["front"]
+    assert loose[-1] - dense[-1] > 0.01, (dense, loose)
+    assert loose[-1] - loose[0] > 3.0 * (dense[-1] - dense[0]), (dense, loose)
+
+
+def test_reference_reader(allowed_skip):
+    """The experiment's files as read by the postproc: the dense peak base pressure is suction
+    (-126 Pa at 1.127 s), the loose one positive (+144 Pa at 1.972 s, the file's first rows are not
+    time-sorted and are sorted on reading), the front files start 1.09 cm (dense) and 0.92 cm
+    (loose) beyond L0 (the offset the postproc removes), and the loose final run-out exceeds the
+    dense one (14.3 cm against 5.0 cm after the shift)."""
+    folder = rondon.DEFAULT_REFERENCE
+    if not os.path.isdir(folder):
+        allowed_skip(f"{folder} (Rondon et al. 2011, digitised; not in "
+                     "the repository)")
+    got = {}
+    for case in rondon.CASES:
+        ref = rondon.read_reference(folder, case)
+        t_f, x_f = ref["front"]
+        t_p, p = ref["pressure"]
+        assert np.all(np.diff(t_p) >= 0.0)
+        got[case] = rondon.summary(t_f, x_f - ref["front_offset"], t_p, p)
+        got[case]["offset"] = ref["front_offset"]
+    assert got["dense"]["peak_pressure_Pa"] == pytest.approx(-126.015)
+    assert got["loose"]["peak_pressure_Pa"] == pytest.approx(144.078)
+    assert got["dense"]["offset"] == pytest.approx(0.01092, abs=1e-6)
+    assert got["loose"]["offset"] == pytest.approx(0.00921, abs=1e-6)
+    assert got["loose"]["final_runout_m"] > 2.0 * got["dense"]["final_runout_m"]
