@@ -43,6 +43,7 @@ import numpy as np
 from postproc import measures
 from postproc.figures import VALIDATION_DIR, pyplot, save_figure
 from postproc.mpmice_io import cell_centres, read_run_dumps
+from postproc.namelist import parse_namelist_groups
 from postproc.run_case import ROOT
 
 NAME = "rondon"
@@ -155,11 +156,35 @@ def base_pressure(dump: dict, first: dict, probe_x: float = PROBE_X) -> float:
     return float(np.interp(probe_x, x_c, now - start))
 
 
+def solid_group(dump: dict) -> dict:
+    """The resolved ``&solid`` group of the beads (from the input the dump carries)."""
+    for name, group in parse_namelist_groups(dump["attrs"]["namelist"]):
+        if name == "solid" and group.get("name") == SOLID:
+            return group
+    raise KeyError(f"no &solid name = '{SOLID}' in {dump['path']}")
+
+
+def packing(dump: dict) -> dict:
+    """The beads' packing: ``mean`` solid fraction (mass-weighted) of the particles, 1 - n with
+    n = 1 - m / (rho_s V); ``suspended``: share of the particles at or past ``max_porosity``
+    (no grain contacts); ``critical``: share at or below ``min_porosity`` (when set)."""
+    group = solid_group(dump)
+    parts = dump["particles"][SOLID]
+    phi = parts["mass"] / (float(group["density"]) * parts["volume"])
+    n = 1.0 - phi
+    n_max = float(group.get("max_porosity", 1.0))
+    n_min = float(group.get("min_porosity", 0.0))
+    return {"mean": float(np.average(phi, weights=parts["mass"])),
+            "suspended": float(np.mean(n >= n_max - 1e-6)),
+            "critical": float(np.mean(n <= n_min + 1e-6)) if n_min > 0.0 else 0.0}
+
+
 def model_series(dumps: list[dict]) -> dict:
     """Time series of a run: ``t``, ``front`` [m], ``pressure`` [Pa] (at PROBE_X), one per dump."""
     return {"t": np.array([d["time"] for d in dumps]),
             "front": np.array([model_front(d) for d in dumps]),
-            "pressure": np.array([base_pressure(d, dumps[0]) for d in dumps])}
+            "pressure": np.array([base_pressure(d, dumps[0]) for d in dumps]),
+            "packing": [packing(d) for d in dumps]}
 
 
 def summary(t: np.ndarray, front: np.ndarray, p_t: np.ndarray, p: np.ndarray) -> dict:
@@ -233,9 +258,11 @@ def main(argv=None) -> int:
                 ax_h.plot(x * 100, h * 100, "-", color=f"C{i}", label=f"model {have[k]:g} s")
             s = summary(series["t"], series["front"], series["t"], series["pressure"])
             rows.append({"case": case, "source": "model", **s})
-            for t, f, p in zip(series["t"], series["front"], series["pressure"]):
+            for t, f, p, k in zip(series["t"], series["front"], series["pressure"],
+                                  series["packing"]):
                 print(f"{case} model: t = {t:6.2f} s  front {f * 100:6.2f} cm  "
-                      f"base excess pressure {p:8.1f} Pa")
+                      f"base excess pressure {p:8.1f} Pa  solid fraction {k['mean']:.4f}  "
+                      f"suspended {k['suspended']:.3f}  at min_porosity {k['critical']:.3f}")
         ax_f.set_title(f"{case}: L0 = {L0 * 100:g} cm, H0 = {H0[case] * 100:g} cm")
         ax_f.set_xlabel("t [s]")
         ax_f.set_ylabel("front [cm from the wall]")
