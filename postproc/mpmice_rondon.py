@@ -1,6 +1,7 @@
 """Underwater granular column collapse of Rondon, Pouliquen & Aussillous (2011), dense against
 loose packing: front, base excess pore pressure and surface profiles, experiment against model
-(namelists/mpmice_rondon_dense_2d.nml and mpmice_rondon_loose_2d.nml; docs/validation/rondon2011.md).
+(namelists/mpmice_rondon_dense_2d.nml and mpmice_rondon_loose_2d.nml;
+docs/validation/rondon2011.md).
 
 Usage:  python -m postproc.mpmice_rondon --dense output/mpmice_rondon_dense_2d
             --loose output/mpmice_rondon_loose_2d [--reference DIR] [--out DIR]
@@ -69,7 +70,8 @@ def default_reference(root: str = ROOT) -> str:
     if not line.startswith("gitdir:"):
         return here
     gitdir = line.split(":", 1)[1].strip()
-    main = gitdir.split(os.sep + ".git" + os.sep)[0] if (os.sep + ".git" + os.sep) in gitdir else None
+    sep = os.sep + ".git" + os.sep
+    main = gitdir.split(sep)[0] if sep in gitdir else None
     return os.path.normpath(os.path.join(main, "..", *REFERENCE_PARTS)) if main else here
 
 
@@ -247,7 +249,8 @@ def main(argv=None) -> int:
             dumps = read_run_dumps(runs[case], NAME)
             series = model_series(dumps)
             ax_f.plot(series["t"], series["front"] * 100, "b-", label="model")
-            ax_p.plot(series["t"], series["pressure"], "b-", label=f"model (x = {PROBE_X * 100:g} cm)")
+            ax_p.plot(series["t"], series["pressure"], "b-",
+                      label=f"model (x = {PROBE_X * 100:g} cm)")
             times = sorted(ref["profiles"]) if ref is not None else [d["time"] for d in dumps[::5]]
             have = np.array([d["time"] for d in dumps])
             for i, t in enumerate(times):
@@ -280,7 +283,8 @@ def main(argv=None) -> int:
         writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
         writer.writeheader()
         for row in rows:
-            writer.writerow({k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in row.items()})
+            writer.writerow({k: (f"{v:.4g}" if isinstance(v, float) else v)
+                             for k, v in row.items()})
     for row in rows:
         print(row)
     print(path)
