@@ -258,6 +258,7 @@ def main(argv=None) -> int:
                 if abs(have[k] - t) > 0.05 * max(t, 1.0):
                     continue
                 x, h = model_profile(dumps[k])
+                h = np.where(h > 0.0, h, np.nan)         # empty columns: no line
                 ax_h.plot(x * 100, h * 100, "-", color=f"C{i}", label=f"model {have[k]:g} s")
             s = summary(series["t"], series["front"], series["t"], series["pressure"])
             rows.append({"case": case, "source": "model", **s})
