@@ -10,7 +10,8 @@ numbers, so they flag when a critical-state model fixes them. The full-length ta
 run-out, peak times) are measured by the full runs of docs/validation/rondon2011.md. The reader
 of the experiment's files is tested on the data themselves; that test alone needs
 ../shared/reference/experiments/rondon2011 and skips (allowed even under MPMICE_REQUIRE_ALL,
-conftest ``allowed_skip``) only when that folder is absent."""
+conftest ``allowed_skip``) only when that folder is absent. The postproc's measures are tested on
+a hand-made dump (``test_postproc_definitions``, < 1 s)."""
 import os
 
 import numpy as np
@@ -105,3 +106,35 @@ def test_reference_reader(allowed_skip):
     assert got["dense"]["offset"] == pytest.approx(0.01092, abs=1e-6)
     assert got["loose"]["offset"] == pytest.approx(0.00921, abs=1e-6)
     assert got["loose"]["final_runout_m"] > 2.0 * got["dense"]["final_runout_m"]
+
+
+def _synthetic_dump(pressure_x, parts):
+    """A 4 x 2 x 1 grid of 1 cm cells with the bottom-row pressure ``pressure_x`` and the beads
+    ``parts`` ({x, y}), in the form of :func:`postproc.mpmice_io.read_dump`."""
+    p = np.zeros((4, 2, 1))
+    p[:, 0, 0] = pressure_x
+    return {"attrs": {"ncells": [4, 2, 1], "lower": [0.0, 0.0, 0.0], "dx": [0.01, 0.01, 0.01]},
+            "cell": {"pressure": p},
+            "particles": {rondon.SOLID: {k: np.asarray(v, dtype=float) for k, v in parts.items()}}}
+
+
+def test_postproc_definitions():
+    """The model's measures on a hand-made dump: the front is the farthest particle plus half the
+    spacing (1 cm cells, 2 per cell: 2.5 mm), the profile the top particle of each column plus
+    half the spacing (0 where empty), the base pressure the bottom-row difference to the first
+    dump interpolated linearly to x = 2 cm (between the centres 1.5 and 2.5 cm), and the summary's
+    peak keeps the sign of the largest |p| and t90 is the first time at 90 % of the final
+    run-out."""
+    parts = {"x": [0.002, 0.007, 0.013, 0.024], "y": [0.017, 0.004, 0.009, 0.002]}
+    first = _synthetic_dump([100.0, 100.0, 100.0, 100.0], parts)
+    now = _synthetic_dump([100.0, 90.0, 70.0, 100.0], parts)
+    assert rondon.model_front(now) == pytest.approx(0.024 + 0.0025)
+    x, h = rondon.model_profile(now)
+    assert x == pytest.approx([0.005, 0.015, 0.025, 0.035])
+    assert h == pytest.approx([0.0195, 0.0115, 0.0045, 0.0])
+    assert rondon.base_pressure(now, first) == pytest.approx(-20.0)
+    t = np.array([0.0, 1.0, 2.0, 3.0])
+    s = rondon.summary(t, rondon.L0 + np.array([0.0, 0.05, 0.095, 0.1]), t,
+                       np.array([0.0, 5.0, -8.0, 3.0]))
+    assert s["peak_pressure_Pa"] == -8.0 and s["peak_time_s"] == 2.0
+    assert s["final_runout_m"] == pytest.approx(0.1) and s["t90_s"] == 2.0
