@@ -6,7 +6,10 @@
 
 With ``MPMICE_REQUIRE_ALL=1`` (set by scripts/test.sh) nothing may skip: a missing executable, a
 scene whose ``--check`` fails or a build that answers "not implemented" fails the test, and any
-other skip is reported as a failure too (``pytest_runtest_makereport`` below).
+other skip is reported as a failure too (``pytest_runtest_makereport`` below), except
+``allowed_skip(reason)``: a test whose external reference data (``../shared/reference``, not part
+of the repository) are absent skips with a reason starting ``ALLOWED_SKIP``, also under
+``MPMICE_REQUIRE_ALL`` (docs/testing.md).
 * ``run_mpmice(args, nranks=1, cwd=None, timeout=300)``: run it under ``mpirun`` and return the
   ``subprocess.CompletedProcess`` (text mode, stdout and stderr captured, not checked).
 * ``tmp_case_dir``: an empty directory per test, the default working directory of ``run_mpmice``.
@@ -26,6 +29,10 @@ REPO_ROOT = Path(__file__).resolve().parents[2]
 REQUIRE_ALL = os.environ.get('MPMICE_REQUIRE_ALL', '') not in ('', '0')
 
 
+#: Prefix of the one kind of skip MPMICE_REQUIRE_ALL lets through: external reference data absent.
+ALLOWED_SKIP = 'allowed skip, reference data absent: '
+
+
 def skip_or_fail(reason):
     """Skip the current test with ``reason``, or fail it when ``MPMICE_REQUIRE_ALL`` is set."""
     if REQUIRE_ALL:
@@ -40,6 +47,8 @@ def pytest_runtest_makereport(item, call):
     report = outcome.get_result()
     if REQUIRE_ALL and report.skipped and not hasattr(report, 'wasxfail'):
         reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)
+        if ALLOWED_SKIP in reason:
+            return
         report.outcome = 'failed'
         report.longrepr = f'skipped under MPMICE_REQUIRE_ALL=1, which forbids skips: {reason}'
 
@@ -59,6 +68,18 @@ def mpmice_exe():
 def unavailable():
     """``skip_or_fail``, for tests whose scene cannot run in this build."""
     return skip_or_fail
+
+
+@pytest.fixture(scope='session')
+def allowed_skip():
+    """``allowed_skip(what)``: skip because the external reference data ``what`` (a folder under
+    ../shared/reference, never copied into the repository) is absent; allowed under
+    ``MPMICE_REQUIRE_ALL``. Use it only for that reason."""
+
+    def skip(what):
+        pytest.skip(f'{ALLOWED_SKIP}{what}')
+
+    return skip
 
 
 @pytest.fixture

@@ -1,0 +1,296 @@
+"""Underwater granular column collapse of Rondon, Pouliquen & Aussillous (2011), dense against
+loose packing: front, base excess pore pressure and surface profiles, experiment against model
+(namelists/mpmice_rondon_dense_2d.nml and mpmice_rondon_loose_2d.nml;
+docs/validation/rondon2011.md).
+
+Usage:  python -m postproc.mpmice_rondon --dense output/mpmice_rondon_dense_2d
+            --loose output/mpmice_rondon_loose_2d [--reference DIR] [--out DIR]
+
+Either run may be left out (its panels then show the experiment only). ``--reference`` is the
+folder of the digitised data (default ../shared/reference/experiments/rondon2011 relative to the
+repository root, or beside the main checkout when the repository is a git worktree; the data
+are read there, never copied); without it the model alone is reported.
+
+Definitions (the same for the model and the experiment):
+
+* surface profile h(x): in every column of width ``dx`` (the grid's cells), the top of the
+  material; model: the highest bead particle whose x lies in the column plus half the particle
+  spacing; experiment: the digitised profile.
+* front: the toe of that profile, the largest x where the bed is covered; model: the largest
+  particle x plus half the particle spacing. The experiment's front files start at 7.09 cm
+  (dense) and 6.92 cm (loose) at t = 0 while the column is L0 = 6 cm long: their origin is offset.
+  This script subtracts that offset (the file's first value minus L0) so that the front starts
+  at L0, and prints the profiles' toes next to the shifted front (:func:`front_check`).
+* base excess pore pressure: the cell pressure in the bottom row of cells, linearly interpolated
+  in x to the probe ``PROBE_X`` = 2 cm from the wall (SedFoam's comparison probes are at x = 2 and
+  3 cm, y ~ 0; the data files' header), minus the same quantity in the first dump (the run
+  starts hydrostatic, ``&physics hydrostatic_init``).
+* run-out: front minus L0; final run-out: at the last time (model: the run's end time, which is
+  shorter than the experiment's for the coarse runs: reported with it); t90: the first time the
+  run-out reaches 90 % of its final value.
+
+Writes ``rondon2011.png`` (3 rows: front, base pressure, profiles; dense left, loose right) and
+``rondon2011.csv`` (one row per case and source: peak base pressure with its sign and time, final
+run-out, its time, t90) in ``--out`` (default: docs/validation).
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import os
+
+import numpy as np
+
+from postproc import measures
+from postproc.figures import VALIDATION_DIR, pyplot, save_figure
+from postproc.mpmice_io import cell_centres, read_run_dumps
+from postproc.namelist import parse_namelist_groups
+from postproc.run_case import ROOT
+
+NAME = "rondon"
+SOLID = "beads"
+L0 = 0.06                    # m: column length (both packings)
+H0 = {"dense": 0.042, "loose": 0.048}   # m
+PROBE_X = 0.02               # m: base pressure probe, from the closed wall
+PPC = 2                      # particles per cell per direction in the shipped scenes
+CASES = ("dense", "loose")
+REFERENCE_PARTS = ("shared", "reference", "experiments", "rondon2011")
+
+
+def default_reference(root: str = ROOT) -> str:
+    """``<root>/../shared/reference/experiments/rondon2011``; when ``root`` is a git worktree
+    (its ``.git`` a file naming ``gitdir: <main>/.git/worktrees/<name>``) and that folder is
+    absent, the same path beside the main checkout ``<main>``."""
+    here = os.path.normpath(os.path.join(root, "..", *REFERENCE_PARTS))
+    marker = os.path.join(root, ".git")
+    if os.path.isdir(here) or not os.path.isfile(marker):
+        return here
+    with open(marker, encoding="utf-8") as handle:
+        line = handle.readline().strip()
+    if not line.startswith("gitdir:"):
+        return here
+    gitdir = line.split(":", 1)[1].strip()
+    sep = os.sep + ".git" + os.sep
+    main = gitdir.split(sep)[0] if sep in gitdir else None
+    return os.path.normpath(os.path.join(main, "..", *REFERENCE_PARTS)) if main else here
+
+
+DEFAULT_REFERENCE = default_reference()
+
+
+def _read_csv(path: str) -> tuple[list[str], np.ndarray]:
+    """(column names, rows as floats) of a data file whose comment lines start with '#'; only
+    the numeric leading columns are kept."""
+    with open(path, encoding="utf-8") as handle:
+        lines = [line.strip() for line in handle if line.strip() and not line.startswith("#")]
+    header = lines[0].split(",")
+    rows = []
+    for line in lines[1:]:
+        values = []
+        for item in line.split(","):
+            try:
+                values.append(float(item))
+            except ValueError:
+                break
+        rows.append(values)
+    width = min(len(r) for r in rows)
+    return header[:width], np.array([r[:width] for r in rows], dtype=float)
+
+
+def read_reference(folder: str, case: str) -> dict:
+    """The experiment of one packing: ``front`` (t [s], x [m] as stored, from the wall),
+    ``front_offset`` [m] (first stored value minus L0), ``pressure`` (t [s], p [Pa], sorted by
+    time), ``profiles`` {t [s]: (x [m], h [m])}."""
+    stem = os.path.join(folder, f"rondon2011_{case}")
+    _, front = _read_csv(stem + "_front.csv")
+    _, pressure = _read_csv(stem + "_base_pore_pressure.csv")
+    _, prof = _read_csv(stem + "_profiles.csv")
+    order = np.argsort(pressure[:, 0], kind="stable")
+    profiles = {}
+    for t in sorted(set(prof[:, 0])):
+        rows = prof[prof[:, 0] == t]
+        rows = rows[np.argsort(rows[:, 1])]
+        profiles[float(t)] = (rows[:, 1], rows[:, 2])
+    x_front = front[:, 1] / 100.0
+    return {"front": (front[:, 0], x_front), "front_offset": float(x_front[0] - L0),
+            "pressure": (pressure[order, 0], pressure[order, 1]), "profiles": profiles}
+
+
+def front_check(ref: dict) -> list[tuple[float, float, float]]:
+    """(t, toe of the profile at t, stored front interpolated at t) [s, m, m] for every profile
+    time inside the front file's range: how far the stored front lies ahead of the profiles."""
+    t_f, x_f = ref["front"]
+    out = []
+    for t, (x, _) in ref["profiles"].items():
+        if t_f[0] <= t <= t_f[-1]:
+            out.append((t, float(x[-1]), float(np.interp(t, t_f, x_f))))
+    return out
+
+
+def spacing(dump: dict) -> float:
+    """Initial particle spacing [m] along x (cell size / particles per cell)."""
+    return float(np.asarray(dump["attrs"]["dx"]).reshape(3)[0]) / PPC
+
+
+def model_front(dump: dict) -> float:
+    """Front [m]: the largest bead particle x plus half the particle spacing."""
+    return measures.front(dump["particles"][SOLID], 0, +1) + 0.5 * spacing(dump)
+
+
+def model_profile(dump: dict) -> tuple[np.ndarray, np.ndarray]:
+    """(column centres x [m], h [m]) of the beads' top surface; h = 0 where a column is empty."""
+    x_c, _, _ = cell_centres(dump)
+    dx = float(np.asarray(dump["attrs"]["dx"]).reshape(3)[0])
+    x0 = float(np.asarray(dump["attrs"]["lower"]).reshape(3)[0])
+    parts = dump["particles"][SOLID]
+    column = np.clip(((parts["x"] - x0) // dx).astype(int), 0, len(x_c) - 1)
+    h = np.zeros(len(x_c))
+    np.maximum.at(h, column, parts["y"] + 0.5 * spacing(dump))
+    return x_c, h
+
+
+def base_pressure(dump: dict, first: dict, probe_x: float = PROBE_X) -> float:
+    """Excess pore pressure [Pa] at the base, x = probe_x: bottom-row cell pressure interpolated
+    in x, minus the same in ``first`` (the hydrostatic start)."""
+    x_c, _, _ = cell_centres(dump)
+    now = dump["cell"]["pressure"][:, 0, 0]
+    start = first["cell"]["pressure"][:, 0, 0]
+    return float(np.interp(probe_x, x_c, now - start))
+
+
+def solid_group(dump: dict) -> dict:
+    """The resolved ``&solid`` group of the beads (from the input the dump carries)."""
+    for name, group in parse_namelist_groups(dump["attrs"]["namelist"]):
+        if name == "solid" and group.get("name") == SOLID:
+            return group
+    raise KeyError(f"no &solid name = '{SOLID}' in {dump['path']}")
+
+
+def packing(dump: dict) -> dict:
+    """The beads' packing: ``mean`` solid fraction (mass-weighted) of the particles, 1 - n with
+    n = 1 - m / (rho_s V); ``suspended``: share of the particles at or past ``max_porosity``
+    (no grain contacts); ``critical``: share at or below ``min_porosity`` (when set)."""
+    group = solid_group(dump)
+    parts = dump["particles"][SOLID]
+    phi = parts["mass"] / (float(group["density"]) * parts["volume"])
+    n = 1.0 - phi
+    n_max = float(group.get("max_porosity", 1.0))
+    n_min = float(group.get("min_porosity", 0.0))
+    return {"mean": float(np.average(phi, weights=parts["mass"])),
+            "suspended": float(np.mean(n >= n_max - 1e-6)),
+            "critical": float(np.mean(n <= n_min + 1e-6)) if n_min > 0.0 else 0.0}
+
+
+def model_series(dumps: list[dict]) -> dict:
+    """Time series of a run: ``t``, ``front`` [m], ``pressure`` [Pa] (at PROBE_X), one per dump."""
+    return {"t": np.array([d["time"] for d in dumps]),
+            "front": np.array([model_front(d) for d in dumps]),
+            "pressure": np.array([base_pressure(d, dumps[0]) for d in dumps]),
+            "packing": [packing(d) for d in dumps]}
+
+
+def summary(t: np.ndarray, front: np.ndarray, p_t: np.ndarray, p: np.ndarray) -> dict:
+    """Peak base pressure (largest |p|, signed) and its time, final run-out (front - L0 at the
+    last time) and that time, t90 (first time the run-out reaches 90 % of the final one)."""
+    k = int(np.argmax(np.abs(p))) if len(p) else None
+    runout = np.asarray(front) - L0
+    final = float(runout[-1])
+    reached = np.nonzero(runout >= 0.9 * final)[0] if final > 0 else []
+    return {"peak_pressure_Pa": float(p[k]) if k is not None else float("nan"),
+            "peak_time_s": float(p_t[k]) if k is not None else float("nan"),
+            "final_runout_m": final, "final_time_s": float(t[-1]),
+            "t90_s": float(t[reached[0]]) if len(reached) else float("nan")}
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--dense", default=None, help="output directory of the dense run")
+    parser.add_argument("--loose", default=None, help="output directory of the loose run")
+    parser.add_argument("--reference", default=DEFAULT_REFERENCE,
+                        help="folder of the digitised experiment (default: %(default)s)")
+    parser.add_argument("--out", default=VALIDATION_DIR)
+    return parser
+
+
+def main(argv=None) -> int:
+    args = _parser().parse_args(argv)
+    runs = {c: getattr(args, c) for c in CASES if getattr(args, c)}
+    if not runs:
+        raise SystemExit("give --dense DIR and/or --loose DIR")
+    have_ref = os.path.isdir(args.reference)
+    if not have_ref:
+        print(f"reference folder {args.reference} not found: model only")
+    os.makedirs(args.out, exist_ok=True)
+    plt = pyplot()
+    fig, axes = plt.subplots(3, 2, figsize=(11, 10))
+    rows = []
+    for col, case in enumerate(CASES):
+        ax_f, ax_p, ax_h = axes[0, col], axes[1, col], axes[2, col]
+        ref = read_reference(args.reference, case) if have_ref else None
+        if ref is not None:
+            t_f, x_f = ref["front"]
+            off = ref["front_offset"]
+            ax_f.plot(t_f, (x_f - off) * 100, "ko", ms=4,
+                      label=f"experiment (front file - {off * 100:.2f} cm)")
+            toes = [(t, x[-1]) for t, (x, _) in ref["profiles"].items()]
+            ax_f.plot([a for a, _ in toes], [b * 100 for _, b in toes], "ks", mfc="none",
+                      label="experiment (profiles' toe)")
+            for t, toe, stored in front_check(ref):
+                print(f"{case}: t = {t:5.2f} s  profile toe {toe * 100:6.2f} cm  front file "
+                      f"{stored * 100:6.2f} cm (ahead by {(stored - toe) * 100:5.2f} cm; "
+                      f"shifted: {(stored - off - toe) * 100:5.2f} cm)")
+            t_p, p = ref["pressure"]
+            ax_p.plot(t_p, p, "ko", ms=4, label="experiment")
+            for i, (t, (x, h)) in enumerate(ref["profiles"].items()):
+                ax_h.plot(x * 100, h * 100, "o", ms=3, color=f"C{i}", label=f"exp. {t:g} s")
+            s = summary(t_f, x_f - off, t_p, p)
+            rows.append({"case": case, "source": "experiment", **s})
+        if case in runs:
+            dumps = read_run_dumps(runs[case], NAME)
+            series = model_series(dumps)
+            ax_f.plot(series["t"], series["front"] * 100, "b-", label="model")
+            ax_p.plot(series["t"], series["pressure"], "b-",
+                      label=f"model (x = {PROBE_X * 100:g} cm)")
+            times = sorted(ref["profiles"]) if ref is not None else [d["time"] for d in dumps[::5]]
+            have = np.array([d["time"] for d in dumps])
+            for i, t in enumerate(times):
+                k = int(np.argmin(np.abs(have - t)))
+                if abs(have[k] - t) > 0.05 * max(t, 1.0):
+                    continue
+                x, h = model_profile(dumps[k])
+                h = np.where(h > 0.0, h, np.nan)         # empty columns: no line
+                ax_h.plot(x * 100, h * 100, "-", color=f"C{i}", label=f"model {have[k]:g} s")
+            s = summary(series["t"], series["front"], series["t"], series["pressure"])
+            rows.append({"case": case, "source": "model", **s})
+            for t, f, p, k in zip(series["t"], series["front"], series["pressure"],
+                                  series["packing"]):
+                print(f"{case} model: t = {t:6.2f} s  front {f * 100:6.2f} cm  "
+                      f"base excess pressure {p:8.1f} Pa  solid fraction {k['mean']:.4f}  "
+                      f"suspended {k['suspended']:.3f}  at min_porosity {k['critical']:.3f}")
+        ax_f.set_title(f"{case}: L0 = {L0 * 100:g} cm, H0 = {H0[case] * 100:g} cm")
+        ax_f.set_xlabel("t [s]")
+        ax_f.set_ylabel("front [cm from the wall]")
+        ax_p.set_xlabel("t [s]")
+        ax_p.set_ylabel("base excess pore pressure [Pa]")
+        ax_p.axhline(0.0, color="0.6", lw=0.5)
+        ax_h.set_xlabel("x [cm]")
+        ax_h.set_ylabel("h [cm]")
+        for ax in (ax_f, ax_p, ax_h):
+            ax.legend(fontsize=7)
+    fig.tight_layout()
+    print(save_figure(fig, os.path.join(args.out, "rondon2011.png")))
+    path = os.path.join(args.out, "rondon2011.csv")
+    with open(path, "w", newline="", encoding="utf-8") as handle:
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({k: (f"{v:.4g}" if isinstance(v, float) else v)
+                             for k, v in row.items()})
+    for row in rows:
+        print(row)
+    print(path)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
