@@ -14,8 +14,9 @@ percent of the plotted range (the digitiser is not named).
 Free surface at a gauge: measures.free_surface, method "height" (the depth of water
 sum_j phi_w / (phi_w + phi_air) dy of the column, exact for a level surface at any cell size;
 the "crossing" of the share 0.5 reads a level surface that cuts a cell off by up to half a cell,
-10 mm at 40 mm cells), linear in x between column centres at the gauge x = 1.4, 2.4, 3.4, 4.4 m (0.79, 1.79, 2.79,
-3.79 m beyond the still-water shoreline x = 0.6086 m), minus its value in the first dump: the
+10 mm at 40 mm cells), linear in x between column centres at the gauge x = 1.4, 2.4, 3.4,
+4.4 m (0.79, 1.79, 2.79, 3.79 m beyond the still-water shoreline x = 0.6086 m), minus its
+value in the first dump: the
 regions fill whole cells, so the grid holds the still level 0.33 m at the nearest cell face
 (0.32 m at 20 and 40 mm cells, 0.33 m at 10 mm); the script prints that level.
 
@@ -29,10 +30,11 @@ it best (the smallest RMS over the dumps): a measured estimate of the shapes' cl
 Gauge measures, per gauge, on the first wave (record times up to FIRST_WAVE_END[g]):
 leading crest (largest eta before the trough), trough (smallest eta), crest after the trough
 (largest eta between the trough and the window's end), each as amplitude [mm] and arrival [s];
-the model's window reaches 0.3 s further, so that a late model wave is measured as late,
+the model's window reaches 0.3 s further, so that a late model wave is measured as late;
 for the record and the model (NaN where the model run does not reach the record's time of
-that extremum + 0.15 s; the trough's time for the leading crest); relative amplitude error and arrival error; RMS of model - record
-over the window (record interpolated at the dump times) and the record's own RMS there.
+that extremum + 0.15 s, the trough's time for the leading crest); relative amplitude error
+and arrival error; RMS of model - record over the window (record interpolated at the dump
+times) and the record's own RMS there.
 
 Shape measures, per time: RMS [mm] of the model surface - digitised y at the digitised points of
 the upper envelope (a point with another one within 5 mm in x and more than 10 mm higher lies on
