@@ -55,7 +55,7 @@ def test_grilli2017_first_trough_at_wg1_coarse(tmp_path):
     has the record's order and signs, a leading crest (> 0) and then a trough (< 0) of at least
     half the record's depth (measured: +5.6 mm at 1.06 s and -6.9 mm at 1.58 s against +4.1 mm
     at 0.93 s and -9.4 mm at 1.46 s), its time within 0.25 s of the record's (measured +0.12 s);
-    water and beads masses kept to 1e-10. A coarse-grid guard of the sign and order, not the
+    the beads' mass kept to 1e-10, the water's loss through the open top below 2e-4. A coarse-grid guard of the sign and order, not the
     issue's 20 % / 0.1 s targets (docs/validation/grilli2017.md). ~4 min on 2 loaded cores."""
     if not os.path.isdir(REFERENCE):
         pytest.skip(f"digitised records not found at {REFERENCE} (set MPMICE_REFERENCE to the "
@@ -75,5 +75,7 @@ def test_grilli2017_first_trough_at_wg1_coarse(tmp_path):
     assert trough < 0.5 * trough_rec, (trough, trough_rec)
     assert abs(t_trough - t_trough_rec) < 0.25, (t_trough, t_trough_rec)
     m0, m1 = debris.masses(dumps[0]), debris.masses(dumps[-1])
-    for name in ("water", "beads"):
-        assert abs(m1[name] / m0[name] - 1.0) < 1e-10, (name, m0[name], m1[name])
+    assert abs(m1["beads"] / m0["beads"] - 1.0) < 1e-10, (m0["beads"], m1["beads"])
+    # the 0.12 m of air are 3 cells here: water's volume fraction diffuses up to the open top
+    # and leaves (measured 8.5e-5 of the water by 1.34 s; 1.3e-7 by 2.8 s at 20 mm)
+    assert 0.0 <= 1.0 - m1["water"] / m0["water"] < 2e-4, (m0["water"], m1["water"])
