@@ -18,7 +18,7 @@ the "crossing" of the share 0.5 reads a level surface that cuts a cell off by up
 4.4 m (0.79, 1.79, 2.79, 3.79 m beyond the still-water shoreline x = 0.6086 m), minus its
 value in the first dump: the
 regions fill whole cells, so the grid holds the still level 0.33 m at the nearest cell face
-(0.32 m at 20 and 40 mm cells, 0.33 m at 10 mm); the script prints that level.
+(0.32 m at 40 mm, 0.34 m at 20 mm, 0.33 m at 10 mm cells); the script prints that level.
 
 Time origin: the records' time is the experiment's clock; the model's t = 0 is the gate's
 removal. ``--shift S`` maps model time to record time, t_rec = t_model + S (default 0.3 s, the
