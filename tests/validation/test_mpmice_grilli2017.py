@@ -57,7 +57,7 @@ def test_grilli2017_first_trough_at_wg1_coarse(tmp_path):
     at 0.93 s and -9.4 mm at 1.46 s), its time within 0.25 s of the record's (measured +0.12 s);
     the beads' mass kept to 1e-10, the water's loss through the open top below 2e-4. A
     coarse-grid guard of the sign and order, not the issue's 20 % / 0.1 s targets
-    (docs/validation/grilli2017.md). ~2-4 min on 2 loaded cores."""
+    (docs/validation/grilli2017.md). 187 s on 2 loaded cores."""
     if not os.path.isdir(REFERENCE):
         pytest.skip(f"digitised records not found at {REFERENCE} (set MPMICE_REFERENCE to the "
                     "shared reference folder)")
