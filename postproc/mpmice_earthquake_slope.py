@@ -274,10 +274,11 @@ def compare(runs: dict[str, list[dict]], out: str) -> str:
     for n, (label, rows) in enumerate(runs.items()):
         t = np.array([r["time"] for r in rows])
         for ax, key in zip(axes, RU_MONITORS):
-            ax.plot(t, [r["ru"][key] for r in rows], styles[n % 4], marker="o", ms=3, label=label)
-        axes[-1].plot(t, [r["crest_ux"] for r in rows], styles[n % 4], marker="o", ms=3,
+            ax.plot(t, [r["ru"][key] for r in rows], styles[n % 4], color=f"C{n}", marker="o",
+                    ms=3, label=label)
+        axes[-1].plot(t, [r["crest_ux"] for r in rows], "-", color=f"C{n}", marker="o", ms=3,
                       label=f"{label}: u_x")
-        axes[-1].plot(t, [r["crest_uy"] for r in rows], styles[n % 4], marker="s", ms=3,
+        axes[-1].plot(t, [r["crest_uy"] for r in rows], ":", color=f"C{n}", marker="s", ms=3,
                       label=f"{label}: u_y")
     for ax, key in zip(axes, RU_MONITORS):
         ax.axhline(1.0, color="k", lw=0.8)
