@@ -267,9 +267,12 @@ def print_table(rows: list[dict]) -> None:
 
 def compare(runs: dict[str, list[dict]], out: str) -> str:
     """Figure of several runs (label -> rows of :func:`analyse`): r_u at each monitor against
-    time, and the crest's displacement relative to the base; returns its path."""
+    time, the crest's displacement relative to the base and the sediment's largest displacement
+    relative to the base; returns its path."""
     plt = pyplot()
-    fig, axes = plt.subplots(1, len(RU_MONITORS) + 1, figsize=(4.0 * (len(RU_MONITORS) + 1), 3.6))
+    fig, grid = plt.subplots(2, 3, figsize=(13.0, 7.0))
+    axes = list(grid.flat)
+    spread = axes.pop()          # the sixth panel: largest displacement relative to the base
     styles = ["-", "--", ":", "-."]
     for n, (label, rows) in enumerate(runs.items()):
         t = np.array([r["time"] for r in rows])
@@ -280,6 +283,8 @@ def compare(runs: dict[str, list[dict]], out: str) -> str:
                       label=f"{label}: u_x")
         axes[-1].plot(t, [r["crest_uy"] for r in rows], ":", color=f"C{n}", marker="s", ms=3,
                       label=f"{label}: u_y")
+        spread.plot(t, [r["rel_disp_max"] for r in rows], "-", color=f"C{n}", marker="o", ms=3,
+                    label=label)
     for ax, key in zip(axes, RU_MONITORS):
         ax.axhline(1.0, color="k", lw=0.8)
         ax.axvspan(0.0, DURATION, color="0.9", zorder=0)
@@ -291,6 +296,10 @@ def compare(runs: dict[str, list[dict]], out: str) -> str:
     axes[-1].set_ylabel("[m]")
     axes[-1].set_xlabel("t [s]")
     axes[-1].legend(fontsize=7)
+    spread.set_title("sediment: largest |u - u_base|", fontsize=9)
+    spread.set_ylabel("[m]")
+    spread.set_xlabel("t [s]")
+    spread.legend(fontsize=8)
     fig.tight_layout()
     path = os.path.join(out, "earthquake_slope_ru.png")
     save_figure(fig, path, dpi=100)
