@@ -3,6 +3,7 @@ excess pore pressure, plastic strain and the surface wave (namelists/mpmice_eart
 issue 7 scene 3, docs/applications.md).
 
 Usage:  python -m postproc.mpmice_earthquake_slope --dir output/mpmice_earthquake_slope_2d [--out DIR]
+        python -m postproc.mpmice_earthquake_slope --compare loose=DIR1 dense=DIR2 [--out DIR]
 
 Per dump it prints: the base's displacement (mean over its particles, unwrapped across the
 periodic x faces) and the prescribed one x(t) = A/w (t - sin(w t)/w); the sediment's largest
@@ -16,6 +17,13 @@ eta (water share 0.5 contour, m above the still level) max / min; the largest re
 change of each material. Writes earthquake_slope.png (snapshots: relative displacement, plastic
 strain and excess pore pressure of the particles, with the free surface) and
 earthquake_slope_history.png (base motion, monitored excess pore pressure, eta extremes).
+A second table gives the crest's mean displacement relative to the base (particles starting
+above y = 2.3 m) and the pore-pressure ratio r_u = excess pore pressure / initial vertical
+effective stress (means over the particles within 0.25 m of four points: the bank's core and
+the basal layer under the crest and both flanks), with 1 - sigma'_v / sigma'_v0 of the same
+particles beside it; then the noise's p99 averaged over the dumps 0.2-0.85 s and its largest
+value there. --compare draws r_u and the crest displacement of several runs into
+earthquake_slope_ru.png.
 The dumps open in ParaView through <name>.xmf.
 """
 from __future__ import annotations
@@ -43,6 +51,14 @@ WATER, AIR, SEDIMENT, BASE = "water", "air", "sediment", "base"
 # the excess pore pressure there is the mean over the particles that start within MONITOR_RADIUS
 MONITOR_RADIUS = 0.3         # m
 MONITORS = {"crest": (5.789, 1.5), "left flank": (3.1, 1.0), "right flank": (8.5, 1.0)}
+# pore-pressure ratio r_u = (mean excess pore pressure) / (mean initial vertical effective
+# stress -sigma'_yy) of the particles that start within RU_RADIUS of these points: the bank's
+# core and the basal layer under the crest and under each flank (docs/soil_models.md,
+# "Earthquake-induced liquefaction")
+RU_RADIUS = 0.25             # m
+RU_MONITORS = {"bank core": (5.789, 1.2), "layer, crest": (5.789, 0.35),
+               "layer, left flank": (3.1, 0.35), "layer, right flank": (8.5, 0.35)}
+CREST_Y0 = 2.3               # m: particles starting above it are the crest's
 
 
 def prescribed_displacement(t: float, a: float = AMPLITUDE, f: float = FREQUENCY,
@@ -115,12 +131,29 @@ def pore_pressure_roughness(dump: dict, min_fraction: float = 0.3) -> tuple[floa
     return float(np.percentile(dev, 99)), float(np.max(dev))
 
 
+def pore_pressure_ratio(pex: np.ndarray, sigma_v0: np.ndarray) -> float:
+    """r_u = mean excess pore pressure / mean initial vertical effective stress of a group of
+    particles [-] (1: the pore water carries the whole initial effective stress)."""
+    return float(np.mean(pex) / np.mean(sigma_v0))
+
+
+def effective_stress_ratio(sigma_v: np.ndarray, sigma_v0: np.ndarray) -> float:
+    """1 - mean sigma'_v / mean sigma'_v0 of a group of particles [-]: the loss of vertical
+    effective stress, r_u's counterpart from the skeleton (equal to r_u where the total vertical
+    stress stays at its initial value)."""
+    return float(1.0 - np.mean(sigma_v) / np.mean(sigma_v0))
+
+
 def analyse(dumps: list[dict]) -> list[dict]:
     """One row of measured quantities per dump (see the module header)."""
     length = domain_length(dumps[0])
     s0, b0 = by_id(dumps[0]["particles"][SEDIMENT]), by_id(dumps[0]["particles"][BASE])
     monitors = {k: np.flatnonzero((s0["x"] - px) ** 2 + (s0["y"] - py) ** 2 < MONITOR_RADIUS**2)
                 for k, (px, py) in MONITORS.items()}
+    ru_monitors = {k: np.flatnonzero((s0["x"] - px) ** 2 + (s0["y"] - py) ** 2 < RU_RADIUS**2)
+                   for k, (px, py) in RU_MONITORS.items()}
+    sv0 = -s0["stress_yy"]                       # initial vertical effective stress [Pa]
+    crest = s0["y"] > CREST_Y0
     m0 = masses(dumps[0])
     # the still level as the initial fluid regions hold it (cells whose centre is below it)
     level = STILL_LEVEL + float(np.mean(free_surface(dumps[0])[1]))
@@ -142,6 +175,10 @@ def analyse(dumps: list[dict]) -> list[dict]:
             "plastic_max": float(np.max(s["plastic_strain"])), "plastic": s["plastic_strain"],
             "pex": pex, "pex_min": float(np.min(pex)), "pex_max": float(np.max(pex)),
             "pex_monitor": {k: float(np.mean(pex[i])) for k, i in monitors.items()},
+            "ru": {k: pore_pressure_ratio(pex[i], sv0[i]) for k, i in ru_monitors.items()},
+            "ru_effective": {k: effective_stress_ratio(-s["stress_yy"][i], sv0[i])
+                             for k, i in ru_monitors.items()},
+            "crest_ux": float(np.mean(ux[crest])), "crest_uy": float(np.mean(uy[crest])),
             "roughness_p99": rough[0], "roughness_max": rough[1],
             "eta": eta, "level": level, "eta_max": float(np.nanmax(eta)), "eta_min": float(np.nanmin(eta)),
             "mass_change": {k: abs(m[k] / m0[k] - 1.0) for k in m0 if m0[k] > 0.0},
@@ -204,9 +241,8 @@ def plot(dumps: list[dict], rows: list[dict], out: str) -> list[str]:
     return [snap, hist]
 
 
-def main(argv=None) -> int:
-    args, dumps = parse_run_dir(__doc__.splitlines()[0], NAME, argv)
-    rows = analyse(dumps)
+def print_table(rows: list[dict]) -> None:
+    """The per-dump table of :func:`main`."""
     print("  t [s]  base dx [m]  prescribed  max|u-ub| [m]  max eps_p  pex min/max [kPa]"
           "  pex crest/left/right [kPa]  noise p99/max [kPa]  eta max/min [cm]  mass change")
     for r in rows:
@@ -217,6 +253,89 @@ def main(argv=None) -> int:
               f"{r['roughness_p99'] / 1000.0:12.1f}/{r['roughness_max'] / 1000.0:.1f} "
               f"{r['eta_max'] * 100.0:8.2f}/{r['eta_min'] * 100.0:.2f} "
               f"{max(r['mass_change'].values()):10.2e}")
+    print("  t [s]  crest u_x/u_y rel. base [m]  r_u " + " / ".join(RU_MONITORS)
+          + "  (1 - sigma'_v/sigma'_v0 at the same points)")
+    for r in rows:
+        ru = " / ".join(f"{v:5.2f}" for v in r["ru"].values())
+        re = " / ".join(f"{v:5.2f}" for v in r["ru_effective"].values())
+        print(f"{r['time']:7.3f} {r['crest_ux']:9.3f}/{r['crest_uy']:.3f}  {ru}  ({re})")
+    shaking = [r for r in rows if 0.2 <= r["time"] <= 0.85 + 1e-9]
+    if shaking:
+        print(f"noise 0.2-0.85 s: p99 mean {np.mean([r['roughness_p99'] for r in shaking]) / 1e3:.1f} kPa,"
+              f" largest {max(r['roughness_max'] for r in shaking) / 1e3:.1f} kPa")
+
+
+def compare(runs: dict[str, list[dict]], out: str) -> str:
+    """Figure of several runs (label -> rows of :func:`analyse`): r_u at each monitor against
+    time, the crest's displacement relative to the base and the sediment's largest displacement
+    relative to the base; returns its path."""
+    plt = pyplot()
+    fig, grid = plt.subplots(2, 3, figsize=(13.0, 7.0))
+    axes = list(grid.flat)
+    spread = axes.pop()          # the sixth panel: largest displacement relative to the base
+    styles = ["-", "--", ":", "-."]
+    for n, (label, rows) in enumerate(runs.items()):
+        t = np.array([r["time"] for r in rows])
+        for ax, key in zip(axes, RU_MONITORS):
+            ax.plot(t, [r["ru"][key] for r in rows], styles[n % 4], color=f"C{n}", marker="o",
+                    ms=3, label=label)
+        axes[-1].plot(t, [r["crest_ux"] for r in rows], "-", color=f"C{n}", marker="o", ms=3,
+                      label=f"{label}: u_x")
+        axes[-1].plot(t, [r["crest_uy"] for r in rows], ":", color=f"C{n}", marker="s", ms=3,
+                      label=f"{label}: u_y")
+        spread.plot(t, [r["rel_disp_max"] for r in rows], "-", color=f"C{n}", marker="o", ms=3,
+                    label=label)
+    for ax, key in zip(axes, RU_MONITORS):
+        ax.axhline(1.0, color="k", lw=0.8)
+        ax.axvspan(0.0, DURATION, color="0.9", zorder=0)
+        ax.set_title(f"r_u, {key}", fontsize=9)
+        ax.set_xlabel("t [s]")
+    axes[0].set_ylabel("excess pore pressure / initial sigma'_v")
+    axes[0].legend(fontsize=8)
+    axes[-1].set_title("crest displacement relative to the base", fontsize=9)
+    axes[-1].set_ylabel("[m]")
+    axes[-1].set_xlabel("t [s]")
+    axes[-1].legend(fontsize=7)
+    spread.set_title("sediment: largest |u - u_base|", fontsize=9)
+    spread.set_ylabel("[m]")
+    spread.set_xlabel("t [s]")
+    spread.legend(fontsize=8)
+    fig.tight_layout()
+    path = os.path.join(out, "earthquake_slope_ru.png")
+    save_figure(fig, path, dpi=100)
+    return path
+
+
+def compare_main(argv) -> int:
+    """``--compare LABEL=DIR [LABEL=DIR ...] --out DIR``: the r_u / displacement figure."""
+    import argparse
+    from postproc.mpmice_io import read_run_dumps
+    parser = argparse.ArgumentParser(description="r_u and displacement of several runs")
+    parser.add_argument("--compare", nargs="+", required=True, metavar="LABEL=DIR")
+    parser.add_argument("--out", default=".")
+    args = parser.parse_args(argv)
+    runs = {}
+    for item in args.compare:
+        label, _, path = item.partition("=")
+        try:
+            runs[label] = analyse(read_run_dumps(path, NAME))
+        except RuntimeError as error:
+            raise SystemExit(str(error)) from None
+        print(f"== {label}: {path}")
+        print_table(runs[label])
+    os.makedirs(args.out, exist_ok=True)
+    print(f"plot: {compare(runs, args.out)}")
+    return 0
+
+
+def main(argv=None) -> int:
+    import sys
+    argv = sys.argv[1:] if argv is None else argv
+    if "--compare" in argv:
+        return compare_main(argv)
+    args, dumps = parse_run_dir(__doc__.splitlines()[0], NAME, argv)
+    rows = analyse(dumps)
+    print_table(rows)
     for path in plot(dumps, rows, args.out or args.dir):
         print(f"plot: {path}")
     return 0

@@ -2,7 +2,9 @@
 base that shakes with a(t) = 1 g sin(2 pi 2 Hz t) (namelists/mpmice_earthquake_slope_2d.nml,
 postproc/mpmice_earthquake_slope.py). A short coarse run (0.25 m cells, t = 0.15 s, ~3 s)
 checks the masses, the base's prescribed motion, that the sediment is carried by the base and
-yields, and the size of the surface wave."""
+yields, and the size of the surface wave. The loose / dense critical-state sand pair
+(namelists/mpmice_earthquake_slope_{loose,dense}_2d.nml, the same coarse run, ~2 x 5 s): the
+loose basal layer liquefies (r_u -> 1), the dense one sucks."""
 import numpy as np
 import pytest
 
@@ -85,3 +87,37 @@ def test_pore_pressure_roughness_sees_a_single_cell_and_not_a_gradient():
     p99, largest = quake.pore_pressure_roughness(dump)
     assert abs(largest - 4.0e4) < 1e-6, largest
     assert p99 > 2.0e4 - 1e-6, p99
+
+
+# ------------------------------------------------------------- liquefaction: critical-state sand
+
+LIQUEFACTION = {k: f"{ROOT}/namelists/mpmice_earthquake_slope_{k}_2d.nml" for k in ("loose", "dense")}
+LAYER_MONITORS = ("layer, crest", "layer, left flank", "layer, right flank")
+
+
+def liquefaction_rows(tmp_path, kind):
+    """0.25 m cells, to t = 0.15 s (dumps every 0.05 s): the rows of quake.analyse."""
+    out = str(tmp_path / kind)
+    run_mpmice([LIQUEFACTION[kind], "--set", f"&run output_dir = '{out}', end_time = {END}, "
+                "output_interval = 0.05 / &grid ncells = 52, 16, 1 /"], cwd=str(tmp_path), timeout=900)
+    return quake.analyse([read_dump(p) for p in list_dumps(out, quake.NAME)])
+
+
+def test_loose_sand_liquefies_dense_sand_sucks(tmp_path):
+    """The critical-state sand variants of the shaken bank (docs/soil_models.md,
+    "Earthquake-induced liquefaction"), 0.25 m cells, the first 0.15 s of the 1 g shaking.
+    Loose (phi0 = 0.57 < phi_m): in the basal layer under the crest and both flanks the pore-
+    pressure ratio r_u = excess pore pressure / initial sigma'_v rises from 0.05 to 0.15 s and
+    reaches >= 0.6 at 0.15 s (measured 0.77 / 1.03 / 1.02), and the skeleton there has lost
+    >= 90 % of its vertical effective stress (measured 100 %). Dense (phi0 = 0.62 > phi_m): the
+    same points suck, r_u <= -0.3 at 0.1 and 0.15 s (measured -0.74 .. -3.9), and sigma'_v grows."""
+    loose = liquefaction_rows(tmp_path, "loose")
+    dense = liquefaction_rows(tmp_path, "dense")
+    assert [r["time"] for r in loose] == pytest.approx([0.0, 0.05, 0.10, 0.15])
+    for key in LAYER_MONITORS:
+        assert loose[3]["ru"][key] > loose[1]["ru"][key], key
+        assert loose[3]["ru"][key] >= 0.6, (key, loose[3]["ru"][key])
+        assert loose[3]["ru_effective"][key] >= 0.9, (key, loose[3]["ru_effective"][key])
+        for r in dense[2:]:
+            assert r["ru"][key] <= -0.3, (key, r["time"], r["ru"][key])
+            assert r["ru_effective"][key] < 0.0, (key, r["time"], r["ru_effective"][key])
