@@ -16,7 +16,7 @@ module config_load
   private
 
   public :: config_load_file, config_read_text_file, config_resolve, config_load_run
-  public :: config_bcast
+  public :: config_bcast, bcast_text
 
 contains
 

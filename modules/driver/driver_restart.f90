@@ -15,12 +15,12 @@
 !! command line), not the stored `output_dir` read relative to the current working directory.
 module driver_restart
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Bcast, MPI_INTEGER, &
-    MPI_CHARACTER, MPI_LOGICAL
+    MPI_LOGICAL
   use mpmice_kinds, only: msg_len
   use mpmice_errors, only: input_error_text, int_text
   use config_types, only: config_t
   use config_parse, only: group_error_text
-  use config_load, only: config_load_run, config_resolve
+  use config_load, only: config_load_run, config_resolve, bcast_text
   use config_echo, only: config_to_text
   use io_files, only: io_dirname
   use io_hdf5_probe, only: checkpoint_probe_t, h5_probe_checkpoint
@@ -227,20 +227,4 @@ contains
     call MPI_Bcast(stat, 1, MPI_INTEGER, 0, comm)
     if (stat /= 0) call bcast_text(errmsg, comm)
   end subroutine bcast_status
-
-  !> Broadcast a deferred-length string from rank 0.
-  subroutine bcast_text(text, comm)
-    character(len=:), allocatable, intent(inout) :: text  !< string (significant on rank 0)
-    type(MPI_Comm), intent(in) :: comm                    !< communicator
-    integer :: rank, n
-    call MPI_Comm_rank(comm, rank)
-    n = 0
-    if (rank == 0) n = len(text)
-    call MPI_Bcast(n, 1, MPI_INTEGER, 0, comm)
-    if (rank /= 0) then
-      if (allocated(text)) deallocate(text)
-      allocate(character(len=n) :: text)
-    end if
-    if (n > 0) call MPI_Bcast(text, n, MPI_CHARACTER, 0, comm)
-  end subroutine bcast_text
 end module driver_restart

@@ -6,6 +6,7 @@
 !! (e.g. the collective `h5_create` of the first dump).
 module io_files
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char
+  use io_posix, only: c_mkdir, c_access, c_setenv, c_rename
   use mpmice_errors, only: fatal
   implicit none
   private
@@ -16,40 +17,6 @@ module io_files
   integer(c_int), parameter :: directory_mode = int(o'755', c_int)  !< permissions of new folders
   integer(c_int), parameter :: access_exists = 0_c_int              !< `F_OK` of `access(2)`
 
-  interface
-    !> `int mkdir(const char *path, mode_t mode)` (mode_t is a 32-bit unsigned int on Linux).
-    function c_mkdir(path, mode) result(status) bind(c, name='mkdir')
-      import :: c_char, c_int
-      character(kind=c_char), intent(in) :: path(*)
-      integer(c_int), value :: mode
-      integer(c_int) :: status
-    end function c_mkdir
-
-    !> `int access(const char *path, int mode)`.
-    function c_access(path, mode) result(status) bind(c, name='access')
-      import :: c_char, c_int
-      character(kind=c_char), intent(in) :: path(*)
-      integer(c_int), value :: mode
-      integer(c_int) :: status
-    end function c_access
-
-    !> `int setenv(const char *name, const char *value, int overwrite)`.
-    function c_setenv(name, value, overwrite) result(status) bind(c, name='setenv')
-      import :: c_char, c_int
-      character(kind=c_char), intent(in) :: name(*)
-      character(kind=c_char), intent(in) :: value(*)
-      integer(c_int), value :: overwrite
-      integer(c_int) :: status
-    end function c_setenv
-
-    !> `int rename(const char *old, const char *new)`.
-    function c_rename(old, new) result(status) bind(c, name='rename')
-      import :: c_char, c_int
-      character(kind=c_char), intent(in) :: old(*)
-      character(kind=c_char), intent(in) :: new(*)
-      integer(c_int) :: status
-    end function c_rename
-  end interface
 
 contains
 

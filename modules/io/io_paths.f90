@@ -4,8 +4,8 @@
 !! The C library gives `mkdir`, `access` and the reason of a failure (`errno` through glibc's and
 !! musl's `__errno_location`, text through `strerror`); Fortran 2008 has neither.
 module io_paths
-  use, intrinsic :: iso_c_binding, only: c_char, c_int, c_ptr, c_null_char, c_associated, &
-    c_f_pointer
+  use, intrinsic :: iso_c_binding, only: c_int
+  use io_posix, only: c_mkdir, c_access, c_string, posix_errno, posix_error_text
   use mpmice_errors, only: int_text
   use io_files, only: io_directory_exists, io_file_exists
   implicit none
@@ -19,36 +19,6 @@ module io_paths
   integer(c_int), parameter :: access_write = 2_c_int               !< `W_OK` of `access(2)`
   integer(c_int), parameter :: access_search = 1_c_int              !< `X_OK` of `access(2)`
 
-  interface
-    !> `int mkdir(const char *path, mode_t mode)`.
-    function c_mkdir(path, mode) result(status) bind(c, name='mkdir')
-      import :: c_char, c_int
-      character(kind=c_char), intent(in) :: path(*)
-      integer(c_int), value :: mode
-      integer(c_int) :: status
-    end function c_mkdir
-
-    !> `int access(const char *path, int mode)`.
-    function c_access(path, mode) result(status) bind(c, name='access')
-      import :: c_char, c_int
-      character(kind=c_char), intent(in) :: path(*)
-      integer(c_int), value :: mode
-      integer(c_int) :: status
-    end function c_access
-
-    !> `int *__errno_location(void)`: the calling thread's `errno`.
-    function c_errno_location() result(location) bind(c, name='__errno_location')
-      import :: c_ptr
-      type(c_ptr) :: location
-    end function c_errno_location
-
-    !> `char *strerror(int errnum)`.
-    function c_strerror(errnum) result(text) bind(c, name='strerror')
-      import :: c_int, c_ptr
-      integer(c_int), value :: errnum
-      type(c_ptr) :: text
-    end function c_strerror
-  end interface
 
 contains
 
@@ -138,34 +108,9 @@ contains
   !> The C library's text for the current `errno`.
   function last_error() result(text)
     character(len=:), allocatable :: text
-    integer(c_int), pointer :: errno
-    type(c_ptr) :: message
-    character(kind=c_char), pointer :: chars(:)
-    integer :: n, i
-    call c_f_pointer(c_errno_location(), errno)
-    message = c_strerror(errno)
-    text = 'error ' // int_text(int(errno))
-    if (.not. c_associated(message)) return
-    call c_f_pointer(message, chars, [1024])
-    n = 0
-    do while (n < 1024)
-      if (chars(n + 1) == c_null_char) exit
-      n = n + 1
-    end do
-    text = repeat(' ', n)
-    do i = 1, n
-      text(i:i) = chars(i)
-    end do
+    integer :: code
+    code = posix_errno()
+    text = posix_error_text(code)
+    if (len(text) == 0) text = 'error ' // int_text(code)
   end function last_error
-
-  !> A Fortran string as a NUL-terminated C character array.
-  pure function c_string(text) result(cs)
-    character(len=*), intent(in) :: text  !< text without trailing NUL
-    character(kind=c_char) :: cs(len(text) + 1)
-    integer :: i
-    do i = 1, len(text)
-      cs(i) = text(i:i)
-    end do
-    cs(len(text) + 1) = c_null_char
-  end function c_string
 end module io_paths

@@ -8,8 +8,8 @@
 !! `MPMICE_FAULT=enospc_dump_step:N` (`mpmice_faults`, docs/testing.md) makes the dump of step N
 !! fail as on a full disk, for tests where no small file system can be mounted.
 module io_write_failure
-  use, intrinsic :: iso_c_binding, only: c_int, c_ptr, c_char, c_null_char, c_associated, &
-    c_f_pointer
+  use, intrinsic :: iso_c_binding, only: c_int, c_null_char
+  use io_posix, only: c_unlink, posix_errno, posix_error_text
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use mpi_f08, only: MPI_COMM_WORLD, MPI_Comm_size, MPI_Abort, MPI_Initialized, MPI_Finalized
   implicit none
@@ -23,26 +23,6 @@ module io_write_failure
   integer, parameter :: enoent = 2   !< errno of a missing file
 
   interface
-    !> glibc: address of the calling thread's errno.
-    function c_errno_location() result(p) bind(c, name='__errno_location')
-      import :: c_ptr
-      type(c_ptr) :: p
-    end function c_errno_location
-
-    !> C library strerror(): the message of an errno value.
-    function c_strerror(code) result(p) bind(c, name='strerror')
-      import :: c_ptr, c_int
-      integer(c_int), value :: code
-      type(c_ptr) :: p
-    end function c_strerror
-
-    !> C library unlink(): remove a file.
-    function c_unlink(path) result(status) bind(c, name='unlink')
-      import :: c_int, c_char
-      character(kind=c_char), intent(in) :: path(*)
-      integer(c_int) :: status
-    end function c_unlink
-
     !> POSIX _exit(): end the process without the atexit handlers (HDF5's would close a file
     !! that failed to write through MPI-IO after MPI_Finalize and crash).
     subroutine c_exit(status) bind(c, name='_exit')
@@ -56,37 +36,14 @@ contains
   !> The current errno of the calling thread (read it right after the failing call).
   function io_system_error() result(code)
     integer :: code
-    integer(c_int), pointer :: errno_value
-    type(c_ptr) :: p
-    code = 0
-    p = c_errno_location()
-    if (.not. c_associated(p)) return
-    call c_f_pointer(p, errno_value)
-    code = int(errno_value)
+    code = posix_errno()
   end function io_system_error
 
   !> strerror(code) as Fortran text ('' for code 0).
   function io_system_error_text(code) result(text)
     integer, intent(in) :: code  !< errno value
     character(len=:), allocatable :: text
-    character(kind=c_char), pointer :: chars(:)
-    type(c_ptr) :: p
-    integer :: n, k
-    text = ''
-    if (code == 0) return
-    p = c_strerror(int(code, c_int))
-    if (.not. c_associated(p)) return
-    call c_f_pointer(p, chars, [1024])
-    n = 0
-    do while (n < 1024)
-      if (chars(n + 1) == c_null_char) exit
-      n = n + 1
-    end do
-    deallocate(text)
-    allocate(character(len=n) :: text)
-    do k = 1, n
-      text(k:k) = chars(k)
-    end do
+    text = posix_error_text(code)
   end function io_system_error_text
 
   !> Remove the file `path` if it exists (errors ignored).
