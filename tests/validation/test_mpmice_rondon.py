@@ -3,10 +3,10 @@
 docs/validation/rondon2011.md). Both packings run coarse (the scenes' 5 mm cells) for END_TIME of
 the collapse and are checked against the experiment's qualitative targets: the base excess pore
 pressure has the experiment's sign (dense: suction, loose: positive) and the loose column runs out
-farther and faster than the dense one. Today's soil is Mohr-Coulomb with a constant dilation angle;
-the dense suction and the loose column's faster, longer run-out hold with it at 0.5 s; the dense
-peak's size and the loose pressure's sign do not: they are ``xfail(strict=True)`` with the measured
-numbers, so they flag when a critical-state model fixes them. The full-length targets (final
+farther and faster than the dense one, and the peak base pressures lie within 40 % of the
+experiment's (issue targets). The soil is the critical-state sand (docs/soil_models.md); the
+Mohr-Coulomb variants (``*_mc_2d.nml``) miss the dense peak's size and the loose pressure's sign
+(docs/validation/rondon2011.md), so these tests fail with them. The full-length targets (final
 run-out, peak times) are measured by the full runs of docs/validation/rondon2011.md. The reader
 of the experiment's files is tested on the data themselves; that test alone needs
 ../shared/reference/experiments/rondon2011 and skips (allowed even under MPMICE_REQUIRE_ALL,
@@ -48,27 +48,34 @@ def test_dense_base_pressure_is_suction(series):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="Mohr-Coulomb psi = +7 deg: dense base suction peaks at "
-                   "-260 Pa (0.3 s), 2.1 times the experiment's -126 Pa")
 def test_dense_peak_suction_within_40_percent(series):
-    """Issue target: the dense peak base suction within 40 % of the experiment's -126 Pa."""
+    """Issue target: the dense peak base suction within 40 % of the experiment's -126 Pa.
+    Measured (critical-state sand, the scenes' 0.1 s dumps): -93 Pa at 0.4 s (-26 %). Mohr-Coulomb
+    with psi = +7 deg (mpmice_rondon_dense_mc_2d.nml) fails it: -260 Pa at 0.3 s (2.1 times)."""
     p = series["dense"]["pressure"][1:]
     assert abs(p.min() / -126.0 - 1.0) < 0.4, p
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="Mohr-Coulomb psi = -5 deg: loose base pressure peaks "
-                   "NEGATIVE, -71 Pa at 0.05 s, mean -13 Pa over 0.05-0.5 s, largest positive "
-                   "+14 Pa (experiment: +144 Pa at 2 s); the loose skeleton dilates on average "
-                   "(solid fraction 0.55 -> 0.53, a quarter of it past max_porosity)")
 def test_loose_base_pressure_is_positive(series):
     """Issue target: the loose column's base excess pore pressure at x = 2 cm has the
     experiment's sign: its peak (largest |p|) and its mean over the dumps after t = 0 are
-    positive."""
+    positive. Measured (critical-state sand): peak +103 Pa at 0.25 s, +26 to +103 Pa in every
+    dump to 0.5 s (the experiment: +144 Pa at 2.0 s). Mohr-Coulomb with psi = -5 deg
+    (mpmice_rondon_loose_mc_2d.nml) fails it: peak -71 Pa at 0.05 s, mean -13 Pa."""
     p = series["loose"]["pressure"][1:]
     k = int(np.argmax(np.abs(p)))
     assert p[k] > 0.0, p
     assert p.mean() > 0.0, p
+
+
+@pytest.mark.slow
+def test_loose_peak_pressure_within_40_percent(series):
+    """Issue target: the loose peak base excess pore pressure within 40 % of the experiment's
+    +144 Pa (measured: +103 Pa at 0.25 s, -28 %; in the 6 s run the peak stays the one of the
+    first 0.5 s: docs/validation/rondon2011.md)."""
+    p = series["loose"]["pressure"][1:]
+    assert abs(p.max() / 144.0 - 1.0) < 0.4, p
 
 
 @pytest.mark.slow
