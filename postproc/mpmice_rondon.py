@@ -46,6 +46,7 @@ from postproc import measures
 from postproc.figures import VALIDATION_DIR, pyplot, save_figure
 from postproc.mpmice_io import cell_centres, read_run_dumps
 from postproc.namelist import parse_namelist_groups
+from postproc.reference import experiment_folder
 from postproc.run_case import ROOT
 
 NAME = "rondon"
@@ -55,25 +56,9 @@ H0 = {"dense": 0.042, "loose": 0.048}   # m
 PROBE_X = 0.02               # m: base pressure probe, from the closed wall
 PPC = 2                      # particles per cell per direction in the shipped scenes
 CASES = ("dense", "loose")
-REFERENCE_PARTS = ("shared", "reference", "experiments", "rondon2011")
-
-
 def default_reference(root: str = ROOT) -> str:
-    """``<root>/../shared/reference/experiments/rondon2011``; when ``root`` is a git worktree
-    (its ``.git`` a file naming ``gitdir: <main>/.git/worktrees/<name>``) and that folder is
-    absent, the same path beside the main checkout ``<main>``."""
-    here = os.path.normpath(os.path.join(root, "..", *REFERENCE_PARTS))
-    marker = os.path.join(root, ".git")
-    if os.path.isdir(here) or not os.path.isfile(marker):
-        return here
-    with open(marker, encoding="utf-8") as handle:
-        line = handle.readline().strip()
-    if not line.startswith("gitdir:"):
-        return here
-    gitdir = line.split(":", 1)[1].strip()
-    sep = os.sep + ".git" + os.sep
-    main = gitdir.split(sep)[0] if sep in gitdir else None
-    return os.path.normpath(os.path.join(main, "..", *REFERENCE_PARTS)) if main else here
+    """The Rondon data folder (postproc/reference.py)."""
+    return experiment_folder("rondon2011", root)
 
 
 DEFAULT_REFERENCE = default_reference()
