@@ -31,7 +31,8 @@ Definitions (the same for the model and the experiment):
 
 Writes ``rondon2011.png`` (3 rows: front, base pressure, profiles; dense left, loose right) and
 ``rondon2011.csv`` (one row per case and source: peak base pressure with its sign and time, final
-run-out, its time, t90) in ``--out`` (default: docs/validation).
+run-out, its time, t90) in ``--out`` (default: docs/validation); ``--stem`` renames both (the
+Mohr-Coulomb runs of the ``*_mc_2d.nml`` scenes: ``--stem rondon2011_mc``).
 """
 from __future__ import annotations
 
@@ -154,13 +155,17 @@ def solid_group(dump: dict) -> dict:
 def packing(dump: dict) -> dict:
     """The beads' packing: ``mean`` solid fraction (mass-weighted) of the particles, 1 - n with
     n = 1 - m / (rho_s V); ``suspended``: share of the particles at or past ``max_porosity``
-    (no grain contacts); ``critical``: share at or below ``min_porosity`` (when set)."""
+    (no grain contacts); ``critical``: share at or below ``min_porosity`` (Mohr-Coulomb, when set)
+    or, for the critical-state sand, at or above its ``critical_solid_fraction`` phi_m (denser
+    than the quasi-static critical packing)."""
     group = solid_group(dump)
     parts = dump["particles"][SOLID]
     phi = parts["mass"] / (float(group["density"]) * parts["volume"])
     n = 1.0 - phi
     n_max = float(group.get("max_porosity", 1.0))
     n_min = float(group.get("min_porosity", 0.0))
+    if group.get("model") == "critical_state_sand":
+        n_min = 1.0 - float(group.get("critical_solid_fraction", 0.585))
     return {"mean": float(np.average(phi, weights=parts["mass"])),
             "suspended": float(np.mean(n >= n_max - 1e-6)),
             "critical": float(np.mean(n <= n_min + 1e-6)) if n_min > 0.0 else 0.0}
@@ -194,6 +199,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--reference", default=DEFAULT_REFERENCE,
                         help="folder of the digitised experiment (default: %(default)s)")
     parser.add_argument("--out", default=VALIDATION_DIR)
+    parser.add_argument("--stem", default="rondon2011",
+                        help="file name of the figure and the CSV, without suffix "
+                             "(default: %(default)s)")
     return parser
 
 
@@ -251,7 +259,7 @@ def main(argv=None) -> int:
                                   series["packing"]):
                 print(f"{case} model: t = {t:6.2f} s  front {f * 100:6.2f} cm  "
                       f"base excess pressure {p:8.1f} Pa  solid fraction {k['mean']:.4f}  "
-                      f"suspended {k['suspended']:.3f}  at min_porosity {k['critical']:.3f}")
+                      f"suspended {k['suspended']:.3f}  at critical packing {k['critical']:.3f}")
         ax_f.set_title(f"{case}: L0 = {L0 * 100:g} cm, H0 = {H0[case] * 100:g} cm")
         ax_f.set_xlabel("t [s]")
         ax_f.set_ylabel("front [cm from the wall]")
@@ -263,8 +271,8 @@ def main(argv=None) -> int:
         for ax in (ax_f, ax_p, ax_h):
             ax.legend(fontsize=7)
     fig.tight_layout()
-    print(save_figure(fig, os.path.join(args.out, "rondon2011.png")))
-    path = os.path.join(args.out, "rondon2011.csv")
+    print(save_figure(fig, os.path.join(args.out, args.stem + ".png")))
+    path = os.path.join(args.out, args.stem + ".csv")
     with open(path, "w", newline="", encoding="utf-8") as handle:
         writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
         writer.writeheader()

@@ -3,10 +3,13 @@
 docs/validation/rondon2011.md). Both packings run coarse (the scenes' 5 mm cells) for END_TIME of
 the collapse and are checked against the experiment's qualitative targets: the base excess pore
 pressure has the experiment's sign (dense: suction, loose: positive) and the loose column runs out
-farther and faster than the dense one. Today's soil is Mohr-Coulomb with a constant dilation angle;
-the dense suction and the loose column's faster, longer run-out hold with it at 0.5 s; the dense
-peak's size and the loose pressure's sign do not: they are ``xfail(strict=True)`` with the measured
-numbers, so they flag when a critical-state model fixes them. The full-length targets (final
+farther and faster than the dense one, and the peak base pressures lie within 40 % of the
+experiment's (issue targets). The soil is the critical-state sand (docs/soil_models.md); the
+Mohr-Coulomb variants (``*_mc_2d.nml``) miss the dense peak's size and the loose pressure's sign
+(docs/validation/rondon2011.md), so these tests fail with them. The dense peak within 40 % is
+``xfail(strict=True)``: over 0.05-0.5 s the largest suction is a release transient at 0.05 s
+(reason in the mark). The experiment's pressure data start at 1.1 s; the 0.5 s window checks the
+model's first response only. The full-length targets (final
 run-out, peak times) are measured by the full runs of docs/validation/rondon2011.md. The reader
 of the experiment's files is tested on the data themselves; that test alone needs
 ../shared/reference/experiments/rondon2011 and skips (allowed even under MPMICE_REQUIRE_ALL,
@@ -21,7 +24,7 @@ from postproc import mpmice_rondon as rondon
 from postproc.mpmice_io import read_run_dumps
 from postproc.run_case import ROOT, run_mpmice
 
-END_TIME = 0.5               # s of the collapse (45-150 s per packing at 5 mm cells)
+END_TIME = 0.5               # s of the collapse (15-150 s per packing at 5 mm cells)
 
 
 @pytest.fixture(scope="module")
@@ -48,23 +51,28 @@ def test_dense_base_pressure_is_suction(series):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="Mohr-Coulomb psi = +7 deg: dense base suction peaks at "
-                   "-260 Pa (0.3 s), 2.1 times the experiment's -126 Pa")
+@pytest.mark.xfail(strict=True, reason="critical-state sand: the largest dense suction is the "
+                   "release transient, -237 Pa at 0.05 s (1.9 times -126 Pa; gone by 0.1 s: "
+                   "-39 Pa); from 0.1 to 0.5 s -39 to -94 Pa. The experiment has no data before "
+                   "1.1 s and its gate lift (finite time) is not modelled")
 def test_dense_peak_suction_within_40_percent(series):
-    """Issue target: the dense peak base suction within 40 % of the experiment's -126 Pa."""
+    """Issue target: the dense peak base suction within 40 % of the experiment's -126 Pa (its
+    first point, at 1.1 s). Over the experiment's window (from 1.1 s, the full run of
+    docs/validation/rondon2011.md) the model's largest suction is -96 Pa (-24 %); over
+    0.05-0.5 s it is the release transient at 0.05 s (the xfail reason). Mohr-Coulomb with
+    psi = +7 deg (mpmice_rondon_dense_mc_2d.nml): -260 Pa at 0.3 s (2.1 times)."""
     p = series["dense"]["pressure"][1:]
     assert abs(p.min() / -126.0 - 1.0) < 0.4, p
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="Mohr-Coulomb psi = -5 deg: loose base pressure peaks "
-                   "NEGATIVE, -71 Pa at 0.05 s, mean -13 Pa over 0.05-0.5 s, largest positive "
-                   "+14 Pa (experiment: +144 Pa at 2 s); the loose skeleton dilates on average "
-                   "(solid fraction 0.55 -> 0.53, a quarter of it past max_porosity)")
 def test_loose_base_pressure_is_positive(series):
     """Issue target: the loose column's base excess pore pressure at x = 2 cm has the
     experiment's sign: its peak (largest |p|) and its mean over the dumps after t = 0 are
-    positive."""
+    positive. Measured (critical-state sand): peak +103 Pa at 0.25 s, +26 to +103 Pa in every
+    dump to 0.5 s (the experiment: +144 Pa at 2.0 s; its data start at 1.1 s, where the model's
+    pressure has already turned negative: docs/validation/rondon2011.md). Mohr-Coulomb with
+    psi = -5 deg (mpmice_rondon_loose_mc_2d.nml) fails it: peak -71 Pa at 0.05 s, mean -13 Pa."""
     p = series["loose"]["pressure"][1:]
     k = int(np.argmax(np.abs(p)))
     assert p[k] > 0.0, p
@@ -72,12 +80,21 @@ def test_loose_base_pressure_is_positive(series):
 
 
 @pytest.mark.slow
+def test_loose_peak_pressure_within_40_percent(series):
+    """Issue target: the loose peak base excess pore pressure within 40 % of the experiment's
+    +144 Pa (measured: +103 Pa at 0.25 s, -28 %; in the 6 s run the peak stays the one of the
+    first 0.5 s, before the experiment's first point at 1.1 s: docs/validation/rondon2011.md)."""
+    p = series["loose"]["pressure"][1:]
+    assert abs(p.max() / 144.0 - 1.0) < 0.4, p
+
+
+@pytest.mark.slow
 def test_loose_runs_out_farther_and_faster(series):
     """At END_TIME the loose front is ahead of the dense one by at least 1 cm, and the loose
     front has advanced at least 3 times as far as the dense one (issue target: the dense collapse
-    at least 3 times slower). Measured (the scenes' 0.1 s dumps): loose 8.6 cm, dense 6.2 cm;
-    advances 2.6 and 0.19 cm. Experiment at 0.55-0.64 s (front files shifted to start at L0):
-    loose 15.3 cm, dense 7.7 cm."""
+    at least 3 times slower). Measured (critical-state sand): loose 10.4 cm, dense 6.2 cm;
+    advances 4.4 and 0.16 cm (Mohr-Coulomb: 8.6 and 6.2 cm; 2.6 and 0.19 cm). Experiment at
+    0.55-0.64 s (front files shifted to start at L0): loose 15.3 cm, dense 7.7 cm."""
     dense, loose = series["dense"]["front"], series["loose"]["front"]
     assert loose[-1] - dense[-1] > 0.01, (dense, loose)
     assert loose[-1] - loose[0] > 3.0 * (dense[-1] - dense[0]), (dense, loose)
