@@ -5,8 +5,8 @@
 !! in a parallel run rank 0 calls them and the other ranks wait at the next collective operation
 !! (e.g. the collective `h5_create` of the first dump).
 module io_files
-  use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char
-  use io_posix, only: c_mkdir, c_access, c_setenv, c_rename
+  use, intrinsic :: iso_c_binding, only: c_int
+  use io_posix, only: c_mkdir, c_access, c_setenv, c_rename, c_string
   use mpmice_errors, only: fatal
   implicit none
   private
@@ -133,15 +133,4 @@ contains
       dir = path(1:slash - 1)
     end if
   end function io_dirname
-
-  !> A Fortran string as a NUL-terminated C character array.
-  pure function c_string(text) result(cs)
-    character(len=*), intent(in) :: text  !< text without trailing NUL
-    character(kind=c_char) :: cs(len(text) + 1)
-    integer :: i
-    do i = 1, len(text)
-      cs(i) = text(i:i)
-    end do
-    cs(len(text) + 1) = c_null_char
-  end function c_string
 end module io_files

@@ -24,6 +24,7 @@
 !! increment exceeds `max_substep_strain` is split into equal substeps.
 module mpm_cam_clay
   use mpmice_kinds, only: wp
+  use mpm_illinois, only: illinois_point, illinois_update
   implicit none
   private
 
@@ -188,21 +189,10 @@ contains
     gam = hi
     side = 0
     do it = 1, max_iterations
-      gam = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
-      if (it > falsi_iterations) gam = 0.5_wp * (lo + hi)
+      gam = illinois_point(lo, f_lo, hi, f_hi, it, falsi_iterations)
       f_mid = residual(gam)
       if (abs(f_mid) <= 1.0e-13_wp * pc**2 .or. hi - lo <= 1.0e-15_wp * hi) exit
-      if (f_mid > 0.0_wp) then
-        lo = gam
-        f_lo = f_mid
-        if (side == -1) f_hi = 0.5_wp * f_hi
-        side = -1
-      else
-        hi = gam
-        f_hi = f_mid
-        if (side == 1) f_lo = 0.5_wp * f_lo
-        side = 1
-      end if
+      call illinois_update(gam, f_mid, lo, f_lo, hi, f_hi, side)
     end do
     call state_at(gam, p, q, pc_new, x)
     if (q_tr > 0.0_wp) then
@@ -250,22 +240,11 @@ contains
         sd = 0
         if (ga /= 0.0_wp .and. gb /= 0.0_wp) then
           do j = 1, max_iterations
-            xx = (a * gb - b * ga) / (gb - ga)
-            if (j > falsi_iterations) xx = 0.5_wp * (a + b)
+            xx = illinois_point(a, ga, b, gb, j, falsi_iterations)
             gx = gfun(xx, dgam)
             if (abs(gx) <= 1.0e-15_wp * (abs(xx) + dgam * pc) .or. &
               b - a <= 1.0e-15_wp * max(abs(a), abs(b))) exit
-            if (gx < 0.0_wp) then
-              a = xx
-              ga = gx
-              if (sd == -1) gb = 0.5_wp * gb
-              sd = -1
-            else
-              b = xx
-              gb = gx
-              if (sd == 1) ga = 0.5_wp * ga
-              sd = 1
-            end if
+            call illinois_update(xx, gx, a, ga, b, gb, sd)
           end do
         else if (gb == 0.0_wp) then
           xx = b

@@ -26,6 +26,7 @@
 !! stress (the apex).
 module mpm_critical_state_sand
   use mpmice_kinds, only: wp
+  use mpm_illinois, only: illinois_point, illinois_update
   implicit none
   private
 
@@ -107,21 +108,10 @@ contains
     side = 0
     if (r_hi < 0.0_wp) then
       do it = 1, max_iterations
-        gam = (lo * r_hi - hi * r_lo) / (r_hi - r_lo)
-        if (it > falsi_iterations) gam = 0.5_wp * (lo + hi)
+        gam = illinois_point(lo, r_lo, hi, r_hi, it, falsi_iterations)
         r = residual(gam)
         if (abs(r) <= 1.0e-14_wp * max(tau_tr, p_tr) .or. hi - lo <= 1.0e-15_wp * hi) exit
-        if (r > 0.0_wp) then
-          lo = gam
-          r_lo = r
-          if (side == -1) r_hi = 0.5_wp * r_hi
-          side = -1
-        else
-          hi = gam
-          r_hi = r
-          if (side == 1) r_lo = 0.5_wp * r_lo
-          side = 1
-        end if
+        call illinois_update(gam, r, lo, r_lo, hi, r_hi, side)
       end do
     end if
     call state_at(gam, p, tau)
