@@ -1,4 +1,7 @@
 !> Wall-clock timers per pipeline stage, with an end-of-run summary (rank 0 prints).
+!! With the environment variable MPMICE_CPU_TIMERS=1 the stages measure the process's CPU time
+!! (user + system, Fortran `cpu_time`) instead: on a machine shared with other jobs the wall
+!! time of a stage includes the time the process waited for a core, its CPU time does not.
 !!
 !! Stages are registered once (`timer_register` returns an id) and timed with `timer_start` /
 !! `timer_stop`; nothing is allocated after registration. The summary reports, per stage, the number
@@ -24,6 +27,7 @@ module mpmice_timers
     real(wp) :: total_s(max_stages) = 0.0_wp       !< accumulated wall time [s]
     real(wp) :: started_s(max_stages) = -1.0_wp    !< start time of a running stage [s], -1 idle
     integer :: calls(max_stages) = 0               !< completed start/stop pairs
+    logical :: cpu = .false.                       !< CPU time instead of wall time
   end type timer_set_t
 
 contains
@@ -32,11 +36,16 @@ contains
   function timer_register(timers, name) result(id)
     type(timer_set_t), intent(inout) :: timers  !< timer set
     character(len=*), intent(in) :: name        !< stage name
-    integer :: id
+    integer :: id, length, status
+    character(len=8) :: value
     do id = 1, timers%nstages
       if (timers%names(id) == name) return
     end do
     if (timers%nstages == max_stages) call fatal('timer_register: too many stages')
+    if (timers%nstages == 0) then
+      call get_environment_variable('MPMICE_CPU_TIMERS', value, length, status)
+      timers%cpu = status == 0 .and. length > 0 .and. value /= '0'
+    end if
     timers%nstages = timers%nstages + 1
     id = timers%nstages
     timers%names(id) = name
@@ -46,7 +55,7 @@ contains
   subroutine timer_start(timers, id)
     type(timer_set_t), intent(inout) :: timers  !< timer set
     integer, intent(in) :: id                   !< stage id from timer_register
-    timers%started_s(id) = MPI_Wtime()
+    timers%started_s(id) = clock_s(timers)
   end subroutine timer_start
 
   !> Stop timing stage `id` and accumulate the elapsed time.
@@ -54,10 +63,21 @@ contains
     type(timer_set_t), intent(inout) :: timers  !< timer set
     integer, intent(in) :: id                   !< stage id from timer_register
     if (timers%started_s(id) < 0.0_wp) return
-    timers%total_s(id) = timers%total_s(id) + (MPI_Wtime() - timers%started_s(id))
+    timers%total_s(id) = timers%total_s(id) + (clock_s(timers) - timers%started_s(id))
     timers%started_s(id) = -1.0_wp
     timers%calls(id) = timers%calls(id) + 1
   end subroutine timer_stop
+
+  !> The clock of the set [s]: wall time, or the process's CPU time (`timers%cpu`).
+  function clock_s(timers) result(seconds)
+    type(timer_set_t), intent(in) :: timers  !< timer set
+    real(wp) :: seconds
+    if (timers%cpu) then
+      call cpu_time(seconds)
+    else
+      seconds = MPI_Wtime()
+    end if
+  end function clock_s
 
   !> Accumulated time [s] of stage `id` on this rank.
   pure function timer_total(timers, id) result(seconds)
@@ -89,7 +109,11 @@ contains
     call MPI_Comm_size(comm, nranks)
     call MPI_Allreduce(timers%total_s, tmax, n, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
     call MPI_Allreduce(timers%total_s, tsum, n, MPI_DOUBLE_PRECISION, MPI_SUM, comm)
-    call log_info('timers (wall seconds; max and mean over ranks)')
+    if (timers%cpu) then
+      call log_info('timers (CPU seconds, MPMICE_CPU_TIMERS; max and mean over ranks)')
+    else
+      call log_info('timers (wall seconds; max and mean over ranks)')
+    end if
     write(line, '(a32, a10, a12, a12, a8, a14)') 'stage', 'calls', 'max [s]', 'mean [s]', '%', &
       'per call [ms]'
     call log_info(line)
