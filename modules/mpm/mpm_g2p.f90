@@ -63,9 +63,13 @@ contains
       p%v(:, ip) = flip * (p%v(:, ip) + ap * dt) + (1.0_wp - flip) * vlp  ! eq. 70 + PIC blend
       p%x(:, ip) = p%x(:, ip) + vlp * dt                                  ! eq. 71
       if (mat%model == model_rigid) cycle
-      f = reshape(p%f(:, ip), [3, 3])
+      f(:, 1) = p%f(1:3, ip)
+      f(:, 2) = p%f(4:6, ip)
+      f(:, 3) = p%f(7:9, ip)
       fnew = f + dt * mul3(l, f)                                        ! eq. 74
-      p%f(:, ip) = reshape(fnew, [9])
+      p%f(1:3, ip) = fnew(:, 1)
+      p%f(4:6, ip) = fnew(:, 2)
+      p%f(7:9, ip) = fnew(:, 3)
       p%volume(ip) = det3(fnew) * p%volume0(ip)                           ! eq. 75
       call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
         p%plastic_strain(ip), p%hardening(ip))

@@ -55,6 +55,7 @@ contains
     integer :: i
 
     deps_p = 0.0_wp
+    if (clearly_elastic(p, sig)) return
     call sym_eigen(sig, s_tr, q)
     s = s_tr
     sphi = sin(p%phi)
@@ -114,6 +115,31 @@ contains
     deps_p = sqrt(2.0_wp / 3.0_wp * sum((de - tr)**2))
     sig = mat_to_sym(mul3(q, mul3(diag3(s), transpose(q))))
   end subroutine mc_return
+
+  !> True when the stress `sig` (xx, yy, zz, xy, yz, xz) lies inside the yield surface (and below
+  !! the tensile strength, with the cut-off) by more than 1e-10 of its scale, decided without the
+  !! eigen-decomposition: for a stress with yz = xz = 0 (every plane-strain and axisymmetric
+  !! state) the principal values are zz and the closed-form pair (xx + yy)/2 +- sqrt(((xx - yy)/2)^2
+  !! + xy^2), within a few ulp of `sym_eigen`'s, far inside the margin; `mc_return` then leaves
+  !! the stress unchanged exactly as after the decomposition. Other stresses: false.
+  pure logical function clearly_elastic(p, sig)
+    type(mc_params_t), intent(in) :: p   !< parameters
+    real(wp), intent(in) :: sig(6)       !< trial stress [Pa]
+    real(wp), parameter :: margin = 1.0e-10_wp
+    real(wp) :: mean, radius, s1, s3, k, scale
+    clearly_elastic = .false.
+    if (sig(5) /= 0.0_wp .or. sig(6) /= 0.0_wp) return
+    mean = 0.5_wp * (sig(1) + sig(2))
+    radius = sqrt((0.5_wp * (sig(1) - sig(2)))**2 + sig(4)**2)
+    s1 = max(mean + radius, sig(3))
+    s3 = min(mean - radius, sig(3))
+    k = 2.0_wp * p%cohesion * cos(p%phi)
+    scale = max(abs(sig(1)), abs(sig(2)), abs(sig(3)), abs(sig(4)), k, tiny(1.0_wp))
+    if (p%tension_cutoff) then
+      if (s1 > p%tensile_strength - margin * scale) return
+    end if
+    clearly_elastic = (s1 - s3) + (s1 + s3) * sin(p%phi) - k < -margin * scale
+  end function clearly_elastic
 
   !> Principal-space elastic stiffness applied to `b`: lambda (sum b) 1 + 2 mu b.
   pure function elastic_principal(p, b) result(db)

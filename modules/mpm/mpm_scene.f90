@@ -192,7 +192,7 @@ contains
     type(domain_t), intent(in) :: dom          !< decomposition
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp) :: dt
-    real(wp) :: h, speed
+    real(wp) :: h, speed, f(3, 3)
     integer :: s, ip
     h = minval(grid%dx, mask=grid%active)
     dt = huge(1.0_wp)
@@ -201,8 +201,10 @@ contains
       associate (p => self%parts(s))
         speed = 0.0_wp
         do ip = 1, p%np
-          speed = max(speed, wave_speed(self%mats(s), reshape(p%f(:, ip), [3, 3]), &
-            p%stress(:, ip)) + norm2(p%v(:, ip)))
+          f(:, 1) = p%f(1:3, ip)
+          f(:, 2) = p%f(4:6, ip)
+          f(:, 3) = p%f(7:9, ip)
+          speed = max(speed, wave_speed(self%mats(s), f, p%stress(:, ip)) + norm2(p%v(:, ip)))
         end do
         if (speed > 0.0_wp) dt = min(dt, self%cfl * h / speed)
       end associate
