@@ -293,7 +293,11 @@ contains
     integer :: i, n, r, face, idx(3), c(3)
     real(wp) :: inward, volume_in, u
     if (grid%periodic(d)) return
-    do i = i1, i2
+    ! only domain faces change: along x the row's first and last face, along y / z the whole row
+    ! or none
+    if (d == 2 .and. j /= 1 .and. j /= grid%ncells(2) + 1) return
+    if (d == 3 .and. k /= 1 .and. k /= grid%ncells(3) + 1) return
+    do i = i1, i2, merge(max(i2 - i1, 1), 1, d == 1)
       idx = [i, j, k]
       if (idx(d) == 1) then
         face = 2 * d - 1
