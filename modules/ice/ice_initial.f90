@@ -11,7 +11,8 @@
 !! rho = sum_m phi_m rho_m(p, T_m) (fixed-point iteration to round-off per cell). With these
 !! pressures the face velocities (eq. 31) and the cell momentum with the face pressures of
 !! eq. 37 are in exact balance in cells holding one fluid. Every rank integrates the columns
-!! through its own block from the global top, so the result does not depend on the ranks.
+!! through its own block from the global top, so the result does not depend on the ranks; each
+!! column once, down to the block's last cell (O(cells in the column), not its square).
 module ice_initial
   use mpmice_kinds, only: wp
   use mpmice_errors, only: fatal, real_short_text
@@ -34,6 +35,7 @@ contains
     type(grid_t), intent(in) :: grid           !< block geometry
     integer :: i, j, k, m, dg, c
     real(wp) :: phi(cfg%nfluids), t(cfg%nfluids), p(cfg%nfluids), v(3, cfg%nfluids), fsum
+    real(wp), allocatable :: p_hydro(:, :, :)
 
     dg = 0
     if (cfg%physics%hydrostatic_init) then
@@ -45,6 +47,10 @@ contains
         end if
       end do
     end if
+    if (dg /= 0) then
+      allocate(p_hydro(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), grid%lo(3):grid%hi(3)))
+      call hydrostatic_pressures(state, cfg, grid, dg, p_hydro)
+    end if
     do k = grid%lo(3), grid%hi(3)
       do j = grid%lo(2), grid%hi(2)
         do i = grid%lo(1), grid%hi(1)
@@ -53,7 +59,7 @@ contains
           if (abs(fsum - 1.0_wp) > 1.0e-6_wp) call fatal('ice scene: initial volume fractions '&
             // 'sum to ' // real_short_text(fsum) // ' in a cell, not 1 (check &fluid and ' // &
             '&region volume_fraction)')
-          if (dg /= 0) p = hydrostatic_pressure(state, cfg, grid, dg, [i, j, k])
+          if (dg /= 0) p = p_hydro(i, j, k)
           do m = 1, cfg%nfluids
             associate (f => state%fluid(m))
               f%rho(i, j, k) = phi(m) * eos_density(f%eos, p(m), t(m))
@@ -100,46 +106,60 @@ contains
     end do
   end subroutine material_state
 
-  !> Hydrostatic pressure [Pa] of global cell `cell`, integrated from the top face of its column
-  !! (gravity along dimension `dg`).
-  function hydrostatic_pressure(state, cfg, grid, dg, cell) result(pc)
+  !> Hydrostatic pressure [Pa] of every owned cell, each column (gravity along dimension `dg`)
+  !! integrated once from the global top face down to the block's last cell.
+  subroutine hydrostatic_pressures(state, cfg, grid, dg, p_hydro)
     type(ice_state_t), intent(in) :: state  !< fluids (EOS parameters)
     type(config_t), intent(in) :: cfg       !< configuration
     type(grid_t), intent(in) :: grid        !< block geometry
     integer, intent(in) :: dg               !< gravity dimension
-    integer, intent(in) :: cell(3)          !< global cell index
-    real(wp) :: pc
-    integer :: c, top, step, it, idx(3)
-    real(wp) :: g, h, rho, rho_prev, p_prev, pnew
+    !> pressure of the owned cells [Pa]
+    real(wp), intent(out) :: p_hydro(grid%lo(1):, grid%lo(2):, grid%lo(3):)
+    integer :: i, j, k, c, top, last, step, it, idx(3), lo(3), hi(3)
+    real(wp) :: g, h, rho, rho_prev, p_prev, pnew, pc
     real(wp) :: phi(cfg%nfluids), t(cfg%nfluids), p(cfg%nfluids), v(3, cfg%nfluids)
 
     g = abs(cfg%physics%gravity(dg))
     h = 0.5_wp * g * grid%dx(dg)
     if (cfg%physics%gravity(dg) < 0.0_wp) then
       top = grid%ncells(dg)
+      last = grid%lo(dg)
       step = -1
     else
       top = 1
+      last = grid%hi(dg)
       step = 1
     end if
-    idx = cell
-    p_prev = cfg%physics%reference_pressure
-    rho_prev = 0.0_wp
-    pc = p_prev
-    do c = top, cell(dg), step
-      idx(dg) = c
-      call material_state(cfg, grid, idx, phi, t, p, v)
-      do it = 1, 200
-        rho = mixture_density(state, phi, t, pc)
-        pnew = p_prev + h * (rho_prev + rho)
-        if (abs(pnew - pc) <= 4.0_wp * epsilon(1.0_wp) * abs(pnew)) exit
-        pc = pnew
+    ! one pass per column: the loops run over the other two dimensions only
+    lo = grid%lo
+    hi = grid%hi
+    lo(dg) = 1
+    hi(dg) = 1
+    do k = lo(3), hi(3)
+      do j = lo(2), hi(2)
+        do i = lo(1), hi(1)
+          idx = [i, j, k]
+          p_prev = cfg%physics%reference_pressure
+          rho_prev = 0.0_wp
+          pc = p_prev
+          do c = top, last, step
+            idx(dg) = c
+            call material_state(cfg, grid, idx, phi, t, p, v)
+            do it = 1, 200
+              rho = mixture_density(state, phi, t, pc)
+              pnew = p_prev + h * (rho_prev + rho)
+              if (abs(pnew - pc) <= 4.0_wp * epsilon(1.0_wp) * abs(pnew)) exit
+              pc = pnew
+            end do
+            pc = pnew
+            p_prev = pc
+            rho_prev = mixture_density(state, phi, t, pc)
+            if (c >= grid%lo(dg) .and. c <= grid%hi(dg)) p_hydro(idx(1), idx(2), idx(3)) = pc
+          end do
+        end do
       end do
-      pc = pnew
-      p_prev = pc
-      rho_prev = mixture_density(state, phi, t, pc)
     end do
-  end function hydrostatic_pressure
+  end subroutine hydrostatic_pressures
 
   !> Mixture bulk density sum_m phi_m rho_m(p, T_m) [kg/m^3].
   pure function mixture_density(state, phi, t, p) result(rho)
