@@ -36,9 +36,10 @@ contains
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: k_exchange         !< K [kg/m^3/s]
-    integer :: d, m, i, j, k, o(3), r(2, 3), nf, nm
+    integer :: d, m, i, j, k, o(3), r(2, 3), nf, nm, side
     real(wp) :: beta(max_n, max_n), rhs(max_n, 2), phi(max_n), v(max_n), w(max_n), c(max_n)
-    logical :: with_solid, rigid
+    real(wp) :: b12, b21, det
+    logical :: with_solid, rigid, pair
 
     nf = state%nfluids
     if ((nf < 2 .or. k_exchange <= 0.0_wp) .and. .not. state%solid%present) return
@@ -46,6 +47,11 @@ contains
       call exchange_faces_two(state, grid, dt, k_exchange)
       return
     end if
+    ! two fluids beside a solid phase: at an inner face with no solid in either cell the general
+    ! path below reduces to the closed-form 2 x 2 solve of exchange_solve; taken directly (the
+    ! same arithmetic) without the solid partner's drag and the general set-up
+    pair = nf == 2 .and. k_exchange > 0.0_wp .and. state%solid%present .and. &
+      .not. state%solid%sliding .and. .not. state%solid%explicit_drag
     do d = 1, 3
       if (.not. grid%active(d)) cycle
       o = 0
@@ -65,17 +71,33 @@ contains
             with_solid = .false.
             rigid = .false.
             if (state%solid%present) then
+              side = boundary_side(grid, d, [i, j, k])
+              if (pair .and. side == 0) then
+                if (state%solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
+                  state%solid%vfrac(i, j, k) <= 0.0_wp) then
+                  b12 = dt * v(1) * phi(2) * k_exchange
+                  b21 = dt * v(2) * phi(1) * k_exchange
+                  det = 1.0_wp + b12 + b21
+                  state%fluid(1)%uface(i, j, k, d) = ((1.0_wp + b21) * rhs(1, 1) + b12 * rhs(2, 1)) &
+                    / det
+                  state%fluid(2)%uface(i, j, k, d) = (b21 * rhs(1, 1) + (1.0_wp + b12) * rhs(2, 1)) &
+                    / det
+                  state%fluid(1)%vface(i, j, k, d) = ((1.0_wp + b21) * v(1) + b12 * v(2)) / det
+                  state%fluid(2)%vface(i, j, k, d) = (b21 * v(1) + (1.0_wp + b12) * v(2)) / det
+                  state%solid%vface(i, j, k, d) = 0.0_wp
+                  cycle
+                end if
+              end if
               ! a domain face's control volume is the inner half cell: the fluids' fractions
               ! there (not the mean with the ghost, a reservoir beyond an open face)
-              select case (boundary_side(grid, d, [i, j, k]))
+              select case (side)
               case (1)
                 phi(1:nf) = [(state%fluid(m)%vfrac(i, j, k), m = 1, nf)]
               case (2)
                 phi(1:nf) = [(state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)), m = 1, nf)]
               case default
               end select
-              call solid_face_partner(state, d, o, i, j, k, boundary_side(grid, d, [i, j, k]), &
-                phi(nf + 1), v(nf + 1), c, rigid)
+              call solid_face_partner(state, d, o, i, j, k, side, phi(nf + 1), v(nf + 1), c, rigid)
               ! a domain face: the solid of the inner cell (no solid lies beyond)
               with_solid = phi(nf + 1) > 0.0_wp
             end if
