@@ -109,8 +109,12 @@ contains
               ! difference as pressure (docs/mpmice.md, departure 16)
               if (state%solid%present .and. order > 1) then
                 do i = i1, i2
-                  cu = [i, j, k] - merge(o, 0 * o, pos(i))
-                  if (porous_stencil(state%solid%vfrac, grid, cu, o)) then
+                  if (pos(i)) then
+                    cu = [i - o(1), j - o(2), k - o(3)]
+                  else
+                    cu = [i, j, k]
+                  end if
+                  if (porous_stencil(state%solid%vfrac, grid, cu, o, d)) then
                     qf(i) = f%rho(cu(1), cu(2), cu(3))
                   end if
                 end do
@@ -181,18 +185,21 @@ contains
 
   !> One of the cells c - o, c, c + o inside the domain holds solid (the free-fluid ghosts beyond
   !! an open face of a soil that reaches it do not count).
-  pure logical function porous_stencil(phi_s, grid, c, o) result(porous)
+  pure logical function porous_stencil(phi_s, grid, c, o, d) result(porous)
     type(grid_t), intent(in) :: grid        !< block geometry
     real(wp), intent(in) :: phi_s(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< solid fraction [-]
     integer, intent(in) :: c(3)             !< upwind cell
     integer, intent(in) :: o(3)             !< unit offset along the face normal
-    integer :: s, d, n(3)
+    integer, intent(in) :: d                !< the normal's dimension (o(d) = 1)
+    integer :: s, n
     porous = .false.
-    d = maxloc(o, 1)
     do s = -1, 1
-      n = c + s * o
-      if (.not. grid%periodic(d) .and. (n(d) < 1 .or. n(d) > grid%ncells(d))) cycle
-      if (phi_s(n(1), n(2), n(3)) > 0.0_wp) porous = .true.
+      n = c(d) + s
+      if (.not. grid%periodic(d) .and. (n < 1 .or. n > grid%ncells(d))) cycle
+      if (phi_s(c(1) + s * o(1), c(2) + s * o(2), c(3) + s * o(3)) > 0.0_wp) then
+        porous = .true.
+        return
+      end if
     end do
   end function porous_stencil
 
