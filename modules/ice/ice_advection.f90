@@ -47,6 +47,7 @@ contains
     ! one row of faces along x (automatic arrays, no heap allocation): upwind side, centroid
     ! offset of the swept volume, mass flux, reconstructed face value and velocities
     logical :: pos(grid%lbc(1):grid%ubc(1))
+    real(wp) :: urow(grid%lbc(1):grid%ubc(1))
     real(wp) :: dist(grid%lbc(1):grid%ubc(1)), mflux(grid%lbc(1):grid%ubc(1))
     real(wp) :: qf(grid%lbc(1):grid%ubc(1)), vf(grid%lbc(1):grid%ubc(1), 3)
     ! cell-centre coordinates per axis (the potential -g.x of a cell)
@@ -95,11 +96,12 @@ contains
               ! centroid lies dist from that cell's centre
               do i = i1, i2
                 u = f%uface(i, j, k, d)
+                urow(i) = u
                 pos(i) = u > 0.0_wp
                 dist(i) = merge(0.5_wp * (grid%dx(d) - u * dt), -0.5_wp * (grid%dx(d) + u * dt), &
                   pos(i))
               end do
-              call row_face_values(f%rho, grid%lbc, i1, i2, j, k, o, order, pos, dist, &
+              call row_face_values(f%rho, grid%lbc, i1, i2, j, k, o, order, urow, dist, &
                 grid%dx(d), qf)
               ! a solid phase: where the upwind cell's stencil holds solid the mass leaves with
               ! the upwind cell's bulk density, i.e. the pressure equation's volume flux (upwind
@@ -126,7 +128,7 @@ contains
               call open_face_inflow(state, grid, m, d, o, i1, i2, j, k, dt, area, mflux)
               call row_update(c(:, :, :, 1), grid%lbc, i1, i2, j, k, o, mflux)
               do n = 1, 5
-                call row_face_values(f%lag(:, :, :, n), grid%lbc, i1, i2, j, k, o, order, pos, &
+                call row_face_values(f%lag(:, :, :, n), grid%lbc, i1, i2, j, k, o, order, urow, &
                   dist, grid%dx(d), qf)
                 if (n <= 3) vf(i1:i2, n) = qf(i1:i2)
                 if (n == 4 .and. total) then
@@ -204,31 +206,34 @@ contains
   end function porous_stencil
 
   !> Upwind face values of `q` on the faces (i1..i2, j, k) of direction o (unit offset): the
-  !! upwind cell's value (face - o where `pos`, else the face's own cell) plus `dist` times its
-  !! MC-limited slope (`order` > 1). Branch-free over the row.
-  pure subroutine row_face_values(q, lbc, i1, i2, j, k, o, order, pos, dist, dx, qf)
+  !! upwind cell's value (face - o where u > 0, else the face's own cell) plus `dist` times its
+  !! MC-limited slope (`order` > 1). Branch-free over the row; the arguments contiguous and the
+  !! upwind side given by the velocity (a real, not a logical array), so that the loops vectorise.
+  pure subroutine row_face_values(q, lbc, i1, i2, j, k, o, order, u, dist, dx, qf)
     integer, intent(in) :: lbc(3)                       !< lower bounds of q
-    real(wp), intent(in) :: q(lbc(1):, lbc(2):, lbc(3):) !< cell field
+    real(wp), intent(in), contiguous :: q(lbc(1):, lbc(2):, lbc(3):) !< cell field
     integer, intent(in) :: i1, i2, j, k                 !< faces of the row
     integer, intent(in) :: o(3)                         !< unit offset along the face normal
     integer, intent(in) :: order                        !< 1 first order, 2 limited second order
-    logical, intent(in) :: pos(lbc(1):)                 !< upwind cell is face - o
-    real(wp), intent(in) :: dist(lbc(1):)               !< centroid offset [m]
+    real(wp), intent(in), contiguous :: u(lbc(1):)      !< face velocities [m/s]
+    real(wp), intent(in), contiguous :: dist(lbc(1):)   !< centroid offset [m]
     real(wp), intent(in) :: dx                         !< cell size along the normal [m]
-    real(wp), intent(inout) :: qf(lbc(1):)              !< face values (i1..i2 written)
+    real(wp), intent(inout), contiguous :: qf(lbc(1):)  !< face values (i1..i2 written)
     integer :: i
     real(wp) :: qm, q0, qp
+    logical :: pos
     if (order > 1) then
       do i = i1, i2
+        pos = u(i) > 0.0_wp
         qm = merge(q(i - 2 * o(1), j - 2 * o(2), k - 2 * o(3)), q(i - o(1), j - o(2), k - o(3)), &
-          pos(i))
-        q0 = merge(q(i - o(1), j - o(2), k - o(3)), q(i, j, k), pos(i))
-        qp = merge(q(i, j, k), q(i + o(1), j + o(2), k + o(3)), pos(i))
+          pos)
+        q0 = merge(q(i - o(1), j - o(2), k - o(3)), q(i, j, k), pos)
+        qp = merge(q(i, j, k), q(i + o(1), j + o(2), k + o(3)), pos)
         qf(i) = q0 + dist(i) * limited_slope(qm, q0, qp, dx)
       end do
     else
       do i = i1, i2
-        qf(i) = merge(q(i - o(1), j - o(2), k - o(3)), q(i, j, k), pos(i))
+        qf(i) = merge(q(i - o(1), j - o(2), k - o(3)), q(i, j, k), u(i) > 0.0_wp)
       end do
     end if
   end subroutine row_face_values
@@ -268,11 +273,9 @@ contains
     real(wp) :: a, b
     a = q0 - qm
     b = qp - q0
-    if (a * b > 0.0_wp) then
-      limited_slope = sign(min(2.0_wp * abs(a), 2.0_wp * abs(b), 0.5_wp * abs(a + b)), a) / dx
-    else
-      limited_slope = 0.0_wp
-    end if
+    ! branch-free, the division after the choice (0 / dx = 0): the row loops vectorise
+    limited_slope = merge(sign(min(2.0_wp * abs(a), 2.0_wp * abs(b), 0.5_wp * abs(a + b)), a), &
+      0.0_wp, a * b > 0.0_wp) / dx
   end function limited_slope
 
   !> Mass flux of fluid `m` [kg] through the domain faces of one row where fluid flows in.
