@@ -1,16 +1,22 @@
 !> The coupled scene `mpmice`: porous or impermeable MPM solids in ICE fluids (paper eqs. 1-75,
 !! design §5). The fluids are an `ice_scene_t`, the solids an `mpm_scene_t`; this scene owns the
-!! solid phase on the grid (`mpmice_solid_cells`) and runs the step pipeline:
+!! solid phase on the grid (`mpmice_solid_cells`) and runs ICE's stage sequence (`ice_stages`)
+!! with the solid's stages between them:
 !!
 !!  P2G (26-27, effective stress, surface loads) -> nodal v^{L-} (40-41) -> solid cell variables
-!!  (28) -> equilibration with the pores (10-11, sum phi_f = n) -> face velocities of fluids (31)
-!!  and solid (33) -> face exchange with drag (34, E8) -> implicit pressure with the solid's volume
-!!  flux (35-36) -> face pressure (37) -> fluid Lagrangian values (42-46) -> solid cell velocity
-!!  with -(1-n) grad p (48) -> cell exchange of the fluids with the solid (50-51) -> solid face
-!!  increments to the nodes (52, 66-69, E5) -> the solid's conduction (38-39) and the implicit
-!!  fluid-solid heat exchange (52-55), increments to the particles (68, 73) -> fluid advection
-!!  (58-65) -> tracked solid fraction -> G2P + constitutive update (70-75) -> pore pressure on
-!!  the particles -> migration.
+!!  (28) -> [ICE] equilibration with the pores (10-11, sum phi_f = n) -> [ICE] face velocities
+!!  of the fluids (31) -> porous fluid predictor and solid face velocities (33) -> [ICE] face
+!!  exchange with drag (34, E8) -> [ICE] implicit pressure with the solid's volume flux (35-36)
+!!  -> [ICE] face pressure (37), fluid Lagrangian values (42-46) -> solid face increments to the
+!!  nodes (52, 66-69, E5) -> solid cell velocity and conduction (48, 38-39) -> [ICE] cell
+!!  exchange of the fluids with the solid and the implicit heat exchange (50-55) -> face blend,
+!!  heat increments to the particles (68, 73) -> [ICE] fluid advection (58-65) -> tracked solid
+!!  fraction -> G2P + constitutive update (70-75) -> pore pressure on the particles ->
+!!  migration.
+!!
+!! With `&numerics time_theta` < 1 the face velocities of the fluids and of the solid are those
+!! at n + theta dt, as in ICE (the solid's pressure and exchange increments act for theta dt;
+!! the nodes take them divided by theta, the end-of-step increments).
 !!
 !! The skeleton's constitutive models see the effective stress only (eq. 3); the fluid pressure
 !! acts on it through the face pressure gradient. A fluid 'wall' where the skeleton carries a
@@ -19,7 +25,6 @@
 !! `&fluid volume_fraction` is its share of the pore space. See docs/mpmice.md.
 module mpmice_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-  use ice_interface_compression, only: compress_interface
   use mpmice_geostatic, only: buoyant_geostatic_stress
   use mpmice_kinds, only: wp, name_len, path_len
   use mpmice_errors, only: fatal, int_text, real_short_text
@@ -37,16 +42,12 @@ module mpmice_scene
   use io_files, only: io_join_path
   use driver_scene, only: scene_t, scene_health_t
   use ice_state, only: ice_state_t, ice_solid_alloc
-  use ice_scene, only: ice_scene_t, exchange_primitives, exchange_lagrangian, &
-    ice_pressure_iteration, ice_step_begin, ice_step_reject
-  use ice_equilibration, only: ice_equilibrate, report_equilibration_failure
-  use ice_face_velocity, only: ice_face_velocities
-  use ice_pressure, only: ice_face_pressure, platen_fluid_faces
-  use ice_lagrangian, only: ice_lagrangian_values
-  use ice_advection, only: ice_advect
-  use ice_bc, only: ice_bc_fill, bc_pressure, bc_scalar, bc_temperature, bc_wall, bc_free_slip
-  use ice_exchange, only: ice_exchange_faces, ice_exchange_cells
-  use ice_viscous, only: ice_viscous_sources
+  use ice_scene, only: ice_scene_t
+  use ice_stages, only: exchange_primitives, ice_step_begin, ice_step_reject, &
+    ice_stage_equilibrate, ice_stage_face_velocities, ice_stage_face_exchange, &
+    ice_stage_pressure, ice_stage_lagrangian, ice_stage_cell_exchange, ice_stage_advect
+  use ice_equilibration, only: ice_equilibrate
+  use ice_bc, only: ice_bc_fill, bc_scalar, bc_temperature, bc_wall, bc_free_slip
   use mpm_scene, only: mpm_scene_t, move_rigid, mpm_migrate_all, p2g_solids
   use mpm_constitutive, only: model_rigid
   use mpm_rigid, only: rigid_is_static
@@ -111,6 +112,9 @@ module mpmice_scene
     real(wp), allocatable :: nbuf(:, :, :)                 !< node-shaped scratch (checkpoints)
     real(wp), allocatable :: temp_old(:, :, :)             !< solid cell temperature at time n [K]
     real(wp), allocatable :: dtemp(:, :, :)                !< its increment over the step [K]
+    !> the solid's face velocities at n + theta dt, kept while the nodes take the end-of-step
+    !! ones (theta < 1 only)
+    real(wp), allocatable :: us_transport(:, :, :, :)
     integer :: t_cells = 0, t_nodes = 0                   !< timer ids
     !> steps of this run whose stability limit each part set (`limit_names`)
     integer :: limit_steps(size(limit_names)) = 0
@@ -169,6 +173,8 @@ contains
       end associate
     end do
     call ice_solid_alloc(self%fl%state, grid)
+    self%fl%label = 'MPMICE'
+    if (self%fl%theta /= 1.0_wp) allocate(self%us_transport, mold=self%fl%state%solid%uface)
     ! frictional contact with rigid bodies: they keep their own velocity (docs/mpmice.md)
     self%fl%state%solid%sliding = self%so%bc%friction_contact .and. &
       any(self%so%mats(:)%model == model_rigid)
@@ -314,7 +320,7 @@ contains
     real(wp), intent(in) :: dt                    !< step [s]
     type(timer_set_t), intent(inout) :: timers    !< stage timers
     logical, intent(out) :: accepted              !< the step was taken
-    integer :: s, its, failed, negative, m, bad_cell(3)
+    integer :: s, m
     real(wp) :: ramp
 
     accepted = .false.
@@ -355,17 +361,9 @@ contains
       if (st%solid%sliding) where (st%solid%frac_rigid >= wall_fraction) st%solid%source = 0.0_wp
       call timer_stop(timers, self%t_cells)
 
-      call timer_start(timers, fl%t_equil)
-      call ice_equilibrate(st, grid, fl%eq_tolerance, fl%eq_max, its, failed, bad_cell)
-      call ice_bc_fill(grid, fl%bc, st%pressure, bc_pressure)
-      call timer_stop(timers, fl%t_equil)
-      call report_equilibration_failure(st, grid, failed, bad_cell)
-      if (global_sum(dom, failed) > 0) then
-        call log_warning('MPMICE equilibration failed at t = ' // real_short_text(time) // ' s')
-        call ice_step_reject(fl)
-        return
-      end if
+      if (.not. ice_stage_equilibrate(fl, dom, grid, time, timers)) return
 
+      ! face velocities of the fluids (at n + theta dt) and of the solid, face exchange with drag
       call timer_start(timers, fl%t_face)
       do m = 1, st%nfluids
         do s = 1, 3
@@ -373,15 +371,16 @@ contains
             grid%lbc(2):grid%ubc(2), grid%lbc(3):grid%ubc(3), s)
         end do
       end do
-      call ice_face_velocities(st, grid, dt, fl%gravity, fl%bc)
-      call fluid_face_predictor_porous(st, grid, self%uprev)
-      call solid_face_predictor(st, grid, so%nodes, dt, so%min_mass)
-      call ice_exchange_faces(st, grid, dt, fl%k_exchange)
-      call platen_fluid_faces(st, grid)
       call timer_stop(timers, fl%t_face)
+      call ice_stage_face_velocities(fl, grid, dt, timers)
+      call timer_start(timers, fl%t_face)
+      call fluid_face_predictor_porous(st, grid, self%uprev)
+      call solid_face_predictor(st, grid, so%nodes, fl%theta * dt, so%min_mass)
+      call timer_stop(timers, fl%t_face)
+      call ice_stage_face_exchange(fl, grid, dt, timers)
 
       ! eq. 35 with the solid's volume flux and coefficient (ice_pressure)
-      if (.not. ice_pressure_iteration(fl, dom, grid, time, dt, timers)) then
+      if (.not. ice_stage_pressure(fl, dom, grid, time, dt, timers)) then
         ! non-finite: taken as it is, so the run loop's check fails the run and dumps the state
         if (fl%nonfinite) then
           accepted = .true.
@@ -398,25 +397,18 @@ contains
         return
       end if
 
-      if (fl%theta /= 1.0_wp) st%pressure = st%p_eq + fl%theta * st%dp_total
-      call timer_start(timers, fl%t_halo)
-      call halo_exchange_cell(fl%halo, dom, grid, st%pressure, 1)
-      call ice_bc_fill(grid, fl%bc, st%pressure, bc_pressure)
-      call timer_stop(timers, fl%t_halo)
+      call ice_stage_lagrangian(fl, dom, grid, dt, timers)
 
-      call timer_start(timers, fl%t_lagrange)
-      call ice_face_pressure(st, grid, fl%gravity)
-      do m = 1, st%nfluids
-        fl%sources(:, :, :, :, m) = 0.0_wp
-        call ice_viscous_sources(st, grid, m, dt, fl%sources(:, :, :, 1:3, m), &
-          fl%sources(:, :, :, 4, m))
-      end do
-      call ice_lagrangian_values(st, grid, dt, fl%gravity, fl%sources)
-      call timer_stop(timers, fl%t_lagrange)
-
-      ! the solid's pressure force and drag, from the faces back to the nodes
+      ! the solid's pressure force and drag, from the faces back to the nodes: with theta < 1
+      ! the face velocities above are those at n + theta dt (their increments act for theta dt),
+      ! the nodes take the end-of-step increments (u_s,f - u_s,f0) / theta
       call timer_start(timers, self%t_nodes)
+      if (fl%theta /= 1.0_wp) then
+        self%us_transport = st%solid%uface
+        st%solid%uface = st%solid%uface0 + (st%solid%uface - st%solid%uface0) / fl%theta
+      end if
       call solid_face_to_nodes(st, grid, dom, self%halo, so%nodes, self%du, so%min_mass)
+      if (fl%theta /= 1.0_wp) st%solid%uface = self%us_transport
       if (st%solid%sliding) then
         call nodal_finish(so%nodes, grid, dt, so%bc, so%min_mass, self%contact_dv, &
           self%contact_f)
@@ -429,10 +421,12 @@ contains
       call timer_start(timers, fl%t_lagrange)
       call solid_cell_velocity(st, grid, so%nodes, so%min_mass)
       ! the solid's heat: conduction (38-39), then the exchange with the fluids (52-55) in
-      ! ice_exchange_cells, the increments back to the particles (68, 73)
+      ! the cell exchange, the increments back to the particles (68, 73)
       self%temp_old = st%solid%temp
       call solid_conduction(st, grid, dt, self%dtemp)
-      call ice_exchange_cells(st, grid, dt, fl%k_exchange, fl%h_exchange)
+      call timer_stop(timers, fl%t_lagrange)
+      call ice_stage_cell_exchange(fl, grid, dt, timers)
+      call timer_start(timers, fl%t_lagrange)
       call fluid_face_blend(st, grid)
       self%dtemp = st%solid%temp - self%temp_old
       call halo_exchange_cell(fl%halo, dom, grid, self%dtemp)
@@ -443,31 +437,10 @@ contains
         end do
         self%static_dep_ready = .false.  ! the static solids' heat deposit changed
       end if
-      if (fl%theta /= 1.0_wp) st%pressure = st%p_eq + st%dp_total
       call timer_stop(timers, fl%t_lagrange)
 
-      call timer_start(timers, fl%t_halo)
-      call exchange_lagrangian(fl, dom, grid)
-      call timer_stop(timers, fl%t_halo)
-      call timer_start(timers, fl%t_advect)
-      call ice_advect(st, grid, dt, fl%order)
-      call timer_stop(timers, fl%t_advect)
-      call tame_trace_fluids(st, grid, negative)
-      negative = global_sum(dom, negative)
-      if (negative > 0) call log_warning('MPMICE advection: negative fluid mass in ' // &
-        int_text(negative) // ' cells at t = ' // real_short_text(time) // ' s')
-      call timer_start(timers, fl%t_halo)
-      call exchange_primitives(fl, dom, grid)
-      call timer_stop(timers, fl%t_halo)
-      if (fl%compression > 0.0_wp) then
-        ! the free surface's compression (free fluid only; ice_interface_compression)
-        call timer_start(timers, fl%t_advect)
-        call compress_interface(st, grid, dt, fl%compression)
-        call timer_stop(timers, fl%t_advect)
-        call timer_start(timers, fl%t_halo)
-        call exchange_primitives(fl, dom, grid)
-        call timer_stop(timers, fl%t_halo)
-      end if
+      ! fluid advection; traces of a fluid in the pores take the cell's mixture values
+      call ice_stage_advect(fl, dom, grid, time, dt, timers, traces=.true.)
 
       call timer_start(timers, self%t_cells)
       call solid_track_fraction(st, grid, dt, self%max_fraction)
@@ -610,62 +583,6 @@ contains
     end associate
   end subroutine write_contact_force
 
-  !> A fluid with a vanishing share of a cell's mass (below 1e-10 of it: e.g. air numerically
-  !! left in water-filled pores) takes the mass-weighted temperature and velocity of the cell.
-  !! Its own values come from energy and momentum divided by that vanishing mass and drift
-  !! without bound (a trace of air reached 1e17 K in a submerged sand block, until its volume
-  !! broke the pressure equilibration). A trace whose advected mass came out negative (the
-  !! second-order fluxes' undershoot of a 1e-100 kg/m^3 trace inside the bed) is set to zero:
-  !! a change below 1e-10 of the cell's fluid mass. `negative` counts the cells left with a
-  !! negative mass beyond that (a real defect, logged). Owned cells.
-  pure subroutine tame_trace_fluids(state, grid, negative)
-    type(ice_state_t), intent(inout) :: state  !< fluids (temp, vel of traces updated)
-    type(grid_t), intent(in) :: grid           !< block geometry
-    integer, intent(out) :: negative           !< cells with a negative mass beyond a trace
-    real(wp), parameter :: trace = 1.0e-10_wp  !< share of the cell's fluid mass
-    integer :: i, j, k, m, nf
-    real(wp) :: total, t_mix, u_mix(3)
-    nf = state%nfluids
-    negative = 0
-    if (nf < 2) then
-      negative = count(state%fluid(1)%rho(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), &
-        grid%lo(3):grid%hi(3)) < 0.0_wp)
-      return
-    end if
-    do k = grid%lo(3), grid%hi(3)
-      do j = grid%lo(2), grid%hi(2)
-        do i = grid%lo(1), grid%hi(1)
-          total = 0.0_wp
-          t_mix = 0.0_wp
-          u_mix = 0.0_wp
-          do m = 1, nf
-            associate (f => state%fluid(m))
-              if (f%rho(i, j, k) < 0.0_wp) cycle
-              total = total + f%rho(i, j, k)
-              t_mix = t_mix + f%rho(i, j, k) * f%temp(i, j, k)
-              u_mix = u_mix + f%rho(i, j, k) * f%vel(i, j, k, :)
-            end associate
-          end do
-          do m = 1, nf
-            if (state%fluid(m)%rho(i, j, k) >= -trace * total) cycle
-            negative = negative + 1
-            exit
-          end do
-          if (total <= 0.0_wp) cycle
-          do m = 1, nf
-            associate (f => state%fluid(m))
-              if (f%rho(i, j, k) >= trace * total) cycle
-              if (f%rho(i, j, k) < 0.0_wp .and. f%rho(i, j, k) >= -trace * total) then
-                f%rho(i, j, k) = 0.0_wp
-              end if
-              f%temp(i, j, k) = t_mix / total
-              f%vel(i, j, k, :) = u_mix / total
-            end associate
-          end do
-        end do
-      end do
-    end do
-  end subroutine tame_trace_fluids
 
   !> Ghost cells beyond an open ('pressure') face hold a free-fluid reservoir: no solid, and the
   !! fluids' bulk densities of the mirrored inner cell divided by its porosity (so their
@@ -829,6 +746,7 @@ contains
       self%temp_old, self%dtemp, self%contact_dv, self%contact_acc, self%contact_f)
     if (allocated(self%qscr)) deallocate(self%qscr, self%owner_m, self%owner, self%body_frac)
     if (allocated(self%static_dep)) deallocate(self%static_dep)
+    if (allocated(self%us_transport)) deallocate(self%us_transport)
     self%static_dep_ready = .false.
     if (allocated(self%coupling)) deallocate(self%coupling, self%loads)
   end subroutine mpmice_free
