@@ -87,6 +87,7 @@ contains
     self%eq_max = cfg%ice%max_equilibration_iterations
     self%order = cfg%numerics%advection_order
     self%theta = cfg%numerics%time_theta
+    self%face_time = self%theta
     if (cfg%ice%smagorinsky) self%smagorinsky = cfg%ice%smagorinsky_constant
     self%compression = cfg%ice%interface_compression
     if (cfg%nfluids < 1) call fatal('ice scene: no &fluid group')

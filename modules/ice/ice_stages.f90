@@ -2,7 +2,7 @@
 !! "Step pipeline"), shared by the ICE scene and the coupled scene:
 !!
 !!  `ice_stage_equilibrate` (eqs. 10-11) -> `ice_stage_face_velocities` (eqs. 30-31, at time
-!!  n + theta dt) -> `ice_stage_face_exchange` (eq. 34) -> `ice_stage_pressure` (eqs. 35-36, outer
+!!  n + face_time dt) -> `ice_stage_face_exchange` (eq. 34) -> `ice_stage_pressure` (eqs. 35-36, outer
 !!  iteration) -> `ice_stage_lagrangian` (face pressure eq. 37, viscous and Smagorinsky sources
 !!  eqs. 23-25, Lagrangian values eqs. 42-46) -> `ice_stage_cell_exchange` (eqs. 50-51) ->
 !!  `ice_stage_advect` (eqs. 58-65, interface compression).
@@ -69,6 +69,9 @@ module ice_stages
     integer :: eq_max = 100                   !< equilibration iteration limit
     integer :: order = 2                      !< advection order
     real(wp) :: theta = 1.0_wp                !< implicit weight of the pressure change
+    !> the face velocities are predicted at time n + face_time dt (ICE: theta; the coupled
+    !! scene: 1, the end of the step, like its solid's face velocities)
+    real(wp) :: face_time = 1.0_wp
     real(wp) :: smagorinsky = 0.0_wp          !< Smagorinsky constant C_s (0: no eddy viscosity)
     real(wp) :: compression = 0.0_wp          !< interface compression C (0: off)
     integer :: steps = 0                      !< accepted steps
@@ -131,20 +134,22 @@ contains
     call ice_step_reject(self)
   end function ice_stage_equilibrate
 
-  !> Face velocities of the fluids at time n + theta dt (docs/ice.md): theta = 1 the paper's
-  !! eqs. 30-31; theta < 1 the time-centred prediction, with the advective change.
+  !> Face velocities of the fluids at time n + face_time dt (docs/ice.md): face_time = 1 the
+  !! paper's eqs. 30-31; face_time < 1 (ICE with theta < 1) the time-centred prediction, with the
+  !! advective change.
   subroutine ice_stage_face_velocities(self, grid, dt, timers)
     class(ice_fluids_t), intent(inout) :: self   !< fluids
     type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
     call timer_start(timers, self%t_face)
-    call ice_face_velocities(self%state, grid, self%theta * dt, self%gravity, self%bc, &
-      self%theta < 1.0_wp)
+    call ice_face_velocities(self%state, grid, self%face_time * dt, self%gravity, self%bc, &
+      self%face_time < 1.0_wp)
     call timer_stop(timers, self%t_face)
   end subroutine ice_stage_face_velocities
 
-  !> Implicit momentum exchange at the faces over theta dt (eq. 34; with a solid phase its drag)
+  !> Implicit momentum exchange at the faces over face_time dt (eq. 34; with a solid phase its
+  !! drag)
   !! and, with loading platens, the fluids' face velocities there.
   subroutine ice_stage_face_exchange(self, grid, dt, timers)
     class(ice_fluids_t), intent(inout) :: self   !< fluids
@@ -152,14 +157,14 @@ contains
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
     call timer_start(timers, self%t_face)
-    call ice_exchange_faces(self%state, grid, self%theta * dt, self%k_exchange)
+    call ice_exchange_faces(self%state, grid, self%face_time * dt, self%k_exchange)
     call platen_fluid_faces(self%state, grid)
     call timer_stop(timers, self%t_face)
   end subroutine ice_stage_face_exchange
 
   !> Outer iteration of eq. 35: solve for dp (hypre PCG + PFMG, or the direct tridiagonal solve
   !! of a 1D block), correct p, dp_total and the face velocities (their pressure gradient acts
-  !! for theta dt with the weight theta of the pressure change: theta^2), until
+  !! for face_time dt with the weight theta of the pressure change: theta face_time), until
   !! max |rhs|/V <= outer tolerance; at least one solve. False (with a warning) when it does not
   !! converge: the caller rejects the step. False with `nonfinite` set when a NaN or Inf met
   !! the system: the caller takes the step as it is, so the run fails with its state dumped.
@@ -173,7 +178,7 @@ contains
     integer :: outer, pcg
     real(wp) :: residual, relres, weight
     logical :: converged
-    weight = self%theta * self%theta
+    weight = self%theta * self%face_time
     call timer_start(timers, self%t_pressure)
     self%state%dp_total = 0.0_wp
     residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt))

@@ -14,9 +14,10 @@
 !!  fraction -> G2P + constitutive update (70-75) -> pore pressure on the particles ->
 !!  migration.
 !!
-!! With `&numerics time_theta` < 1 the face velocities of the fluids and of the solid are those
-!! at n + theta dt, as in ICE (the solid's pressure and exchange increments act for theta dt;
-!! the nodes take them divided by theta, the end-of-step increments).
+!! The face velocities of fluids and solid are those at the end of the step (`face_time` 1):
+!! the solid's carry the stress of the whole step, so its pressure force must act for the whole
+!! step too; with `&numerics time_theta` < 1 the pressure change is weighted by theta
+!! (docs/mpmice.md, "theta and Smagorinsky").
 !!
 !! The skeleton's constitutive models see the effective stress only (eq. 3); the fluid pressure
 !! acts on it through the face pressure gradient. A fluid 'wall' where the skeleton carries a
@@ -112,9 +113,6 @@ module mpmice_scene
     real(wp), allocatable :: nbuf(:, :, :)                 !< node-shaped scratch (checkpoints)
     real(wp), allocatable :: temp_old(:, :, :)             !< solid cell temperature at time n [K]
     real(wp), allocatable :: dtemp(:, :, :)                !< its increment over the step [K]
-    !> the solid's face velocities at n + theta dt, kept while the nodes take the end-of-step
-    !! ones (theta < 1 only)
-    real(wp), allocatable :: us_transport(:, :, :, :)
     integer :: t_cells = 0, t_nodes = 0                   !< timer ids
     !> steps of this run whose stability limit each part set (`limit_names`)
     integer :: limit_steps(size(limit_names)) = 0
@@ -174,7 +172,8 @@ contains
     end do
     call ice_solid_alloc(self%fl%state, grid)
     self%fl%label = 'MPMICE'
-    if (self%fl%theta /= 1.0_wp) allocate(self%us_transport, mold=self%fl%state%solid%uface)
+    ! end-of-step face velocities for fluids and solid (docs/mpmice.md, "theta and Smagorinsky")
+    self%fl%face_time = 1.0_wp
     ! frictional contact with rigid bodies: they keep their own velocity (docs/mpmice.md)
     self%fl%state%solid%sliding = self%so%bc%friction_contact .and. &
       any(self%so%mats(:)%model == model_rigid)
@@ -363,7 +362,7 @@ contains
 
       if (.not. ice_stage_equilibrate(fl, dom, grid, time, timers)) return
 
-      ! face velocities of the fluids (at n + theta dt) and of the solid, face exchange with drag
+      ! face velocities of the fluids and of the solid, face exchange with drag
       call timer_start(timers, fl%t_face)
       do m = 1, st%nfluids
         do s = 1, 3
@@ -375,7 +374,7 @@ contains
       call ice_stage_face_velocities(fl, grid, dt, timers)
       call timer_start(timers, fl%t_face)
       call fluid_face_predictor_porous(st, grid, self%uprev)
-      call solid_face_predictor(st, grid, so%nodes, fl%theta * dt, so%min_mass)
+      call solid_face_predictor(st, grid, so%nodes, dt, so%min_mass)
       call timer_stop(timers, fl%t_face)
       call ice_stage_face_exchange(fl, grid, dt, timers)
 
@@ -399,16 +398,9 @@ contains
 
       call ice_stage_lagrangian(fl, dom, grid, dt, timers)
 
-      ! the solid's pressure force and drag, from the faces back to the nodes: with theta < 1
-      ! the face velocities above are those at n + theta dt (their increments act for theta dt),
-      ! the nodes take the end-of-step increments (u_s,f - u_s,f0) / theta
+      ! the solid's pressure force and drag, from the faces back to the nodes
       call timer_start(timers, self%t_nodes)
-      if (fl%theta /= 1.0_wp) then
-        self%us_transport = st%solid%uface
-        st%solid%uface = st%solid%uface0 + (st%solid%uface - st%solid%uface0) / fl%theta
-      end if
       call solid_face_to_nodes(st, grid, dom, self%halo, so%nodes, self%du, so%min_mass)
-      if (fl%theta /= 1.0_wp) st%solid%uface = self%us_transport
       if (st%solid%sliding) then
         call nodal_finish(so%nodes, grid, dt, so%bc, so%min_mass, self%contact_dv, &
           self%contact_f)
@@ -746,7 +738,6 @@ contains
       self%temp_old, self%dtemp, self%contact_dv, self%contact_acc, self%contact_f)
     if (allocated(self%qscr)) deallocate(self%qscr, self%owner_m, self%owner, self%body_frac)
     if (allocated(self%static_dep)) deallocate(self%static_dep)
-    if (allocated(self%us_transport)) deallocate(self%us_transport)
     self%static_dep_ready = .false.
     if (allocated(self%coupling)) deallocate(self%coupling, self%loads)
   end subroutine mpmice_free
