@@ -6,9 +6,9 @@
 !! (Uintah's convention, implementation notes §3). The increments solve
 !!   (1 + sum_n beta_mn) du_m - sum_n beta_mn du_n = sum_n beta_mn (u_n - u_m),
 !! in closed form for two materials, by elimination without pivoting for three (the matrix is
-!! strictly diagonally dominant) and by LAPACK dgesv for more. At faces the same matrix applied
-!! to the face specific volumes gives the exchange-modified v_f used by the pressure equation
-!! (Uintah's sp_vol_FC). In cells the velocities and, with H > 0, the temperatures
+!! strictly diagonally dominant) and by LAPACK dgesv for more (both `solver_dense`). At faces
+!! the same matrix applied to the face specific volumes gives the exchange-modified v_f used by
+!! the pressure equation (Uintah's sp_vol_FC). In cells the velocities and, with H > 0, the temperatures
 !! (beta = dt H v_m phi_n / cv_m) are exchanged; the kinetic energy the drag removes is added to
 !! the internal energies in proportion to mass, so total energy is conserved.
 module ice_exchange
@@ -17,6 +17,7 @@ module ice_exchange
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
   use ice_face_velocity, only: closed_face, face_range, boundary_face
+  use solver_dense, only: dense_solve
   implicit none
   private
 
@@ -24,15 +25,6 @@ module ice_exchange
 
   integer, parameter :: max_n = 9  !< most materials: config_materials%max_fluids + the solid
   real(wp), parameter :: ratio_max = 1.0e12_wp  !< cap of phi_up / phi_f in the face drag
-
-  interface
-    subroutine dgesv(n, nrhs, a, lda, ipiv, b, ldb, info)
-      import :: wp
-      integer, intent(in) :: n, nrhs, lda, ldb
-      real(wp), intent(inout) :: a(lda, *), b(ldb, *)
-      integer, intent(out) :: ipiv(*), info
-    end subroutine dgesv
-  end interface
 
 contains
 
@@ -515,7 +507,7 @@ contains
   !> Apply the exchange to `nrhs` columns of values x(1:n, :): x := x + dx with
   !! (I + diag(sum_n beta_mn) - beta) dx = sum_n beta_mn (x_n - x_m) for column 1 of a velocity-
   !! like quantity, i.e. x_new = A^-1 x_old for every column (A = I + diag(rowsum beta) - beta).
-  !! Closed form for n = 2, elimination without pivoting for n = 3 (`solve_3`), LAPACK dgesv
+  !! Closed form for n = 2, elimination without pivoting for n = 3, LAPACK dgesv
   !! otherwise. `beta` has a zero diagonal.
   subroutine exchange_solve(n, beta, x, nrhs, weight, weighted_columns)
     integer, intent(in) :: n                      !< number of fluids
@@ -527,7 +519,7 @@ contains
     !> the weight restores columns 1 .. weighted_columns (default: all)
     integer, intent(in), optional :: weighted_columns
     real(wp) :: a(max_n, max_n), det, x1, x2, x_old(max_n, 3), defect
-    integer :: m, c, ipiv(max_n), info, nweighted
+    integer :: m, c, info, nweighted
 
     if (n == 2) then
       ! A = [1 + b12, -b12; -b21, 1 + b21]; A^-1 = [1 + b21, b12; b21, 1 + b12] / det
@@ -545,16 +537,10 @@ contains
       a(m, m) = 1.0_wp + sum(beta(m, 1:n))
     end do
     x_old(1:n, 1:nrhs) = x(1:n, 1:nrhs)
-    if (n == 3) then
-      ! three materials (two fluids and the solid, the common coupled case): elimination
-      ! without pivoting, exact in exact arithmetic and stable here because A is strictly
-      ! diagonally dominant by rows; a dgesv call per face and cell cost more than the step's
-      ! face exchange itself
-      call solve_3(a, x, nrhs)
-    else
-      call dgesv(n, nrhs, a, max_n, ipiv, x, max_n, info)
-      if (info /= 0) call fatal('ice_exchange: singular exchange matrix')
-    end if
+    ! three materials (two fluids and the solid, the common coupled case): elimination without
+    ! pivoting, A being strictly diagonally dominant by rows; LAPACK otherwise (solver_dense)
+    call dense_solve(n, a, max_n, x, nrhs, info)
+    if (info /= 0) call fatal('ice_exchange: singular exchange matrix')
     if (present(weight)) then
       ! with weights w_m beta_mn symmetric, A conserves sum w x exactly; dgesv's round-off
       ! (condition ~ beta) does not: remove the defect by a uniform shift
@@ -568,28 +554,4 @@ contains
       end if
     end if
   end subroutine exchange_solve
-
-  !> Solve the 3 x 3 system a x = b in place (x holds b on entry, `nrhs` columns) by Gaussian
-  !! elimination without pivoting; `a` strictly diagonally dominant by rows (so no pivot
-  !! vanishes and the elimination is stable). `a` is overwritten.
-  pure subroutine solve_3(a, x, nrhs)
-    real(wp), intent(inout) :: a(max_n, max_n)  !< matrix (first 3 x 3)
-    real(wp), intent(inout) :: x(max_n, *)      !< right-hand sides in, solutions out
-    integer, intent(in) :: nrhs                 !< columns
-    real(wp) :: f21, f31, f32
-    integer :: c
-    f21 = a(2, 1) / a(1, 1)
-    f31 = a(3, 1) / a(1, 1)
-    a(2, 2:3) = a(2, 2:3) - f21 * a(1, 2:3)
-    a(3, 2:3) = a(3, 2:3) - f31 * a(1, 2:3)
-    f32 = a(3, 2) / a(2, 2)
-    a(3, 3) = a(3, 3) - f32 * a(2, 3)
-    do c = 1, nrhs
-      x(2, c) = x(2, c) - f21 * x(1, c)
-      x(3, c) = x(3, c) - f31 * x(1, c) - f32 * x(2, c)
-      x(3, c) = x(3, c) / a(3, 3)
-      x(2, c) = (x(2, c) - a(2, 3) * x(3, c)) / a(2, 2)
-      x(1, c) = (x(1, c) - a(1, 2) * x(2, c) - a(1, 3) * x(3, c)) / a(1, 1)
-    end do
-  end subroutine solve_3
 end module ice_exchange

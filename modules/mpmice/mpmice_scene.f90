@@ -42,7 +42,8 @@ module mpmice_scene
   use io_xdmf, only: xdmf_particles_t
   use io_files, only: io_join_path
   use driver_scene, only: scene_t, scene_health_t
-  use ice_state, only: ice_state_t, ice_solid_alloc
+  use ice_state, only: ice_state_t
+  use exchange_solid_phase, only: solid_phase_alloc
   use ice_scene, only: ice_scene_t
   use ice_stages, only: exchange_primitives, ice_step_begin, ice_step_reject, &
     ice_stage_equilibrate, ice_stage_face_velocities, ice_stage_face_exchange, &
@@ -170,7 +171,7 @@ contains
           c%traction_ramp_time, grid)
       end associate
     end do
-    call ice_solid_alloc(self%fl%state, grid)
+    call solid_phase_alloc(self%fl%state%solid, grid, self%fl%state%nfluids)
     self%fl%label = 'MPMICE'
     ! end-of-step face velocities for fluids and solid (docs/mpmice.md, "theta and Smagorinsky")
     self%fl%face_time = 1.0_wp
