@@ -27,22 +27,20 @@
 module mpmice_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use mpmice_geostatic, only: buoyant_geostatic_stress
-  use mpmice_kinds, only: wp, name_len, path_len
+  use mpmice_kinds, only: wp, name_len
   use mpmice_errors, only: fatal, int_text, real_short_text
-  use mpmice_log, only: log_info, log_warning
+  use mpmice_log, only: log_info
   use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
   use config_types, only: config_t, boundary_for_face, boundary_params_t
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_free, halo_reverse_cell_vec, &
-    halo_exchange_cell, halo_exchange_node
+    halo_exchange_cell
   use parallel_reduce, only: global_sum, global_min
   use grid_layout, only: grid_t
-  use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field, h5_write_node_field, &
-    h5_read_node_field
+  use io_hdf5, only: h5_file_t
   use io_xdmf, only: xdmf_particles_t
   use io_files, only: io_join_path
   use driver_scene, only: scene_t, scene_health_t
-  use ice_state, only: ice_state_t
   use exchange_solid_phase, only: solid_phase_alloc
   use ice_scene, only: ice_scene_t
   use ice_stages, only: exchange_primitives, ice_step_begin, ice_step_reject, &
@@ -52,8 +50,7 @@ module mpmice_scene
   use ice_bc, only: ice_bc_fill, bc_scalar, bc_temperature, bc_wall, bc_free_slip
   use mpm_scene, only: mpm_scene_t, move_rigid, mpm_migrate_all, p2g_solids
   use mpm_constitutive, only: model_rigid
-  use mpm_rigid, only: rigid_is_static
-  use mpm_p2g, only: p2g_accumulate_rigid, p2g_complete
+  use mpm_p2g, only: p2g_complete
   use mpm_nodal, only: nodal_solve, nodal_finish, nodal_bc_at_time, bc_traction
   use mpm_g2p, only: g2p_update
   use mpm_loads, only: surface_load_t, surface_load_init, surface_load_scatter, &
@@ -63,7 +60,10 @@ module mpmice_scene
   use mpmice_solid_cells, only: solid_deposit, solid_cell_fields, solid_face_predictor, &
     solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, solid_pore_pressure, &
     fluid_face_blend, fluid_face_predictor_porous
-  use mpmice_rigid_contact, only: wall_fraction, contact_pressure_accel, fluid_pressure_force
+  use mpmice_rigid_contact, only: wall_fraction, contact_pressure_accel
+  use mpmice_solid_state, only: open_face_reservoirs, solid_state_write, solid_state_restore
+  use mpmice_contact_force, only: contact_force_t, contact_force_init, contact_force_write, &
+    contact_force_free
   use mpmice_solid_heat, only: solid_conduction, solid_conduction_dt, solid_heat_to_particles
   implicit none
   private
@@ -100,14 +100,7 @@ module mpmice_scene
                                                           !! contact nodes (3, nodes)
     real(wp), allocatable :: contact_f(:, :, :, :)        !< contact force on the rigid bodies
                                                           !! per node (3, nodes) [N]
-    real(wp), allocatable :: qscr(:, :, :, :)             !< one rigid body's P2G (nodes)
-    real(wp), allocatable :: owner_m(:, :, :)             !< mass of a node's main rigid body
-    integer, allocatable :: owner(:, :, :)                !< that body (solid index)
-    real(wp), allocatable :: body_frac(:, :, :, :)        !< each rigid body's own cell fraction
-                                                          !! (cells, solid; 0 for deformable)
-    character(len=path_len) :: force_path = ''            !< contact-force series file
-    logical :: force_started = .false.                    !< series opened this run
-    logical :: owner_fixed = .false.                      !< owner map final (static bodies)
+    type(contact_force_t) :: forces                       !< the rigid bodies' force series
     real(wp) :: max_fraction = 0.999_wp                   !< cap of the solid fraction
     real(wp) :: relaxation = 0.1_wp                       !< solid-fraction relaxation per step
     real(wp), allocatable :: uprev(:, :, :, :, :)          !< last final face velocities
@@ -201,17 +194,8 @@ contains
     allocate(self%contact_acc, self%contact_f, mold=self%contact_dv)
     self%contact_acc = 0.0_wp
     self%contact_f = 0.0_wp
-    if (self%fl%state%solid%sliding) then
-      allocate(self%qscr, mold=self%so%nodes%q)
-      allocate(self%owner_m(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
-        grid%lbn(3):grid%ubn(3)), source=0.0_wp)
-      allocate(self%owner(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
-        grid%lbn(3):grid%ubn(3)), source=0)
-      allocate(self%body_frac(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
-        grid%lbc(3):grid%ubc(3), ns), source=0.0_wp)
-      self%force_path = io_join_path(trim(cfg%run%output_dir), trim(cfg%run%name) // &
-        '_contact_force.csv')
-    end if
+    if (self%fl%state%solid%sliding) call contact_force_init(self%forces, self%so, grid, &
+      io_join_path(trim(cfg%run%output_dir), trim(cfg%run%name) // '_contact_force.csv'))
     allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
     call halo_init(self%halo, dom, grid, deposit_size(ns))
@@ -456,7 +440,8 @@ contains
       call mpm_migrate_all(so, dom, grid, time + dt)
       call timer_stop(timers, so%t_migrate)
       fl%steps = fl%steps + 1
-      if (st%solid%sliding) call write_contact_force(self, dom, grid, time + dt)
+      if (st%solid%sliding) call contact_force_write(self%forces, so, st, fl%halo, dom, grid, &
+        time + dt, self%dep, self%contact_f, fl%gravity)
     end associate
     accepted = .true.
   end subroutine mpmice_step
@@ -480,134 +465,6 @@ contains
     health%load_power = health%load_power + global_sum(dom, power)
   end subroutine mpmice_health
 
-  !> Sliding rigid bodies: append the force the soil exerts on each rigid body through the
-  !! contact (sum over its contact nodes of m (v - v_contact) / dt at the end of the step, each
-  !! node counted for the rigid body with the most mass there) and the fluids' pressure force on
-  !! it (`mpmice_rigid_contact%fluid_pressure_force` with the step's pressure and the body's own
-  !! cell fraction from this step's deposit) to `<output_dir>/<name>_contact_force.csv` (rank 0
-  !! writes): time, then `<solid>_fx, _fy, _fz` (contact) per rigid solid, then
-  !! `<solid>_fluid_fx, _fluid_fy, _fluid_fz` per rigid solid [N] (per the grid's depth in an
-  !! inactive dimension). Like the owner map, the bodies' cell fractions are computed once when
-  !! none of the bodies moves.
-  subroutine write_contact_force(self, dom, grid, time)
-    class(mpmice_scene_t), intent(inout) :: self  !< scene
-    type(domain_t), intent(in) :: dom             !< decomposition
-    type(grid_t), intent(in) :: grid              !< block geometry
-    real(wp), intent(in) :: time                  !< time [s]
-    real(wp) :: force(3, size(self%coupling)), fluid(3, size(self%coupling))
-    integer :: s, i, j, k, unit
-    character(len=:), allocatable :: header
-    associate (so => self%so)
-      ! the owner map moves with the bodies: computed once when none of them moves
-      if (.not. self%owner_fixed) then
-        self%owner = 0
-        self%owner_m = 0.0_wp
-        do s = 1, so%nsolids
-          if (so%mats(s)%model /= model_rigid) cycle
-          self%qscr = 0.0_wp
-          call p2g_accumulate_rigid(so%parts(s), self%qscr, so%shape_kind, grid)
-          where (self%qscr(8, :, :, :) > self%owner_m)
-            self%owner = s
-            self%owner_m = self%qscr(8, :, :, :)
-          end where
-          ! the body's grain volume deposited at the start of the step (deposit_solids), ghosts
-          ! from their owners
-          self%body_frac(:, :, :, s) = min(self%dep(2 + s, :, :, :) / grid%cell_volume, 1.0_wp)
-          call halo_exchange_cell(self%fl%halo, dom, grid, self%body_frac(:, :, :, s))
-        end do
-        self%owner_fixed = all(pack(rigid_is_static(so%motions(1:so%nsolids)), &
-          so%mats(1:so%nsolids)%model == model_rigid))
-      end if
-      force = 0.0_wp
-      do k = grid%nlo(3), grid%nhi(3)
-        do j = grid%nlo(2), grid%nhi(2)
-          do i = grid%nlo(1), grid%nhi(1)
-            if (self%owner(i, j, k) > 0) force(:, self%owner(i, j, k)) = &
-              force(:, self%owner(i, j, k)) + self%contact_f(:, i, j, k)
-          end do
-        end do
-      end do
-      fluid = 0.0_wp
-      do s = 1, so%nsolids
-        if (so%mats(s)%model /= model_rigid) cycle
-        fluid(:, s) = fluid_pressure_force(self%fl%state, grid, self%body_frac, s, &
-          self%fl%gravity)
-      end do
-      do s = 1, so%nsolids
-        force(:, s) = global_sum(dom, force(:, s))
-        fluid(:, s) = global_sum(dom, fluid(:, s))
-      end do
-      if (dom%rank /= 0) return
-      if (.not. self%force_started) then
-        if (so%restored) then
-          open(newunit=unit, file=trim(self%force_path), status='unknown', &
-            position='append', action='write')
-        else
-          open(newunit=unit, file=trim(self%force_path), status='replace', action='write')
-          header = 'time'
-          do s = 1, so%nsolids
-            if (so%mats(s)%model /= model_rigid) cycle
-            header = header // ',' // trim(so%names(s)) // '_fx,' // trim(so%names(s)) // &
-              '_fy,' // trim(so%names(s)) // '_fz'
-          end do
-          do s = 1, so%nsolids
-            if (so%mats(s)%model /= model_rigid) cycle
-            header = header // ',' // trim(so%names(s)) // '_fluid_fx,' // &
-              trim(so%names(s)) // '_fluid_fy,' // trim(so%names(s)) // '_fluid_fz'
-          end do
-          write(unit, '(a)') header
-        end if
-        self%force_started = .true.
-      else
-        open(newunit=unit, file=trim(self%force_path), status='old', position='append', &
-          action='write')
-      end if
-      write(unit, '(es24.16e3)', advance='no') time
-      do s = 1, so%nsolids
-        if (so%mats(s)%model /= model_rigid) cycle
-        write(unit, '(3(",", es24.16e3))', advance='no') force(:, s)
-      end do
-      do s = 1, so%nsolids
-        if (so%mats(s)%model /= model_rigid) cycle
-        write(unit, '(3(",", es24.16e3))', advance='no') fluid(:, s)
-      end do
-      write(unit, '(a)') ''
-      close(unit)
-    end associate
-  end subroutine write_contact_force
-
-
-  !> Ghost cells beyond an open ('pressure') face hold a free-fluid reservoir: no solid, and the
-  !! fluids' bulk densities of the mirrored inner cell divided by its porosity (so their
-  !! intrinsic densities are the inner cell's). Beyond a wall the ghosts mirror the inner cell,
-  !! solid included, so the equilibration there sees the same mixture.
-  pure subroutine open_face_reservoirs(state, grid)
-    type(ice_state_t), intent(inout) :: state  !< fluids and solid phase (ghosts updated)
-    type(grid_t), intent(in) :: grid           !< block geometry
-    integer :: i, j, k, d, m, face, c(3)
-    real(wp) :: porosity
-    do k = grid%lbc(3), grid%ubc(3)
-      do j = grid%lbc(2), grid%ubc(2)
-        do i = grid%lbc(1), grid%ubc(1)
-          c = [i, j, k]
-          do d = 1, 3
-            if (.not. grid%active(d) .or. grid%periodic(d)) cycle
-            face = 0
-            if (c(d) < 1) face = 2 * d - 1
-            if (c(d) > grid%ncells(d)) face = 2 * d
-            if (face == 0) cycle
-            if (state%closed(face)) cycle
-            porosity = 1.0_wp - state%solid%vfrac(i, j, k)
-            if (porosity <= 0.0_wp) cycle
-            do m = 1, state%nfluids
-              state%fluid(m)%rho(i, j, k) = state%fluid(m)%rho(i, j, k) / porosity
-            end do
-            state%solid%vfrac(i, j, k) = 0.0_wp
-          end do
-        end do
-      end do
-    end do
-  end subroutine open_face_reservoirs
 
   !> Fluid and solid datasets, plus `cell/solid_volume_fraction` (the tracked phi_s) and
   !! `cell/porosity`; a checkpoint adds the tracked fraction and the solid cell velocity.
@@ -617,33 +474,9 @@ contains
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
     logical, intent(in) :: checkpoint             !< full restart state
-    character(len=*), parameter :: comp(3) = ['x', 'y', 'z']
-    integer :: d, m
     call self%fl%write_state(file, dom, grid, checkpoint)
     call self%so%write_state(file, dom, grid, checkpoint)
-    associate (sp => self%fl%state%solid)
-      if (checkpoint) then
-        call h5_write_cell_field(file, 'checkpoint/cell/solid_volume_fraction', grid, sp%vfrac)
-        do d = 1, 3
-          call h5_write_cell_field(file, 'checkpoint/cell/solid_velocity_' // comp(d), grid, &
-            sp%vel(:, :, :, d))
-        end do
-        ! the fluids' final face velocities, read by the next predictor (stored like node
-        ! fields: face i of direction d sits at node index i along d)
-        do m = 1, self%fl%state%nfluids
-          do d = 1, 3
-            self%nbuf = self%fl%state%fluid(m)%uface(grid%lbn(1):grid%ubn(1), &
-              grid%lbn(2):grid%ubn(2), grid%lbn(3):grid%ubn(3), d)
-            call h5_write_node_field(file, 'checkpoint/face/' // &
-              trim(self%fl%state%fluid(m)%name) // '/velocity_' // comp(d), grid, self%nbuf)
-          end do
-        end do
-      else
-        call h5_write_cell_field(file, 'cell/solid_volume_fraction', grid, sp%vfrac)
-        self%phi_p = 1.0_wp - sp%vfrac
-        call h5_write_cell_field(file, 'cell/porosity', grid, self%phi_p)
-      end if
-    end associate
+    call solid_state_write(file, grid, self%fl%state, self%nbuf, self%phi_p, checkpoint)
   end subroutine mpmice_write_state
 
   !> Fluids, particles and the tracked solid fraction of a checkpoint.
@@ -652,30 +485,10 @@ contains
     type(h5_file_t), intent(in) :: file           !< open checkpoint
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
-    character(len=*), parameter :: comp(3) = ['x', 'y', 'z']
-    integer :: d, m
     call self%fl%restore(file, dom, grid)
     call self%so%restore(file, dom, grid)
     self%static_dep_ready = .false.  ! from the restored particles, as the continuing run had it
-    associate (sp => self%fl%state%solid)
-      call h5_read_cell_field(file, 'checkpoint/cell/solid_volume_fraction', grid, sp%vfrac)
-      call halo_exchange_cell(self%fl%halo, dom, grid, sp%vfrac)
-      call ice_bc_fill(grid, self%fl%bc, sp%vfrac, bc_scalar)
-      call open_face_reservoirs(self%fl%state, grid)
-      do d = 1, 3
-        call h5_read_cell_field(file, 'checkpoint/cell/solid_velocity_' // comp(d), grid, &
-          sp%vel(:, :, :, d))
-      end do
-      do m = 1, self%fl%state%nfluids
-        do d = 1, 3
-          call h5_read_node_field(file, 'checkpoint/face/' // &
-            trim(self%fl%state%fluid(m)%name) // '/velocity_' // comp(d), grid, self%nbuf)
-          call halo_exchange_node(self%halo, dom, grid, self%nbuf)
-          self%fl%state%fluid(m)%uface(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
-            grid%lbn(3):grid%ubn(3), d) = self%nbuf
-        end do
-      end do
-    end associate
+    call solid_state_restore(file, dom, grid, self%fl, self%halo, self%nbuf)
   end subroutine mpmice_restore
 
   !> Datasets of both parts and of the solid phase.
@@ -737,7 +550,7 @@ contains
     call halo_free(self%halo)
     if (allocated(self%dep)) deallocate(self%dep, self%du, self%phi_p, self%uprev, self%nbuf, &
       self%temp_old, self%dtemp, self%contact_dv, self%contact_acc, self%contact_f)
-    if (allocated(self%qscr)) deallocate(self%qscr, self%owner_m, self%owner, self%body_frac)
+    call contact_force_free(self%forces)
     if (allocated(self%static_dep)) deallocate(self%static_dep)
     self%static_dep_ready = .false.
     if (allocated(self%coupling)) deallocate(self%coupling, self%loads)
