@@ -79,7 +79,6 @@ contains
     self%gravity = cfg%physics%gravity
     self%k_exchange = cfg%ice%exchange_coefficient
     self%h_exchange = cfg%ice%heat_exchange_coefficient
-    self%cfl = cfg%time%cfl
     self%sound_speed_factor = cfg%ice%sound_speed_factor
     self%outer_tolerance = cfg%ice%outer_tolerance
     self%max_outer = cfg%ice%max_outer_iterations
@@ -127,10 +126,11 @@ contains
   !> CFL limit: cfl * min over cells, directions and fluids of dx / (|u| + f c), f the
   !! sound-speed factor (0: the advective limit of the implicit scheme), and cfl times the
   !! explicit viscosity/conduction limit (`ice_viscous_dt`, with the Smagorinsky eddy viscosity).
-  function ice_scene_stable_dt(self, dom, grid) result(dt)
+  function ice_scene_stable_dt(self, dom, grid, cfl) result(dt)
     class(ice_scene_t), intent(inout) :: self  !< scene
     type(domain_t), intent(in) :: dom          !< decomposition
     type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: cfl                !< Courant number
     real(wp) :: dt
     integer :: m, d, i, j, k
     real(wp) :: c, speed, rate, dt_viscous
@@ -157,13 +157,13 @@ contains
     end do
     rate = global_max(dom, rate)
     if (rate > 0.0_wp) then
-      dt = self%cfl / rate
+      dt = cfl / rate
     else
       dt = huge(1.0_wp)
     end if
     ! explicit viscosity and conduction
     call ice_viscous_dt(self%state, grid, dt_viscous, self%smagorinsky)
-    dt = min(dt, self%cfl * global_min(dom, dt_viscous))
+    dt = min(dt, cfl * global_min(dom, dt_viscous))
   end function ice_scene_stable_dt
 
   !> One ICE step, the stages of `ice_stages` in order; rejected (state unchanged) when the

@@ -61,7 +61,6 @@ module ice_stages
     real(wp) :: gravity(3) = 0.0_wp           !< [m/s^2]
     real(wp) :: k_exchange = 0.0_wp           !< momentum exchange coefficient [kg/m^3/s]
     real(wp) :: h_exchange = 0.0_wp           !< heat exchange coefficient [W/m^3/K]
-    real(wp) :: cfl = 0.5_wp                  !< Courant number
     real(wp) :: sound_speed_factor = 0.0_wp   !< weight of c in the CFL limit (0: advective only)
     real(wp) :: outer_tolerance = 1.0e-7_wp   !< max |rhs|/V of eq. 35
     integer :: max_outer = 20                 !< outer-iteration limit

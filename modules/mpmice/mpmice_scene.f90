@@ -279,15 +279,16 @@ contains
   !> The smallest of the fluid (advective CFL, viscosity, conduction), solid (wave speed) and
   !! solid conduction (cfl times `solid_conduction_dt`) limits; counts which one set it
   !! (`limit_steps`, reported by the summary).
-  function mpmice_stable_dt(self, dom, grid) result(dt)
+  function mpmice_stable_dt(self, dom, grid, cfl) result(dt)
     class(mpmice_scene_t), intent(inout) :: self  !< scene
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
+    real(wp), intent(in) :: cfl                   !< Courant number
     real(wp) :: dt
     real(wp) :: limits(size(limit_names))
     integer :: which
-    limits = [self%fl%stable_dt(dom, grid), self%so%stable_dt(dom, grid), &
-      self%fl%cfl * global_min(dom, solid_conduction_dt(self%fl%state, grid))]
+    limits = [self%fl%stable_dt(dom, grid, cfl), self%so%stable_dt(dom, grid, cfl), &
+      cfl * global_min(dom, solid_conduction_dt(self%fl%state, grid))]
     which = minloc(limits, dim=1)
     dt = limits(which)
     self%limit_steps(which) = self%limit_steps(which) + 1
