@@ -21,8 +21,10 @@ module exchange_solid_phase
     real(wp), allocatable :: source(:, :, :)    !< phi_s(particles) - phi_s this step [-]
     real(wp), allocatable :: rho(:, :, :)       !< solid bulk density m_s / V [kg/m^3]
     real(wp), allocatable :: spvol(:, :, :)     !< grain specific volume phi_s / rho_bar_s [m^3/kg]
-    real(wp), allocatable :: kappa(:, :, :)     !< grain compressibility 1/K_s [1/Pa] (0: rigid grains)
-    real(wp), allocatable :: vel(:, :, :, :)    !< cell velocity of the solid (i,j,k,component) [m/s]
+    real(wp), allocatable :: kappa(:, :, :)     !< grain compressibility 1/K_s [1/Pa] (0: rigid
+                                                !! grains)
+    real(wp), allocatable :: vel(:, :, :, :)    !< cell velocity of the solid (i,j,k,component)
+                                                !! [m/s]
     real(wp), allocatable :: drag(:, :, :, :)   !< reduced drag coefficient c per fluid (i,j,k,m):
                                                 !! drag per volume phi_m phi_s c du [kg/m^3/s]
     real(wp), allocatable :: uface(:, :, :, :)  !< face-normal solid velocity [m/s]

@@ -8,9 +8,9 @@
 !! in closed form for two materials, by elimination without pivoting for three (the matrix is
 !! strictly diagonally dominant) and by LAPACK dgesv for more (both `solver_dense`). At faces
 !! the same matrix applied to the face specific volumes gives the exchange-modified v_f used by
-!! the pressure equation (Uintah's sp_vol_FC). In cells the velocities and, with H > 0, the temperatures
-!! (beta = dt H v_m phi_n / cv_m) are exchanged; the kinetic energy the drag removes is added to
-!! the internal energies in proportion to mass, so total energy is conserved.
+!! the pressure equation (Uintah's sp_vol_FC). In cells the velocities and, with H > 0, the
+!! temperatures (beta = dt H v_m phi_n / cv_m) are exchanged; the kinetic energy the drag removes
+!! is added to the internal energies in proportion to mass, so total energy is conserved.
 module ice_exchange
   use mpmice_kinds, only: wp
   use mpmice_errors, only: fatal

@@ -2,10 +2,10 @@
 !! "Step pipeline"), shared by the ICE scene and the coupled scene:
 !!
 !!  `ice_stage_equilibrate` (eqs. 10-11) -> `ice_stage_face_velocities` (eqs. 30-31, at time
-!!  n + face_time dt) -> `ice_stage_face_exchange` (eq. 34) -> `ice_stage_pressure` (eqs. 35-36, outer
-!!  iteration) -> `ice_stage_lagrangian` (face pressure eq. 37, viscous and Smagorinsky sources
-!!  eqs. 23-25, Lagrangian values eqs. 42-46) -> `ice_stage_cell_exchange` (eqs. 50-51) ->
-!!  `ice_stage_advect` (eqs. 58-65, interface compression).
+!!  n + face_time dt) -> `ice_stage_face_exchange` (eq. 34) -> `ice_stage_pressure` (eqs. 35-36,
+!!  outer iteration) -> `ice_stage_lagrangian` (face pressure eq. 37, viscous and Smagorinsky
+!!  sources eqs. 23-25, Lagrangian values eqs. 42-46) -> `ice_stage_cell_exchange`
+!!  (eqs. 50-51) -> `ice_stage_advect` (eqs. 58-65, interface compression).
 !!
 !! Each stage runs its own stage timer. The solid phase of a coupled scene (`ice_state_t%solid`)
 !! is seen by the kernels when present; the coupled scene adds the solid's own stages between
