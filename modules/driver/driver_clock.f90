@@ -30,6 +30,7 @@ module driver_clock
     integer :: first_step = 0                 !< step number at the start of this invocation
     real(wp) :: dt_max = huge(1.0_wp)         !< largest step [s]
     real(wp) :: dt_growth = 1.1_wp            !< largest ratio of successive proposed steps
+    real(wp) :: cfl = 0.5_wp                  !< Courant number of the scenes' stability limits
     real(wp) :: energy_reference = -1.0_wp    !< solids' energy at t = 0 [J] (< 0: not yet set)
     real(wp) :: load_work = 0.0_wp            !< work put in by gravity and loads so far [J]
     real(wp) :: dt_reference = 0.0_wp         !< first step's stability limit [s] (0: not set)
@@ -41,7 +42,7 @@ contains
 
   !> Start a clock at t = 0.
   subroutine clock_init(clock, end_time, output_interval, checkpoint_interval, max_steps, dt_init, &
-      dt_max, dt_growth)
+      dt_max, dt_growth, cfl)
     type(clock_t), intent(out) :: clock          !< clock to start
     real(wp), intent(in) :: end_time             !< simulated end time [s]
     real(wp), intent(in) :: output_interval      !< dump interval [s]
@@ -50,6 +51,7 @@ contains
     real(wp), intent(in) :: dt_init              !< first step [s]
     real(wp), intent(in) :: dt_max               !< largest step [s]
     real(wp), intent(in) :: dt_growth            !< largest ratio of successive steps
+    real(wp), intent(in), optional :: cfl        !< Courant number (default 0.5)
     clock%end_time = end_time
     clock%output_interval = output_interval
     clock%checkpoint_interval = checkpoint_interval
@@ -57,6 +59,7 @@ contains
     clock%dt_next = min(dt_init, dt_max)
     clock%dt_max = dt_max
     clock%dt_growth = dt_growth
+    if (present(cfl)) clock%cfl = cfl
   end subroutine clock_init
 
   !> The next step [s]: the proposed step limited by `dt_limit` (stability limit of the scene, pass

@@ -61,7 +61,7 @@ contains
     call scene%init(cfg, dom, grid, timers)
     call clock_init(clock, cfg%run%end_time, cfg%run%output_interval, &
       cfg%run%checkpoint_interval, cfg%run%max_steps, cfg%time%dt_init, cfg%time%dt_max, &
-      cfg%time%dt_growth)
+      cfg%time%dt_growth, cfg%time%cfl)
     call progress_init(progress, cfg%run%progress_interval, 0.0_wp, cfg%run%end_time)
 
     ! until the run ends, its status file says 'running': a run that dies on the way (killed, or
@@ -104,7 +104,7 @@ contains
     end if
     do while (.not. clock_finished(clock) .and. .not. stopped_early)
       step_start_s = progress_elapsed(progress)
-      dt_limit = scene%stable_dt(dom, grid)
+      dt_limit = scene%stable_dt(dom, grid, clock%cfl)
       stop_reason = stops_check_dt(cfg, clock, dt_limit)
       if (len_trim(stop_reason) > 0) then
         call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, stop_reason, status)

@@ -5,7 +5,8 @@
 !! progress and timers; a scene owns its state and physics. Contract:
 !! * `init` allocates everything (no allocation inside the time loop afterwards) and sets the
 !!   initial state; `restore` replaces the state by the one stored in a checkpoint;
-!! * `stable_dt` returns the scene's stability limit [s] (the same on every rank; `huge` if none);
+!! * `stable_dt` returns the scene's stability limit [s] for the Courant number `cfl` the clock
+!!   owns (the same on every rank; `huge` if none);
 !! * `step` advances by `dt`; when it cannot (e.g. an implicit iteration did not converge) it
 !!   returns `accepted = .false.` with the state unchanged, and the loop retries with a smaller dt;
 !! * `write_state` writes its datasets into an open dump (`checkpoint = .false.`) or checkpoint
@@ -64,11 +65,12 @@ module driver_scene
     end subroutine scene_init_i
 
     !> Stability limit of the next step [s], identical on every rank (huge if none).
-    function scene_dt_i(self, dom, grid) result(dt)
+    function scene_dt_i(self, dom, grid, cfl) result(dt)
       import :: scene_t, domain_t, grid_t, wp
       class(scene_t), intent(inout) :: self  !< scene
       type(domain_t), intent(in) :: dom      !< decomposition
       type(grid_t), intent(in) :: grid       !< block geometry
+      real(wp), intent(in) :: cfl            !< Courant number (`&time cfl`, owned by the clock)
       real(wp) :: dt
     end function scene_dt_i
 

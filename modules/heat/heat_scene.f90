@@ -73,10 +73,11 @@ contains
   end subroutine heat_scene_init
 
   !> No stability limit: the scheme is implicit.
-  function heat_scene_stable_dt(self, dom, grid) result(dt)
+  function heat_scene_stable_dt(self, dom, grid, cfl) result(dt)
     class(heat_scene_t), intent(inout) :: self  !< scene
     type(domain_t), intent(in) :: dom           !< decomposition
     type(grid_t), intent(in) :: grid            !< block geometry
+    real(wp), intent(in) :: cfl                 !< Courant number (unused)
     real(wp) :: dt
     dt = huge(1.0_wp)
   end function heat_scene_stable_dt

@@ -6,18 +6,19 @@
 !! (Uintah's convention, implementation notes §3). The increments solve
 !!   (1 + sum_n beta_mn) du_m - sum_n beta_mn du_n = sum_n beta_mn (u_n - u_m),
 !! in closed form for two materials, by elimination without pivoting for three (the matrix is
-!! strictly diagonally dominant) and by elimination with pivoting for more (`ice_small_solve`). At faces the same matrix applied
-!! to the face specific volumes gives the exchange-modified v_f used by the pressure equation
-!! (Uintah's sp_vol_FC). In cells the velocities and, with H > 0, the temperatures
-!! (beta = dt H v_m phi_n / cv_m) are exchanged; the kinetic energy the drag removes is added to
-!! the internal energies in proportion to mass, so total energy is conserved.
+!! strictly diagonally dominant) and by elimination with pivoting for more (both in
+!! `solver_dense`). At faces the same matrix applied to the face specific volumes gives the
+!! exchange-modified v_f used by the pressure equation (Uintah's sp_vol_FC). In cells the
+!! velocities and, with H > 0, the temperatures (beta = dt H v_m phi_n / cv_m) are exchanged; the
+!! kinetic energy the drag removes is added to the internal energies in proportion to mass, so
+!! total energy is conserved.
 module ice_exchange
   use mpmice_kinds, only: wp
   use mpmice_errors, only: fatal
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
   use ice_face_velocity, only: closed_face, face_range, boundary_face
-  use ice_small_solve, only: solve_3, solve_pivoted
+  use solver_dense, only: solve_3, solve_pivoted
   implicit none
   private
 

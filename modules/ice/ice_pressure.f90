@@ -315,7 +315,7 @@ contains
     call platen_fluid_faces(state, grid)
   end subroutine ice_pressure_correct
 
-  !> Fluid face velocities of the loading platens (`ice_solid_phase_t%platen`: a closed domain
+  !> Fluid face velocities of the loading platens (`solid_phase_t%platen`: a closed domain
   !! face where the skeleton carries a surface load). The platen is impermeable and moves with
   !! the skeleton (no relative flow through it), so the mixture's outward volume flux there is
   !! the solid's face velocity u_s. The solid crosses the plane with its own flux phi_s,f u_s
@@ -360,7 +360,7 @@ contains
   end subroutine platen_fluid_faces
 
   !> True when the domain plane of direction `d` on `side` (1 low, 2 high) is a loading platen
-  !! (`ice_solid_phase_t%platen`) that this rank holds; `lo`, `hi`: its faces.
+  !! (`solid_phase_t%platen`) that this rank holds; `lo`, `hi`: its faces.
   logical function platen_plane(state, grid, d, r, side, lo, hi)
     type(ice_state_t), intent(in) :: state  !< fluids and solid phase
     type(grid_t), intent(in) :: grid        !< block geometry

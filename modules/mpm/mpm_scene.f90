@@ -63,7 +63,6 @@ module mpm_scene
     real(wp) :: ramp_time = 0.0_wp                          !< gravity ramp [s]
     real(wp) :: damping = 0.0_wp                            !< local damping factor
     real(wp) :: flip = 0.99_wp                              !< FLIP fraction
-    real(wp) :: cfl = 0.5_wp                                !< Courant number
     real(wp) :: min_mass = 0.0_wp                           !< empty-node threshold [kg]
     integer(i8) :: removed = 0_i8                           !< particles that left the domain
     character(len=path_len) :: series_path = ''             !< time-series file
@@ -107,7 +106,6 @@ contains
     self%ramp_time = cfg%mpm%gravity_ramp_time
     self%damping = cfg%mpm%local_damping
     self%flip = cfg%mpm%flip_fraction
-    self%cfl = cfg%time%cfl
     mmin = huge(1.0_wp)
     do s = 1, self%nsolids
       associate (sp => cfg%solids(s))
@@ -187,10 +185,11 @@ contains
   !> dt = cfl min_p dx_min / (c_p + |v_p|) over all particles (global), c_p the wave speed of
   !! the particle's current deformation F (`wave_speed`: a dilated particle of a rate model is
   !! faster, c_p^2 = (lambda + 2 mu) J / rho0).
-  function mpm_stable_dt(self, dom, grid) result(dt)
+  function mpm_stable_dt(self, dom, grid, cfl) result(dt)
     class(mpm_scene_t), intent(inout) :: self  !< scene
     type(domain_t), intent(in) :: dom          !< decomposition
     type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: cfl                !< Courant number
     real(wp) :: dt
     real(wp) :: h, speed, f(3, 3)
     integer :: s, ip
@@ -206,7 +205,7 @@ contains
           f(:, 3) = p%f(7:9, ip)
           speed = max(speed, wave_speed(self%mats(s), f, p%stress(:, ip)) + norm2(p%v(:, ip)))
         end do
-        if (speed > 0.0_wp) dt = min(dt, self%cfl * h / speed)
+        if (speed > 0.0_wp) dt = min(dt, cfl * h / speed)
       end associate
     end do
     dt = global_min(dom, dt)

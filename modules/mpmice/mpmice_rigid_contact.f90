@@ -1,5 +1,5 @@
 !> Rigid bodies that the deformable solids slide on in a coupled scene (`&mpm rigid_contact =
-!! 'friction'`, `ice_solid_phase_t%sliding`; docs/mpmice.md, departure 15): how the grid's solid
+!! 'friction'`, `solid_phase_t%sliding`; docs/mpmice.md, departure 15): how the grid's solid
 !! phase is split where the fluids meet a rigid body and a soil in contact with it.
 !!
 !! * Wall cells: a cell the rigid bodies fill to at least `wall_fraction` belongs to the wall the
@@ -16,7 +16,8 @@ module mpmice_rigid_contact
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use mpm_nodes, only: mpm_nodes_t
-  use ice_state, only: ice_state_t, ice_solid_phase_t
+  use ice_state, only: ice_state_t
+  use exchange_solid_phase, only: solid_phase_t
   use exchange_drag, only: drag_reduced_coefficient
   use mpmice_solid_coupling, only: solid_coupling_t, surface_body_fraction
   implicit none
@@ -34,7 +35,7 @@ contains
   !> True when cell c belongs to the wall of a sliding rigid body: the body fills at least
   !! `wall_fraction` of it.
   pure logical function wall_cell(sp, c)
-    type(ice_solid_phase_t), intent(in) :: sp  !< solid phase
+    type(solid_phase_t), intent(in) :: sp  !< solid phase
     integer, intent(in) :: c(3)                !< cell
     wall_cell = sp%frac_rigid(c(1), c(2), c(3)) >= wall_fraction
   end function wall_cell
@@ -42,7 +43,7 @@ contains
   !> True when the face between cells `lo` and `hi` moves with the rigid body (prescribed): it is
   !! next to a wall cell (`wall_cell`), or it has solid but no deformable solid on either side.
   pure logical function body_face(sp, lo, hi)
-    type(ice_solid_phase_t), intent(in) :: sp  !< solid phase
+    type(solid_phase_t), intent(in) :: sp  !< solid phase
     integer, intent(in) :: lo(3)               !< cell on the face's low side
     integer, intent(in) :: hi(3)               !< cell on the face's high side
     body_face = wall_cell(sp, lo) .or. wall_cell(sp, hi) .or. &
@@ -107,7 +108,7 @@ contains
     end if
   end subroutine wall_neighbours
 
-  !> Sliding rigid bodies (`ice_solid_phase_t%sliding`): the fields of the fluids' exchange
+  !> Sliding rigid bodies (`solid_phase_t%sliding`): the fields of the fluids' exchange
   !! partner in cell c. Where the cell holds deformable solid, the partner is that solid alone:
   !! its fraction phi_d, grain specific volume and drag; the rigid body's fraction phi_r only
   !! takes volume from the pores, so the deformable solid's own region (1 - phi_r) V has the

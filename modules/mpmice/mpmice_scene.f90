@@ -1,16 +1,23 @@
 !> The coupled scene `mpmice`: porous or impermeable MPM solids in ICE fluids (paper eqs. 1-75,
 !! design §5). The fluids are an `ice_scene_t`, the solids an `mpm_scene_t`; this scene owns the
-!! solid phase on the grid (`mpmice_solid_cells`) and runs the step pipeline:
+!! solid phase on the grid (`mpmice_solid_cells`) and runs ICE's stage sequence (`ice_stages`)
+!! with the solid's stages between them:
 !!
 !!  P2G (26-27, effective stress, surface loads) -> nodal v^{L-} (40-41) -> solid cell variables
-!!  (28) -> equilibration with the pores (10-11, sum phi_f = n) -> face velocities of fluids (31)
-!!  and solid (33) -> face exchange with drag (34, E8) -> implicit pressure with the solid's volume
-!!  flux (35-36) -> face pressure (37) -> fluid Lagrangian values (42-46) -> solid cell velocity
-!!  with -(1-n) grad p (48) -> cell exchange of the fluids with the solid (50-51) -> solid face
-!!  increments to the nodes (52, 66-69, E5) -> the solid's conduction (38-39) and the implicit
-!!  fluid-solid heat exchange (52-55), increments to the particles (68, 73) -> fluid advection
-!!  (58-65) -> tracked solid fraction -> G2P + constitutive update (70-75) -> pore pressure on
-!!  the particles -> migration.
+!!  (28) -> [ICE] equilibration with the pores (10-11, sum phi_f = n) -> [ICE] face velocities
+!!  of the fluids (31) -> porous fluid predictor and solid face velocities (33) -> [ICE] face
+!!  exchange with drag (34, E8) -> [ICE] implicit pressure with the solid's volume flux (35-36)
+!!  -> [ICE] face pressure (37), fluid Lagrangian values (42-46) -> solid face increments to the
+!!  nodes (52, 66-69, E5) -> solid cell velocity and conduction (48, 38-39) -> [ICE] cell
+!!  exchange of the fluids with the solid and the implicit heat exchange (50-55) -> face blend,
+!!  heat increments to the particles (68, 73) -> [ICE] fluid advection (58-65) -> tracked solid
+!!  fraction -> G2P + constitutive update (70-75) -> pore pressure on the particles ->
+!!  migration.
+!!
+!! The face velocities of fluids and solid are those at the end of the step (`face_time` 1):
+!! the solid's carry the stress of the whole step, so its pressure force must act for the whole
+!! step too; with `&numerics time_theta` < 1 the pressure change is weighted by theta
+!! (docs/mpmice.md, "theta and Smagorinsky").
 !!
 !! The skeleton's constitutive models see the effective stress only (eq. 3); the fluid pressure
 !! acts on it through the face pressure gradient. A fluid 'wall' where the skeleton carries a
@@ -19,38 +26,31 @@
 !! `&fluid volume_fraction` is its share of the pore space. See docs/mpmice.md.
 module mpmice_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-  use ice_interface_compression, only: compress_interface
   use mpmice_geostatic, only: buoyant_geostatic_stress
-  use mpmice_kinds, only: wp, name_len, path_len
+  use mpmice_kinds, only: wp, name_len
   use mpmice_errors, only: fatal, int_text, real_short_text
-  use mpmice_log, only: log_info, log_warning
+  use mpmice_log, only: log_info
   use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
   use config_types, only: config_t, boundary_for_face, boundary_params_t
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_free, halo_reverse_cell_vec, &
-    halo_exchange_cell, halo_exchange_node
+    halo_exchange_cell
   use parallel_reduce, only: global_sum, global_min
   use grid_layout, only: grid_t
-  use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field, h5_write_node_field, &
-    h5_read_node_field
+  use io_hdf5, only: h5_file_t
   use io_xdmf, only: xdmf_particles_t
   use io_files, only: io_join_path
   use driver_scene, only: scene_t, scene_health_t
-  use ice_state, only: ice_state_t, ice_solid_alloc
-  use ice_scene, only: ice_scene_t, exchange_primitives, exchange_lagrangian, &
-    ice_pressure_iteration, ice_step_begin, ice_step_reject
-  use ice_equilibration, only: ice_equilibrate, report_equilibration_failure
-  use ice_face_velocity, only: ice_face_velocities
-  use ice_pressure, only: ice_face_pressure, platen_fluid_faces
-  use ice_lagrangian, only: ice_lagrangian_values
-  use ice_advection, only: ice_advect
-  use ice_bc, only: ice_bc_fill, bc_pressure, bc_scalar, bc_temperature, bc_wall, bc_free_slip
-  use ice_exchange, only: ice_exchange_faces, ice_exchange_cells
-  use ice_viscous, only: ice_viscous_sources
+  use exchange_solid_phase, only: solid_phase_alloc
+  use ice_scene, only: ice_scene_t
+  use ice_stages, only: exchange_primitives, ice_step_begin, ice_step_reject, &
+    ice_stage_equilibrate, ice_stage_face_velocities, ice_stage_face_exchange, &
+    ice_stage_pressure, ice_stage_lagrangian, ice_stage_cell_exchange, ice_stage_advect
+  use ice_equilibration, only: ice_equilibrate
+  use ice_bc, only: ice_bc_fill, bc_scalar, bc_temperature, bc_wall, bc_free_slip
   use mpm_scene, only: mpm_scene_t, move_rigid, mpm_migrate_all, p2g_solids
   use mpm_constitutive, only: model_rigid
-  use mpm_rigid, only: rigid_is_static
-  use mpm_p2g, only: p2g_accumulate_rigid, p2g_complete
+  use mpm_p2g, only: p2g_complete
   use mpm_nodal, only: nodal_solve, nodal_finish, nodal_bc_at_time, bc_traction
   use mpm_g2p, only: g2p_update
   use mpm_loads, only: surface_load_t, surface_load_init, surface_load_scatter, &
@@ -60,7 +60,10 @@ module mpmice_scene
   use mpmice_solid_cells, only: solid_deposit, solid_cell_fields, solid_face_predictor, &
     solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, solid_pore_pressure, &
     fluid_face_blend, fluid_face_predictor_porous
-  use mpmice_rigid_contact, only: wall_fraction, contact_pressure_accel, fluid_pressure_force
+  use mpmice_rigid_contact, only: wall_fraction, contact_pressure_accel
+  use mpmice_solid_state, only: open_face_reservoirs, solid_state_write, solid_state_restore
+  use mpmice_contact_force, only: contact_force_t, contact_force_init, contact_force_write, &
+    contact_force_free
   use mpmice_solid_heat, only: solid_conduction, solid_conduction_dt, solid_heat_to_particles
   implicit none
   private
@@ -97,14 +100,7 @@ module mpmice_scene
                                                           !! contact nodes (3, nodes)
     real(wp), allocatable :: contact_f(:, :, :, :)        !< contact force on the rigid bodies
                                                           !! per node (3, nodes) [N]
-    real(wp), allocatable :: qscr(:, :, :, :)             !< one rigid body's P2G (nodes)
-    real(wp), allocatable :: owner_m(:, :, :)             !< mass of a node's main rigid body
-    integer, allocatable :: owner(:, :, :)                !< that body (solid index)
-    real(wp), allocatable :: body_frac(:, :, :, :)        !< each rigid body's own cell fraction
-                                                          !! (cells, solid; 0 for deformable)
-    character(len=path_len) :: force_path = ''            !< contact-force series file
-    logical :: force_started = .false.                    !< series opened this run
-    logical :: owner_fixed = .false.                      !< owner map final (static bodies)
+    type(contact_force_t) :: forces                       !< the rigid bodies' force series
     real(wp) :: max_fraction = 0.999_wp                   !< cap of the solid fraction
     real(wp) :: relaxation = 0.1_wp                       !< solid-fraction relaxation per step
     real(wp), allocatable :: uprev(:, :, :, :, :)          !< last final face velocities
@@ -168,7 +164,10 @@ contains
           c%traction_ramp_time, grid)
       end associate
     end do
-    call ice_solid_alloc(self%fl%state, grid)
+    call solid_phase_alloc(self%fl%state%solid, grid, self%fl%state%nfluids)
+    self%fl%label = 'MPMICE'
+    ! end-of-step face velocities for fluids and solid (docs/mpmice.md, "theta and Smagorinsky")
+    self%fl%face_time = 1.0_wp
     ! frictional contact with rigid bodies: they keep their own velocity (docs/mpmice.md)
     self%fl%state%solid%sliding = self%so%bc%friction_contact .and. &
       any(self%so%mats(:)%model == model_rigid)
@@ -195,17 +194,8 @@ contains
     allocate(self%contact_acc, self%contact_f, mold=self%contact_dv)
     self%contact_acc = 0.0_wp
     self%contact_f = 0.0_wp
-    if (self%fl%state%solid%sliding) then
-      allocate(self%qscr, mold=self%so%nodes%q)
-      allocate(self%owner_m(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
-        grid%lbn(3):grid%ubn(3)), source=0.0_wp)
-      allocate(self%owner(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
-        grid%lbn(3):grid%ubn(3)), source=0)
-      allocate(self%body_frac(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
-        grid%lbc(3):grid%ubc(3), ns), source=0.0_wp)
-      self%force_path = io_join_path(trim(cfg%run%output_dir), trim(cfg%run%name) // &
-        '_contact_force.csv')
-    end if
+    if (self%fl%state%solid%sliding) call contact_force_init(self%forces, self%so, grid, &
+      io_join_path(trim(cfg%run%output_dir), trim(cfg%run%name) // '_contact_force.csv'))
     allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
     call halo_init(self%halo, dom, grid, deposit_size(ns))
@@ -289,15 +279,16 @@ contains
   !> The smallest of the fluid (advective CFL, viscosity, conduction), solid (wave speed) and
   !! solid conduction (cfl times `solid_conduction_dt`) limits; counts which one set it
   !! (`limit_steps`, reported by the summary).
-  function mpmice_stable_dt(self, dom, grid) result(dt)
+  function mpmice_stable_dt(self, dom, grid, cfl) result(dt)
     class(mpmice_scene_t), intent(inout) :: self  !< scene
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
+    real(wp), intent(in) :: cfl                   !< Courant number
     real(wp) :: dt
     real(wp) :: limits(size(limit_names))
     integer :: which
-    limits = [self%fl%stable_dt(dom, grid), self%so%stable_dt(dom, grid), &
-      self%fl%cfl * global_min(dom, solid_conduction_dt(self%fl%state, grid))]
+    limits = [self%fl%stable_dt(dom, grid, cfl), self%so%stable_dt(dom, grid, cfl), &
+      cfl * global_min(dom, solid_conduction_dt(self%fl%state, grid))]
     which = minloc(limits, dim=1)
     dt = limits(which)
     self%limit_steps(which) = self%limit_steps(which) + 1
@@ -314,7 +305,7 @@ contains
     real(wp), intent(in) :: dt                    !< step [s]
     type(timer_set_t), intent(inout) :: timers    !< stage timers
     logical, intent(out) :: accepted              !< the step was taken
-    integer :: s, its, failed, negative, m, bad_cell(3)
+    integer :: s, m
     real(wp) :: ramp
 
     accepted = .false.
@@ -355,17 +346,9 @@ contains
       if (st%solid%sliding) where (st%solid%frac_rigid >= wall_fraction) st%solid%source = 0.0_wp
       call timer_stop(timers, self%t_cells)
 
-      call timer_start(timers, fl%t_equil)
-      call ice_equilibrate(st, grid, fl%eq_tolerance, fl%eq_max, its, failed, bad_cell)
-      call ice_bc_fill(grid, fl%bc, st%pressure, bc_pressure)
-      call timer_stop(timers, fl%t_equil)
-      call report_equilibration_failure(st, grid, failed, bad_cell)
-      if (global_sum(dom, failed) > 0) then
-        call log_warning('MPMICE equilibration failed at t = ' // real_short_text(time) // ' s')
-        call ice_step_reject(fl)
-        return
-      end if
+      if (.not. ice_stage_equilibrate(fl, dom, grid, time, timers)) return
 
+      ! face velocities of the fluids and of the solid, face exchange with drag
       call timer_start(timers, fl%t_face)
       do m = 1, st%nfluids
         do s = 1, 3
@@ -373,15 +356,16 @@ contains
             grid%lbc(2):grid%ubc(2), grid%lbc(3):grid%ubc(3), s)
         end do
       end do
-      call ice_face_velocities(st, grid, dt, fl%gravity, fl%bc)
+      call timer_stop(timers, fl%t_face)
+      call ice_stage_face_velocities(fl, grid, dt, timers)
+      call timer_start(timers, fl%t_face)
       call fluid_face_predictor_porous(st, grid, self%uprev)
       call solid_face_predictor(st, grid, so%nodes, dt, so%min_mass)
-      call ice_exchange_faces(st, grid, dt, fl%k_exchange)
-      call platen_fluid_faces(st, grid)
       call timer_stop(timers, fl%t_face)
+      call ice_stage_face_exchange(fl, grid, dt, timers)
 
       ! eq. 35 with the solid's volume flux and coefficient (ice_pressure)
-      if (.not. ice_pressure_iteration(fl, dom, grid, time, dt, timers)) then
+      if (.not. ice_stage_pressure(fl, dom, grid, time, dt, timers)) then
         ! non-finite: taken as it is, so the run loop's check fails the run and dumps the state
         if (fl%nonfinite) then
           accepted = .true.
@@ -398,21 +382,7 @@ contains
         return
       end if
 
-      if (fl%theta /= 1.0_wp) st%pressure = st%p_eq + fl%theta * st%dp_total
-      call timer_start(timers, fl%t_halo)
-      call halo_exchange_cell(fl%halo, dom, grid, st%pressure, 1)
-      call ice_bc_fill(grid, fl%bc, st%pressure, bc_pressure)
-      call timer_stop(timers, fl%t_halo)
-
-      call timer_start(timers, fl%t_lagrange)
-      call ice_face_pressure(st, grid, fl%gravity)
-      do m = 1, st%nfluids
-        fl%sources(:, :, :, :, m) = 0.0_wp
-        call ice_viscous_sources(st, grid, m, dt, fl%sources(:, :, :, 1:3, m), &
-          fl%sources(:, :, :, 4, m))
-      end do
-      call ice_lagrangian_values(st, grid, dt, fl%gravity, fl%sources)
-      call timer_stop(timers, fl%t_lagrange)
+      call ice_stage_lagrangian(fl, dom, grid, dt, timers)
 
       ! the solid's pressure force and drag, from the faces back to the nodes
       call timer_start(timers, self%t_nodes)
@@ -429,10 +399,12 @@ contains
       call timer_start(timers, fl%t_lagrange)
       call solid_cell_velocity(st, grid, so%nodes, so%min_mass)
       ! the solid's heat: conduction (38-39), then the exchange with the fluids (52-55) in
-      ! ice_exchange_cells, the increments back to the particles (68, 73)
+      ! the cell exchange, the increments back to the particles (68, 73)
       self%temp_old = st%solid%temp
       call solid_conduction(st, grid, dt, self%dtemp)
-      call ice_exchange_cells(st, grid, dt, fl%k_exchange, fl%h_exchange)
+      call timer_stop(timers, fl%t_lagrange)
+      call ice_stage_cell_exchange(fl, grid, dt, timers)
+      call timer_start(timers, fl%t_lagrange)
       call fluid_face_blend(st, grid)
       self%dtemp = st%solid%temp - self%temp_old
       call halo_exchange_cell(fl%halo, dom, grid, self%dtemp)
@@ -443,31 +415,10 @@ contains
         end do
         self%static_dep_ready = .false.  ! the static solids' heat deposit changed
       end if
-      if (fl%theta /= 1.0_wp) st%pressure = st%p_eq + st%dp_total
       call timer_stop(timers, fl%t_lagrange)
 
-      call timer_start(timers, fl%t_halo)
-      call exchange_lagrangian(fl, dom, grid)
-      call timer_stop(timers, fl%t_halo)
-      call timer_start(timers, fl%t_advect)
-      call ice_advect(st, grid, dt, fl%order)
-      call timer_stop(timers, fl%t_advect)
-      call tame_trace_fluids(st, grid, negative)
-      negative = global_sum(dom, negative)
-      if (negative > 0) call log_warning('MPMICE advection: negative fluid mass in ' // &
-        int_text(negative) // ' cells at t = ' // real_short_text(time) // ' s')
-      call timer_start(timers, fl%t_halo)
-      call exchange_primitives(fl, dom, grid)
-      call timer_stop(timers, fl%t_halo)
-      if (fl%compression > 0.0_wp) then
-        ! the free surface's compression (free fluid only; ice_interface_compression)
-        call timer_start(timers, fl%t_advect)
-        call compress_interface(st, grid, dt, fl%compression)
-        call timer_stop(timers, fl%t_advect)
-        call timer_start(timers, fl%t_halo)
-        call exchange_primitives(fl, dom, grid)
-        call timer_stop(timers, fl%t_halo)
-      end if
+      ! fluid advection; traces of a fluid in the pores take the cell's mixture values
+      call ice_stage_advect(fl, dom, grid, time, dt, timers, traces=.true.)
 
       call timer_start(timers, self%t_cells)
       call solid_track_fraction(st, grid, dt, self%max_fraction)
@@ -490,7 +441,8 @@ contains
       call mpm_migrate_all(so, dom, grid, time + dt)
       call timer_stop(timers, so%t_migrate)
       fl%steps = fl%steps + 1
-      if (st%solid%sliding) call write_contact_force(self, dom, grid, time + dt)
+      if (st%solid%sliding) call contact_force_write(self%forces, so, st, fl%halo, dom, grid, &
+        time + dt, self%dep, self%contact_f, fl%gravity)
     end associate
     accepted = .true.
   end subroutine mpmice_step
@@ -514,190 +466,6 @@ contains
     health%load_power = health%load_power + global_sum(dom, power)
   end subroutine mpmice_health
 
-  !> Sliding rigid bodies: append the force the soil exerts on each rigid body through the
-  !! contact (sum over its contact nodes of m (v - v_contact) / dt at the end of the step, each
-  !! node counted for the rigid body with the most mass there) and the fluids' pressure force on
-  !! it (`mpmice_rigid_contact%fluid_pressure_force` with the step's pressure and the body's own
-  !! cell fraction from this step's deposit) to `<output_dir>/<name>_contact_force.csv` (rank 0
-  !! writes): time, then `<solid>_fx, _fy, _fz` (contact) per rigid solid, then
-  !! `<solid>_fluid_fx, _fluid_fy, _fluid_fz` per rigid solid [N] (per the grid's depth in an
-  !! inactive dimension). Like the owner map, the bodies' cell fractions are computed once when
-  !! none of the bodies moves.
-  subroutine write_contact_force(self, dom, grid, time)
-    class(mpmice_scene_t), intent(inout) :: self  !< scene
-    type(domain_t), intent(in) :: dom             !< decomposition
-    type(grid_t), intent(in) :: grid              !< block geometry
-    real(wp), intent(in) :: time                  !< time [s]
-    real(wp) :: force(3, size(self%coupling)), fluid(3, size(self%coupling))
-    integer :: s, i, j, k, unit
-    character(len=:), allocatable :: header
-    associate (so => self%so)
-      ! the owner map moves with the bodies: computed once when none of them moves
-      if (.not. self%owner_fixed) then
-        self%owner = 0
-        self%owner_m = 0.0_wp
-        do s = 1, so%nsolids
-          if (so%mats(s)%model /= model_rigid) cycle
-          self%qscr = 0.0_wp
-          call p2g_accumulate_rigid(so%parts(s), self%qscr, so%shape_kind, grid)
-          where (self%qscr(8, :, :, :) > self%owner_m)
-            self%owner = s
-            self%owner_m = self%qscr(8, :, :, :)
-          end where
-          ! the body's grain volume deposited at the start of the step (deposit_solids), ghosts
-          ! from their owners
-          self%body_frac(:, :, :, s) = min(self%dep(2 + s, :, :, :) / grid%cell_volume, 1.0_wp)
-          call halo_exchange_cell(self%fl%halo, dom, grid, self%body_frac(:, :, :, s))
-        end do
-        self%owner_fixed = all(pack(rigid_is_static(so%motions(1:so%nsolids)), &
-          so%mats(1:so%nsolids)%model == model_rigid))
-      end if
-      force = 0.0_wp
-      do k = grid%nlo(3), grid%nhi(3)
-        do j = grid%nlo(2), grid%nhi(2)
-          do i = grid%nlo(1), grid%nhi(1)
-            if (self%owner(i, j, k) > 0) force(:, self%owner(i, j, k)) = &
-              force(:, self%owner(i, j, k)) + self%contact_f(:, i, j, k)
-          end do
-        end do
-      end do
-      fluid = 0.0_wp
-      do s = 1, so%nsolids
-        if (so%mats(s)%model /= model_rigid) cycle
-        fluid(:, s) = fluid_pressure_force(self%fl%state, grid, self%body_frac, s, &
-          self%fl%gravity)
-      end do
-      do s = 1, so%nsolids
-        force(:, s) = global_sum(dom, force(:, s))
-        fluid(:, s) = global_sum(dom, fluid(:, s))
-      end do
-      if (dom%rank /= 0) return
-      if (.not. self%force_started) then
-        if (so%restored) then
-          open(newunit=unit, file=trim(self%force_path), status='unknown', &
-            position='append', action='write')
-        else
-          open(newunit=unit, file=trim(self%force_path), status='replace', action='write')
-          header = 'time'
-          do s = 1, so%nsolids
-            if (so%mats(s)%model /= model_rigid) cycle
-            header = header // ',' // trim(so%names(s)) // '_fx,' // trim(so%names(s)) // &
-              '_fy,' // trim(so%names(s)) // '_fz'
-          end do
-          do s = 1, so%nsolids
-            if (so%mats(s)%model /= model_rigid) cycle
-            header = header // ',' // trim(so%names(s)) // '_fluid_fx,' // &
-              trim(so%names(s)) // '_fluid_fy,' // trim(so%names(s)) // '_fluid_fz'
-          end do
-          write(unit, '(a)') header
-        end if
-        self%force_started = .true.
-      else
-        open(newunit=unit, file=trim(self%force_path), status='old', position='append', &
-          action='write')
-      end if
-      write(unit, '(es24.16e3)', advance='no') time
-      do s = 1, so%nsolids
-        if (so%mats(s)%model /= model_rigid) cycle
-        write(unit, '(3(",", es24.16e3))', advance='no') force(:, s)
-      end do
-      do s = 1, so%nsolids
-        if (so%mats(s)%model /= model_rigid) cycle
-        write(unit, '(3(",", es24.16e3))', advance='no') fluid(:, s)
-      end do
-      write(unit, '(a)') ''
-      close(unit)
-    end associate
-  end subroutine write_contact_force
-
-  !> A fluid with a vanishing share of a cell's mass (below 1e-10 of it: e.g. air numerically
-  !! left in water-filled pores) takes the mass-weighted temperature and velocity of the cell.
-  !! Its own values come from energy and momentum divided by that vanishing mass and drift
-  !! without bound (a trace of air reached 1e17 K in a submerged sand block, until its volume
-  !! broke the pressure equilibration). A trace whose advected mass came out negative (the
-  !! second-order fluxes' undershoot of a 1e-100 kg/m^3 trace inside the bed) is set to zero:
-  !! a change below 1e-10 of the cell's fluid mass. `negative` counts the cells left with a
-  !! negative mass beyond that (a real defect, logged). Owned cells.
-  pure subroutine tame_trace_fluids(state, grid, negative)
-    type(ice_state_t), intent(inout) :: state  !< fluids (temp, vel of traces updated)
-    type(grid_t), intent(in) :: grid           !< block geometry
-    integer, intent(out) :: negative           !< cells with a negative mass beyond a trace
-    real(wp), parameter :: trace = 1.0e-10_wp  !< share of the cell's fluid mass
-    integer :: i, j, k, m, nf
-    real(wp) :: total, t_mix, u_mix(3)
-    nf = state%nfluids
-    negative = 0
-    if (nf < 2) then
-      negative = count(state%fluid(1)%rho(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), &
-        grid%lo(3):grid%hi(3)) < 0.0_wp)
-      return
-    end if
-    do k = grid%lo(3), grid%hi(3)
-      do j = grid%lo(2), grid%hi(2)
-        do i = grid%lo(1), grid%hi(1)
-          total = 0.0_wp
-          t_mix = 0.0_wp
-          u_mix = 0.0_wp
-          do m = 1, nf
-            associate (f => state%fluid(m))
-              if (f%rho(i, j, k) < 0.0_wp) cycle
-              total = total + f%rho(i, j, k)
-              t_mix = t_mix + f%rho(i, j, k) * f%temp(i, j, k)
-              u_mix = u_mix + f%rho(i, j, k) * f%vel(i, j, k, :)
-            end associate
-          end do
-          do m = 1, nf
-            if (state%fluid(m)%rho(i, j, k) >= -trace * total) cycle
-            negative = negative + 1
-            exit
-          end do
-          if (total <= 0.0_wp) cycle
-          do m = 1, nf
-            associate (f => state%fluid(m))
-              if (f%rho(i, j, k) >= trace * total) cycle
-              if (f%rho(i, j, k) < 0.0_wp .and. f%rho(i, j, k) >= -trace * total) then
-                f%rho(i, j, k) = 0.0_wp
-              end if
-              f%temp(i, j, k) = t_mix / total
-              f%vel(i, j, k, :) = u_mix / total
-            end associate
-          end do
-        end do
-      end do
-    end do
-  end subroutine tame_trace_fluids
-
-  !> Ghost cells beyond an open ('pressure') face hold a free-fluid reservoir: no solid, and the
-  !! fluids' bulk densities of the mirrored inner cell divided by its porosity (so their
-  !! intrinsic densities are the inner cell's). Beyond a wall the ghosts mirror the inner cell,
-  !! solid included, so the equilibration there sees the same mixture.
-  pure subroutine open_face_reservoirs(state, grid)
-    type(ice_state_t), intent(inout) :: state  !< fluids and solid phase (ghosts updated)
-    type(grid_t), intent(in) :: grid           !< block geometry
-    integer :: i, j, k, d, m, face, c(3)
-    real(wp) :: porosity
-    do k = grid%lbc(3), grid%ubc(3)
-      do j = grid%lbc(2), grid%ubc(2)
-        do i = grid%lbc(1), grid%ubc(1)
-          c = [i, j, k]
-          do d = 1, 3
-            if (.not. grid%active(d) .or. grid%periodic(d)) cycle
-            face = 0
-            if (c(d) < 1) face = 2 * d - 1
-            if (c(d) > grid%ncells(d)) face = 2 * d
-            if (face == 0) cycle
-            if (state%closed(face)) cycle
-            porosity = 1.0_wp - state%solid%vfrac(i, j, k)
-            if (porosity <= 0.0_wp) cycle
-            do m = 1, state%nfluids
-              state%fluid(m)%rho(i, j, k) = state%fluid(m)%rho(i, j, k) / porosity
-            end do
-            state%solid%vfrac(i, j, k) = 0.0_wp
-          end do
-        end do
-      end do
-    end do
-  end subroutine open_face_reservoirs
 
   !> Fluid and solid datasets, plus `cell/solid_volume_fraction` (the tracked phi_s) and
   !! `cell/porosity`; a checkpoint adds the tracked fraction and the solid cell velocity.
@@ -707,33 +475,9 @@ contains
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
     logical, intent(in) :: checkpoint             !< full restart state
-    character(len=*), parameter :: comp(3) = ['x', 'y', 'z']
-    integer :: d, m
     call self%fl%write_state(file, dom, grid, checkpoint)
     call self%so%write_state(file, dom, grid, checkpoint)
-    associate (sp => self%fl%state%solid)
-      if (checkpoint) then
-        call h5_write_cell_field(file, 'checkpoint/cell/solid_volume_fraction', grid, sp%vfrac)
-        do d = 1, 3
-          call h5_write_cell_field(file, 'checkpoint/cell/solid_velocity_' // comp(d), grid, &
-            sp%vel(:, :, :, d))
-        end do
-        ! the fluids' final face velocities, read by the next predictor (stored like node
-        ! fields: face i of direction d sits at node index i along d)
-        do m = 1, self%fl%state%nfluids
-          do d = 1, 3
-            self%nbuf = self%fl%state%fluid(m)%uface(grid%lbn(1):grid%ubn(1), &
-              grid%lbn(2):grid%ubn(2), grid%lbn(3):grid%ubn(3), d)
-            call h5_write_node_field(file, 'checkpoint/face/' // &
-              trim(self%fl%state%fluid(m)%name) // '/velocity_' // comp(d), grid, self%nbuf)
-          end do
-        end do
-      else
-        call h5_write_cell_field(file, 'cell/solid_volume_fraction', grid, sp%vfrac)
-        self%phi_p = 1.0_wp - sp%vfrac
-        call h5_write_cell_field(file, 'cell/porosity', grid, self%phi_p)
-      end if
-    end associate
+    call solid_state_write(file, grid, self%fl%state, self%nbuf, self%phi_p, checkpoint)
   end subroutine mpmice_write_state
 
   !> Fluids, particles and the tracked solid fraction of a checkpoint.
@@ -742,30 +486,10 @@ contains
     type(h5_file_t), intent(in) :: file           !< open checkpoint
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
-    character(len=*), parameter :: comp(3) = ['x', 'y', 'z']
-    integer :: d, m
     call self%fl%restore(file, dom, grid)
     call self%so%restore(file, dom, grid)
     self%static_dep_ready = .false.  ! from the restored particles, as the continuing run had it
-    associate (sp => self%fl%state%solid)
-      call h5_read_cell_field(file, 'checkpoint/cell/solid_volume_fraction', grid, sp%vfrac)
-      call halo_exchange_cell(self%fl%halo, dom, grid, sp%vfrac)
-      call ice_bc_fill(grid, self%fl%bc, sp%vfrac, bc_scalar)
-      call open_face_reservoirs(self%fl%state, grid)
-      do d = 1, 3
-        call h5_read_cell_field(file, 'checkpoint/cell/solid_velocity_' // comp(d), grid, &
-          sp%vel(:, :, :, d))
-      end do
-      do m = 1, self%fl%state%nfluids
-        do d = 1, 3
-          call h5_read_node_field(file, 'checkpoint/face/' // &
-            trim(self%fl%state%fluid(m)%name) // '/velocity_' // comp(d), grid, self%nbuf)
-          call halo_exchange_node(self%halo, dom, grid, self%nbuf)
-          self%fl%state%fluid(m)%uface(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
-            grid%lbn(3):grid%ubn(3), d) = self%nbuf
-        end do
-      end do
-    end associate
+    call solid_state_restore(file, dom, grid, self%fl, self%halo, self%nbuf)
   end subroutine mpmice_restore
 
   !> Datasets of both parts and of the solid phase.
@@ -827,7 +551,7 @@ contains
     call halo_free(self%halo)
     if (allocated(self%dep)) deallocate(self%dep, self%du, self%phi_p, self%uprev, self%nbuf, &
       self%temp_old, self%dtemp, self%contact_dv, self%contact_acc, self%contact_f)
-    if (allocated(self%qscr)) deallocate(self%qscr, self%owner_m, self%owner, self%body_frac)
+    call contact_force_free(self%forces)
     if (allocated(self%static_dep)) deallocate(self%static_dep)
     self%static_dep_ready = .false.
     if (allocated(self%coupling)) deallocate(self%coupling, self%loads)

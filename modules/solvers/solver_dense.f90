@@ -1,8 +1,8 @@
-!> Dense solves of the small exchange systems (one per cell or face, at most `max_n` materials)
+!> Small dense linear systems a x = b: the implicit exchange's systems (one per cell or face, at most `max_n` materials)
 !! without LAPACK: a call into a threaded BLAS per cell woke its worker threads every time
 !! (OpenBLAS's dgesv/dgetrs hand even a 1 x 1 system to the thread pool, whose idle threads then
 !! spin in sched_yield), which cost more than the whole step in scenes with one fluid.
-module ice_small_solve
+module solver_dense
   use mpmice_kinds, only: wp
   implicit none
   private
@@ -78,4 +78,4 @@ contains
       end do
     end do
   end subroutine solve_pivoted
-end module ice_small_solve
+end module solver_dense

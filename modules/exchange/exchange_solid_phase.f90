@@ -1,0 +1,124 @@
+!> The solid phase of a coupled scene on the fluid grid: what the fluids' pressure equation,
+!! equilibration, advection and the fluid-solid exchange see of the solids (all solid materials
+!! of a cell together), with its platens, sliding contact with rigid bodies and the rigid
+!! bodies' volume fluxes. Filled by the coupling (`mpmice_solid_cells`) each step; absent
+!! (`present = .false.`) in ICE-only runs, where `ice_state_t%solid` stays unallocated.
+module exchange_solid_phase
+  use mpmice_kinds, only: wp
+  use grid_layout, only: grid_t
+  implicit none
+  private
+
+  public :: solid_phase_t, solid_phase_alloc, solid_phase_free
+
+  !> The solid phase of a coupled (MPMICE) scene as the pressure equation and the exchange see it:
+  !! all solid materials of a cell together (they share one MPM velocity field). Filled by the
+  !! coupling (`mpmice_solid_cells`) each step; absent (`present = .false.`) in ICE-only runs.
+  !! Face fields use the layout of `ice_fluid_t%uface` (cells lbc..ubc, faces up to ubc + 1).
+  type :: solid_phase_t
+    logical :: present = .false.                !< a solid phase takes part
+    real(wp), allocatable :: vfrac(:, :, :)     !< solid volume fraction phi_s the fluids see [-]
+    real(wp), allocatable :: source(:, :, :)    !< phi_s(particles) - phi_s this step [-]
+    real(wp), allocatable :: rho(:, :, :)       !< solid bulk density m_s / V [kg/m^3]
+    real(wp), allocatable :: spvol(:, :, :)     !< grain specific volume phi_s / rho_bar_s [m^3/kg]
+    real(wp), allocatable :: kappa(:, :, :)     !< grain compressibility 1/K_s [1/Pa] (0: rigid
+                                                !! grains)
+    real(wp), allocatable :: vel(:, :, :, :)    !< cell velocity of the solid (i,j,k,component)
+                                                !! [m/s]
+    real(wp), allocatable :: drag(:, :, :, :)   !< reduced drag coefficient c per fluid (i,j,k,m):
+                                                !! drag per volume phi_m phi_s c du [kg/m^3/s]
+    real(wp), allocatable :: uface(:, :, :, :)  !< face-normal solid velocity [m/s]
+    real(wp), allocatable :: uface0(:, :, :, :) !< the same from the MPM nodal velocities alone
+    real(wp), allocatable :: vface(:, :, :, :)  !< exchange-modified face specific volume [m^3/kg]
+    real(wp), allocatable :: rigid_face(:, :, :, :) !< 1 where the face velocity is prescribed
+    real(wp), allocatable :: face_fraction(:, :, :, :) !< solid fraction on the low side of the
+                                                       !! face plane [-]
+    real(wp), allocatable :: face_fraction_hi(:, :, :, :) !< the same on its high side [-]
+    logical :: explicit_drag = .false.          !< explicit (forward Euler) drag, for comparison
+    !> loading platen per domain face: a closed face where the skeleton carries a surface load
+    !! (`&boundary fluid = 'wall'` or 'free_slip' with `solid = 'traction'`); it is impermeable
+    !! and moves with the skeleton (`ice_pressure`, platen_fluid_faces)
+    logical :: platen(6) = .false.
+    real(wp), allocatable :: platen_coef(:, :, :, :) !< on a platen face: face area over the
+                                                     !! face nodes' mean solid mass [m^2/kg]
+    real(wp), allocatable :: heat_cap(:, :, :)  !< heat capacity per volume rho_bar_s c_s [J/m^3/K]
+    real(wp), allocatable :: conductance(:, :, :) !< phi_s k_s of the grains [W/m/K]
+    real(wp), allocatable :: temp(:, :, :)      !< solid cell temperature [K]: m c T / m c at the
+                                                !! deposit, then the Lagrangian value
+    real(wp) :: h_exchange = 0.0_wp             !< fluid-solid heat exchange H [W/m^3/K]: heat per
+                                                !! volume H phi_f phi_s (T_s - T_f)
+    ! Sliding contact with rigid bodies (`&mpm rigid_contact = 'friction'`): the deformable solids
+    ! and the rigid bodies keep their own velocities; the fluids exchange momentum with the
+    ! deformable solids where a cell holds any (their partner), with the rigid bodies elsewhere.
+    ! Without sliding the fields below stay zero and `face_fraction` holds every solid.
+    logical :: sliding = .false.                !< rigid bodies slide past the deformable solids
+    real(wp), allocatable :: frac_def(:, :, :)  !< the deformable solids' fraction (particles) [-]
+    real(wp), allocatable :: frac_rigid(:, :, :) !< the rigid bodies' fraction (particles) [-]
+    real(wp), allocatable :: xfrac(:, :, :)     !< the fluids' exchange partner's fraction [-]
+                                                !! (`drag` is per this fraction)
+    real(wp), allocatable :: rigid_flux(:, :, :, :) !< rigid bodies' volume flux per face area
+                                                    !! phi_r,f u_r,f [m/s] (prescribed)
+    real(wp), allocatable :: rigid_fraction(:, :, :, :)    !< rigid fraction on the low side of
+                                                           !! the face plane [-]
+    real(wp), allocatable :: rigid_fraction_hi(:, :, :, :) !< the same on its high side [-]
+  end type solid_phase_t
+
+contains
+
+  !> Allocate the solid-phase fields on `grid` for `nfluids` fluids (values zero) and mark the
+  !! phase present.
+  subroutine solid_phase_alloc(solid, grid, nfluids)
+    type(solid_phase_t), intent(inout) :: solid  !< solid phase (freed first)
+    type(grid_t), intent(in) :: grid             !< block geometry
+    integer, intent(in) :: nfluids               !< number of fluids
+    integer :: l(3), u(3), uf(3)
+    l = grid%lbc
+    u = grid%ubc
+    uf = grid%ubc + 1
+    call solid_phase_free(solid)
+    associate (s => solid)
+      s%present = .true.
+      allocate(s%vfrac(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+      allocate(s%source, s%rho, s%spvol, s%kappa, s%heat_cap, s%conductance, s%temp, &
+        mold=s%vfrac)
+      s%heat_cap = 0.0_wp
+      s%conductance = 0.0_wp
+      s%temp = 0.0_wp
+      s%source = 0.0_wp
+      s%rho = 0.0_wp
+      s%spvol = 0.0_wp
+      s%kappa = 0.0_wp
+      allocate(s%vel(l(1):u(1), l(2):u(2), l(3):u(3), 3), source=0.0_wp)
+      allocate(s%drag(l(1):u(1), l(2):u(2), l(3):u(3), max(nfluids, 1)), source=0.0_wp)
+      allocate(s%uface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
+      allocate(s%uface0, s%vface, s%rigid_face, s%face_fraction, s%face_fraction_hi, &
+        mold=s%uface)
+      s%face_fraction = 0.0_wp
+      s%face_fraction_hi = 0.0_wp
+      allocate(s%rigid_flux, s%rigid_fraction, s%rigid_fraction_hi, s%platen_coef, &
+        mold=s%uface)
+      s%platen_coef = 0.0_wp
+      s%rigid_flux = 0.0_wp
+      s%rigid_fraction = 0.0_wp
+      s%rigid_fraction_hi = 0.0_wp
+      allocate(s%frac_def, s%xfrac, s%frac_rigid, mold=s%vfrac)
+      s%frac_def = 0.0_wp
+      s%frac_rigid = 0.0_wp
+      s%xfrac = 0.0_wp
+      s%uface0 = 0.0_wp
+      s%vface = 0.0_wp
+      s%rigid_face = 0.0_wp
+    end associate
+  end subroutine solid_phase_alloc
+
+  !> Release every field; the phase is then absent.
+  subroutine solid_phase_free(solid)
+    type(solid_phase_t), intent(inout) :: solid  !< solid phase
+    if (allocated(solid%vfrac)) deallocate(solid%vfrac, solid%source, solid%rho, solid%spvol, &
+      solid%kappa, solid%vel, solid%drag, solid%uface, solid%uface0, solid%vface, &
+      solid%rigid_face, solid%face_fraction, solid%face_fraction_hi, solid%heat_cap, &
+      solid%conductance, solid%temp, solid%rigid_flux, solid%rigid_fraction, &
+      solid%rigid_fraction_hi, solid%frac_def, solid%xfrac, solid%frac_rigid, solid%platen_coef)
+    solid%present = .false.
+  end subroutine solid_phase_free
+end module exchange_solid_phase
