@@ -2,9 +2,10 @@
 !! `&physics`, `&ice`, `&mpm`, `&coupling` and the repeated groups `&fluid`, `&solid`, `&region`,
 !! `&boundary`.
 !!
-!! The components of each type, their defaults and doc comments, and the size limits are generated
-!! from the namelist list (modules/config/namelist/*.toml, scripts/generate_namelists.py) into the
-!! included files; docs/namelists.md's tables come from the same list.
+!! The components of each type, their defaults and doc comments, the size limits and the allowed
+!! values of the string variables (`eos_names`, ...) are generated from the namelist list
+!! (modules/config/namelist/*.toml, scripts/generate_namelists.py) into the included files;
+!! docs/namelists.md's tables come from the same list.
 !! A repeated group may appear several times; each occurrence is one element of an array of
 !! `config_t` (at most `max_fluids`, ... elements), and every occurrence starts from the type's
 !! defaults. `config_types` re-exports everything public here.
@@ -19,7 +20,8 @@ module config_materials
   public :: max_fluids, max_solids, max_regions, max_boundaries, max_polygon_points
   public :: eos_names, solid_model_names, solid_shape_names, face_names
   public :: boundary_fluid_names, boundary_thermal_names, boundary_solid_names
-  public :: drag_law_names, drag_scheme_names, rigid_contact_names
+  public :: drag_law_names, drag_scheme_names, rigid_contact_names, scene_names
+  public :: shape_function_names
   public :: particles_per_cell_used
   public :: max_history_points, history_unset, history_points_used, max_blocks_per_dim
 
@@ -27,37 +29,11 @@ module config_materials
   !> Value of the unused entries of `solid_velocity_times` and `solid_velocity_history`.
   real(wp), parameter :: history_unset = -huge(1.0_wp)
 
-  !> Allowed values of `&fluid eos`.
-  character(len=*), parameter :: eos_names(3) = [character(len=name_len) :: &
-    'ideal_gas', 'linear_water', 'stiffened_gas']
-  !> Allowed values of `&solid model`.
-  character(len=*), parameter :: solid_model_names(7) = [character(len=name_len) :: &
-    'linear_elastic', 'neo_hookean', 'mohr_coulomb', 'rigid', 'cam_clay', &
-    'modified_cam_clay', 'critical_state_sand']
-  !> Allowed values of `&solid shape`.
-  character(len=*), parameter :: solid_shape_names(4) = [character(len=name_len) :: &
-    'box', 'polygon', 'half_space', 'profile']
-  !> Allowed values of `&solid drag_law` (fluid-solid drag of scene 'mpmice').
-  character(len=*), parameter :: drag_law_names(5) = [character(len=name_len) :: &
-    'kozeny_carman', 'beetstra', 'constant', 'impermeable', 'forchheimer']
-  !> Allowed values of `&mpm rigid_contact` (deformable solids against rigid ones).
-  character(len=*), parameter :: rigid_contact_names(2) = [character(len=name_len) :: &
-    'no_slip', 'friction']
-  !> Allowed values of `&coupling drag_scheme`.
-  character(len=*), parameter :: drag_scheme_names(2) = [character(len=name_len) :: &
-    'implicit', 'explicit']
   !> Faces of the domain, in `face_index` order 1..6.
   character(len=*), parameter :: face_names(6) = [character(len=2) :: &
     'x-', 'x+', 'y-', 'y+', 'z-', 'z+']
-  !> Allowed values of `&boundary fluid`.
-  character(len=*), parameter :: boundary_fluid_names(5) = [character(len=name_len) :: &
-    'wall', 'free_slip', 'pressure', 'inflow', 'outflow']
-  !> Allowed values of `&boundary thermal`.
-  character(len=*), parameter :: boundary_thermal_names(2) = [character(len=name_len) :: &
-    'adiabatic', 'fixed']
-  !> Allowed values of `&boundary solid`.
-  character(len=*), parameter :: boundary_solid_names(5) = [character(len=name_len) :: &
-    'fixed', 'roller', 'free', 'velocity', 'traction']
+  ! the allowed values of the string variables (`scene_names`, `eos_names`, ...), from the list
+  include 'config_nml_choices.inc'
 
   !> `&physics`: body force and reference state shared by all materials.
   type :: physics_params_t

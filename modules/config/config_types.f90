@@ -16,7 +16,7 @@ module config_types
     solid_shape_names, face_names, boundary_fluid_names, boundary_thermal_names, &
     boundary_solid_names, drag_law_names, drag_scheme_names, rigid_contact_names, &
     particles_per_cell_used, max_history_points, history_unset, history_points_used, &
-    max_blocks_per_dim
+    max_blocks_per_dim, scene_names, shape_function_names
   implicit none
   private
 
@@ -32,17 +32,6 @@ module config_types
   public :: particles_per_cell_used, boundary_for_face
   public :: max_history_points, history_unset, history_points_used
   public :: max_blocks_per_dim
-
-  !> Scenes the driver knows (the allowed values of `&run scene`). Later issues append to it.
-  !! 'ice': fluids only (>= 1 `&fluid`, no `&solid`); 'mpm': solids only (>= 1 `&solid`, no
-  !! `&fluid`); 'mpmice': fluids and solids coupled (>= 1 `&fluid` and >= 1 `&solid`). A scene
-  !! may be listed before its solver exists: the driver then stops with "scene not available in
-  !! this build".
-  character(len=*), parameter :: scene_names(4) = [character(len=name_len) :: &
-    'heat_conduction', 'ice', 'mpm', 'mpmice']
-  !> Allowed values of `&numerics shape_function`.
-  character(len=*), parameter :: shape_function_names(2) = [character(len=name_len) :: &
-    'linear', 'gimp']
 
   !> `&run`: what to run, where to write, when to stop.
   type :: run_params_t
