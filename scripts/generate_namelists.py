@@ -77,6 +77,10 @@ def load(list_dir: pathlib.Path):
     for name in index["groups"]:
         path = list_dir / f"{name}.toml"
         group = tomllib.loads(path.read_text())
+        unknown = set(group) - {"type", "config_component", "variable"}
+        if unknown or "type" not in group or "variable" not in group:
+            raise ListError(f"{path.name}: a group file holds 'type', 'config_component' (a "
+                            f"repeated group) and [[variable]] entries; found {sorted(group)}")
         group["name"] = name
         group["file"] = path.name
         group["variables"] = group.pop("variable")
@@ -128,6 +132,8 @@ def check_variable(group, v, earlier):
             interval(group, v, earlier)
             if error_text(v) is None:
                 fail(group, v, "give 'error': the range has no standard wording")
+    if ("off" in v or "error" in v) and "range" not in v:
+        fail(group, v, "'off' and 'error' need a 'range'")
     if v.get("echo") not in (None, "blocks", "table"):
         fail(group, v, "echo must be 'blocks' or 'table'")
 
