@@ -6,5 +6,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 [ -x .venv/bin/python ] || python3 -m venv .venv
 [ -x .venv/bin/ford ] || .venv/bin/pip install -q ford
+# the type components of the namelist groups are generated include files (as in the build)
+python3 scripts/generate_namelists.py --fortran build/generated/config
 .venv/bin/ford ford.md "$@"
 echo "API documentation: $root/docs/api/index.html"

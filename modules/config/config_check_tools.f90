@@ -3,11 +3,12 @@
 module config_check_tools
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use mpmice_kinds, only: wp
-  use config_text, only: real_repr, ints_repr, quoted, join_names
+  use config_text, only: real_repr, reals_repr, ints_repr, quoted, join_names
   implicit none
   private
 
-  public :: config_error_t, set_error, check_real, check_int, check_choice, occurrence_label
+  public :: config_error_t, set_error, check_real, check_int, check_choice, check_finite
+  public :: occurrence_label
 
   !> The first problem found in a configuration.
   type :: config_error_t
@@ -109,4 +110,16 @@ contains
     end if
   end subroutine check_choice
 
+  !> Every entry of `x` finite.
+  subroutine check_finite(err, group, variable, x, unit)
+    type(config_error_t), intent(inout) :: err  !< problem record
+    character(len=*), intent(in) :: group       !< group label
+    character(len=*), intent(in) :: variable    !< variable name
+    real(wp), intent(in) :: x(:)                !< values
+    character(len=*), intent(in) :: unit        !< unit text, e.g. ' [m]'
+    if (err%found) return
+    if (.not. all(ieee_is_finite(x))) then
+      call set_error(err, group, variable, reals_repr(x), 'finite numbers' // unit)
+    end if
+  end subroutine check_finite
 end module config_check_tools

@@ -1,8 +1,9 @@
 !> Range and consistency checks of a configuration.
 !!
-!! `config_check` finds the first invalid variable (groups in echo order, variables in table
-!! order) and describes it in a `config_error_t`: group, variable, value as text and the allowed
-!! range. Checks that depend on the number of ranks (cells per block, `dims`) use the same
+!! `config_check` finds the first invalid variable (groups in echo order; in each group the range
+!! checks the namelist list declares, `config_validate_ranges`, in list order, and the checks
+!! written here) and describes it in a `config_error_t`: group, variable, value as text and the
+!! allowed range. Checks that depend on the number of ranks (cells per block, `dims`) use the same
 !! `choose_dims` as the decomposition, so a configuration that passes can be decomposed. The
 !! multiphase groups and the scene-dependent checks are in `config_validate_phases`; an error in
 !! occurrence k of a repeated group names the group `fluid(k)`.
@@ -10,9 +11,11 @@ module config_validate
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use mpmice_kinds, only: wp, i8
   use parallel_domain, only: choose_dims, blocks_given
-  use config_types, only: config_t, scene_names, shape_function_names
+  use config_types, only: config_t
   use config_text, only: real_repr, reals_repr, ints_repr, quoted
-  use config_check_tools, only: config_error_t, set_error, check_real, check_int, check_choice
+  use config_check_tools, only: config_error_t, set_error
+  use config_validate_ranges, only: check_run_ranges, check_grid_ranges, check_time_ranges, &
+    check_numerics_ranges, check_solver_ranges, check_output_ranges, check_heat_ranges
   use config_validate_phases, only: check_phases
   implicit none
   private
@@ -68,27 +71,13 @@ contains
           'non-empty, letters, digits, ''_'', ''-'' and ''.'' only (a file name prefix)')
         return
       end if
-      call check_choice(err, 'run', 'scene', p%scene, scene_names)
+      call check_run_ranges(p, 'run', err)
       if (err%found) return
       if (len_trim(p%output_dir) == 0) then
         call set_error(err, 'run', 'output_dir', quoted(p%output_dir), 'a non-empty path')
         return
       end if
-      call check_real(err, 'run', 'end_time', p%end_time, '>= 0 [s]', min_value=0.0_wp)
-      call check_real(err, 'run', 'output_interval', p%output_interval, &
-        '>= 0 [s] (0: first and last state only)', min_value=0.0_wp)
-      call check_real(err, 'run', 'checkpoint_interval', p%checkpoint_interval, &
-        '>= 0 [s] (0: no checkpoints)', min_value=0.0_wp)
-      call check_int(err, 'run', 'max_steps', p%max_steps, '>= 0 (0: unlimited)', min_value=0)
-      call check_real(err, 'run', 'wall_time_limit', p%wall_time_limit, &
-        '>= 0 [s] (0: no limit)', min_value=0.0_wp)
-      if (p%max_energy_growth /= 0.0_wp) call check_real(err, 'run', 'max_energy_growth', &
-        p%max_energy_growth, '0 (off) or > 1', min_value=1.0_wp, min_open=.true.)
-      call check_real(err, 'run', 'max_particle_loss_fraction', p%max_particle_loss_fraction, &
-        '0 <= f <= 1 (1: off)', min_value=0.0_wp, max_value=1.0_wp)
-      call check_real(err, 'run', 'min_dt_ratio', p%min_dt_ratio, '0 <= r < 1 (0: off)', &
-        min_value=0.0_wp, max_value=1.0_wp, max_open=.true.)
-      if (.not. err%found .and. trim(p%scene) /= 'mpm' .and. trim(p%scene) /= 'mpmice') then
+      if (trim(p%scene) /= 'mpm' .and. trim(p%scene) /= 'mpmice') then
         if (p%max_energy_growth > 0.0_wp) then
           call set_error(err, 'run', 'max_energy_growth', real_repr(p%max_energy_growth), &
             '0 for scene ''' // trim(p%scene) // ''' (the stop watches solids: mpm, mpmice)')
@@ -98,9 +87,6 @@ contains
             ''' (the stop counts particles: mpm, mpmice)')
         end if
       end if
-      call check_real(err, 'run', 'progress_interval', p%progress_interval, &
-        '>= 0 [s of wall time]', min_value=0.0_wp)
-      call check_int(err, 'run', 'verbosity', p%verbosity, '0, 1 or 2', min_value=0, max_value=2)
     end associate
   end subroutine check_run
 
@@ -115,6 +101,8 @@ contains
     character(len=:), allocatable :: ranks_text, rank_variable, rank_value, rank_rule
 
     ok = .false.
+    call check_grid_ranges(cfg%grid, 'grid', err)
+    if (err%found) return
     associate (p => cfg%grid)
       if (any(p%ncells < 1)) then
         call set_error(err, 'grid', 'ncells', ints_repr(p%ncells), 'each entry >= 1')
@@ -242,52 +230,29 @@ contains
   subroutine check_time(cfg, err)
     type(config_t), intent(in) :: cfg           !< configuration
     type(config_error_t), intent(inout) :: err  !< problem record
-    associate (p => cfg%time)
-      call check_real(err, 'time', 'cfl', p%cfl, '0 < cfl <= 1', min_value=0.0_wp, &
-        max_value=1.0_wp, min_open=.true.)
-      call check_real(err, 'time', 'dt_init', p%dt_init, '> 0 [s]', min_value=0.0_wp, &
-        min_open=.true.)
-      if (err%found) return
-      call check_real(err, 'time', 'dt_max', p%dt_max, '>= dt_init (' // real_repr(p%dt_init) &
-        // ') [s]', min_value=p%dt_init)
-      call check_real(err, 'time', 'dt_min', p%dt_min, '0 < dt_min <= dt_init (' // &
-        real_repr(p%dt_init) // ') [s]', min_value=0.0_wp, max_value=p%dt_init, min_open=.true.)
-      call check_real(err, 'time', 'dt_growth', p%dt_growth, '>= 1', min_value=1.0_wp)
-    end associate
+    call check_time_ranges(cfg%time, 'time', err)
   end subroutine check_time
 
   !> `&numerics`.
   subroutine check_numerics(cfg, err)
     type(config_t), intent(in) :: cfg           !< configuration
     type(config_error_t), intent(inout) :: err  !< problem record
-    associate (p => cfg%numerics)
-      call check_int(err, 'numerics', 'advection_order', p%advection_order, '1 or 2', &
-        min_value=1, max_value=2)
-      call check_choice(err, 'numerics', 'shape_function', p%shape_function, &
-        shape_function_names)
-      call check_real(err, 'numerics', 'time_theta', p%time_theta, &
-        '0.5 <= time_theta <= 1 (1: backward Euler, 0.5: Crank-Nicolson)', min_value=0.5_wp, &
-        max_value=1.0_wp)
-    end associate
+    call check_numerics_ranges(cfg%numerics, 'numerics', err)
   end subroutine check_numerics
 
   !> `&solver`.
   subroutine check_solver(cfg, err)
     type(config_t), intent(in) :: cfg           !< configuration
     type(config_error_t), intent(inout) :: err  !< problem record
-    associate (p => cfg%solver)
-      call check_real(err, 'solver', 'tolerance', p%tolerance, '0 < tolerance < 1 (relative)', &
-        min_value=0.0_wp, max_value=1.0_wp, min_open=.true., max_open=.true.)
-      call check_int(err, 'solver', 'max_iterations', p%max_iterations, '>= 1', min_value=1)
-      call check_int(err, 'solver', 'print_level', p%print_level, '0..3', min_value=0, &
-        max_value=3)
-    end associate
+    call check_solver_ranges(cfg%solver, 'solver', err)
   end subroutine check_solver
 
   !> `&output`.
   subroutine check_output(cfg, err)
     type(config_t), intent(in) :: cfg           !< configuration
     type(config_error_t), intent(inout) :: err  !< problem record
+    call check_output_ranges(cfg%output, 'output', err)
+    if (err%found) return
     if (len_trim(cfg%output%fields) == 0) then
       call set_error(err, 'output', 'fields', quoted(cfg%output%fields), &
         '''all'' or a list of field names')
@@ -298,24 +263,11 @@ contains
   subroutine check_heat(cfg, err)
     type(config_t), intent(in) :: cfg           !< configuration
     type(config_error_t), intent(inout) :: err  !< problem record
-    associate (p => cfg%heat)
-      call check_real(err, 'heat', 'conductivity', p%conductivity, '> 0 [W/m/K]', &
-        min_value=0.0_wp, min_open=.true.)
-      call check_real(err, 'heat', 'density', p%density, '> 0 [kg/m^3]', min_value=0.0_wp, &
-        min_open=.true.)
-      call check_real(err, 'heat', 'heat_capacity', p%heat_capacity, '> 0 [J/kg/K]', &
-        min_value=0.0_wp, min_open=.true.)
-      call check_real(err, 'heat', 'base_temperature', p%base_temperature, '> 0 [K]', &
-        min_value=0.0_wp, min_open=.true.)
-      if (err%found) return
-      call check_real(err, 'heat', 'amplitude', p%amplitude, '|amplitude| < base_temperature (' &
-        // real_repr(p%base_temperature) // ') [K]', min_value=-p%base_temperature, &
-        max_value=p%base_temperature, min_open=.true., max_open=.true.)
-      if (err%found) return
-      if (any(cfg%grid%ncells > 1 .and. p%modes < 1)) then
-        call set_error(err, 'heat', 'modes', ints_repr(p%modes), &
-          'each entry >= 1 along active dimensions')
-      end if
-    end associate
+    call check_heat_ranges(cfg%heat, 'heat', err)
+    if (err%found) return
+    if (any(cfg%grid%ncells > 1 .and. cfg%heat%modes < 1)) then
+      call set_error(err, 'heat', 'modes', ints_repr(cfg%heat%modes), &
+        'each entry >= 1 along active dimensions')
+    end if
   end subroutine check_heat
 end module config_validate

@@ -1,23 +1,23 @@
-!> Validation of the multiphase groups (`&physics`, `&ice`, `&mpm`, `&coupling`, `&fluid`,
-!! `&solid`, `&region`, `&boundary`) and of the scene-dependent group counts.
+!> Validation of the multiphase groups (`&physics`, `&ice`, `&mpm`, `&coupling`, `&fluid`, `&solid`,
+!! `&region`, `&boundary`) and of the scene-dependent group counts.
 !!
-!! Called by `config_check` after the other groups. Problems in occurrence k of a repeated group
-!! are reported against the group `fluid(k)` (and so on). Where regions and solids lie against
-!! the domain, and whether the initial volume fractions sum to one in every cell, is checked by
-!! `config_validate_extent` (called last).
+!! Called by `config_check` after the other groups. Each group is checked against the ranges its
+!! namelist list declares (`config_validate_ranges`) after the variable that names an occurrence
+!! (`name`, `material`, `face`) and before the checks written here (conditions, other groups).
+!! Problems in occurrence k of a repeated group are reported against the group `fluid(k)` (and so
+!! on). Where regions and solids lie against the domain, and whether the initial volume fractions
+!! sum to one in every cell, is checked by `config_validate_extent` (called last).
 module config_validate_phases
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use mpmice_kinds, only: wp
-  use config_types, only: config_t, solid_params_t, eos_names, &
-    solid_model_names, solid_shape_names, face_names, boundary_fluid_names, &
-    boundary_thermal_names, boundary_solid_names, max_polygon_points, drag_law_names, &
-    drag_scheme_names, rigid_contact_names, boundary_params_t, max_history_points, history_unset, &
-    history_points_used
+  use config_types, only: config_t, solid_params_t, face_names, max_polygon_points, &
+    boundary_params_t, max_history_points, history_unset, history_points_used
   use config_text, only: real_repr, reals_repr, ints_repr, quoted, join_names
   use config_check_tools, only: config_error_t, set_error, check_real, check_int, check_choice, &
-    occurrence_label
+    check_finite, occurrence_label
+  use config_validate_ranges, only: check_physics_ranges, check_ice_ranges, check_mpm_ranges, &
+    check_coupling_ranges, check_fluid_ranges, check_solid_ranges, check_region_ranges, &
+    check_boundary_ranges
   use config_validate_extent, only: check_extents
-  use config_validate_soil, only: check_soil
   implicit none
   private
 
@@ -49,72 +49,21 @@ contains
     call check_extents(cfg, err)
   end subroutine check_phases
 
-  !> Every entry of `x` finite.
-  subroutine check_finite(err, group, variable, x, unit)
-    type(config_error_t), intent(inout) :: err  !< problem record
-    character(len=*), intent(in) :: group       !< group label
-    character(len=*), intent(in) :: variable    !< variable name
-    real(wp), intent(in) :: x(:)                !< values
-    character(len=*), intent(in) :: unit        !< unit text, e.g. ' [m]'
-    if (err%found) return
-    if (.not. all(ieee_is_finite(x))) then
-      call set_error(err, group, variable, reals_repr(x), 'finite numbers' // unit)
-    end if
-  end subroutine check_finite
-
   !> `&physics`, `&ice`, `&mpm`, `&coupling`.
   subroutine check_singletons(cfg, err)
     type(config_t), intent(in) :: cfg           !< configuration
     type(config_error_t), intent(inout) :: err  !< problem record
-    call check_finite(err, 'physics', 'gravity', cfg%physics%gravity, ' [m/s^2]')
-    call check_real(err, 'physics', 'reference_pressure', cfg%physics%reference_pressure, &
-      '> 0 [Pa]', min_value=0.0_wp, min_open=.true.)
+    call check_physics_ranges(cfg%physics, 'physics', err)
+    call check_ice_ranges(cfg%ice, 'ice', err)
     associate (p => cfg%ice)
-      call check_real(err, 'ice', 'outer_tolerance', p%outer_tolerance, '> 0', &
-        min_value=0.0_wp, min_open=.true.)
-      call check_int(err, 'ice', 'max_outer_iterations', p%max_outer_iterations, '>= 1', &
-        min_value=1)
-      call check_real(err, 'ice', 'exchange_coefficient', p%exchange_coefficient, &
-        '>= 0 [kg/m^3/s]', min_value=0.0_wp)
-      call check_real(err, 'ice', 'heat_exchange_coefficient', p%heat_exchange_coefficient, &
-        '>= 0 [W/m^3/K]', min_value=0.0_wp)
-      call check_real(err, 'ice', 'smagorinsky_constant', p%smagorinsky_constant, '> 0', &
-        min_value=0.0_wp, min_open=.true.)
-      call check_real(err, 'ice', 'equilibration_tolerance', p%equilibration_tolerance, '> 0', &
-        min_value=0.0_wp, min_open=.true.)
-      call check_int(err, 'ice', 'max_equilibration_iterations', &
-        p%max_equilibration_iterations, '>= 1', min_value=1)
-      call check_real(err, 'ice', 'sound_speed_factor', p%sound_speed_factor, '0..10', &
-        min_value=0.0_wp, max_value=10.0_wp)
-      call check_real(err, 'ice', 'interface_compression', p%interface_compression, &
-        '0..4 (0: off; > 0 needs exactly two &fluid groups)', min_value=0.0_wp, max_value=4.0_wp)
       if (.not. err%found .and. p%interface_compression > 0.0_wp .and. cfg%nfluids /= 2) then
         call set_error(err, 'ice', 'interface_compression', real_repr(p%interface_compression), &
         '0 with ' // ints_repr([cfg%nfluids]) // ' &fluid groups (compression acts between ' // &
         'exactly two)')
       end if
     end associate
-    associate (p => cfg%mpm)
-      call check_real(err, 'mpm', 'flip_fraction', p%flip_fraction, &
-        '0..1 (1: pure FLIP, 0: PIC)', min_value=0.0_wp, max_value=1.0_wp)
-      call check_real(err, 'mpm', 'gravity_ramp_time', p%gravity_ramp_time, '>= 0 [s]', &
-        min_value=0.0_wp)
-      call check_real(err, 'mpm', 'local_damping', p%local_damping, '0..1', min_value=0.0_wp, &
-        max_value=1.0_wp)
-      call check_choice(err, 'mpm', 'rigid_contact', p%rigid_contact, rigid_contact_names)
-      call check_real(err, 'mpm', 'contact_friction', p%contact_friction, '>= 0', &
-        min_value=0.0_wp)
-    end associate
-    associate (p => cfg%coupling)
-      call check_choice(err, 'coupling', 'drag_scheme', p%drag_scheme, drag_scheme_names)
-      call check_real(err, 'coupling', 'heat_exchange_coefficient', &
-        p%heat_exchange_coefficient, '>= 0 [W/m^3/K]', min_value=0.0_wp)
-      call check_real(err, 'coupling', 'max_solid_fraction', p%max_solid_fraction, &
-        '0 < max_solid_fraction <= 1', min_value=0.0_wp, max_value=1.0_wp, min_open=.true.)
-      call check_real(err, 'coupling', 'solid_fraction_relaxation', &
-        p%solid_fraction_relaxation, '0 <= solid_fraction_relaxation <= 1', min_value=0.0_wp, &
-        max_value=1.0_wp)
-    end associate
+    call check_mpm_ranges(cfg%mpm, 'mpm', err)
+    call check_coupling_ranges(cfg%coupling, 'coupling', err)
   end subroutine check_singletons
 
   !> `name` of occurrence `k` of `group` ('fluid' or 'solid'): an identifier, unique among the
@@ -164,59 +113,14 @@ contains
     type(config_t), intent(in) :: cfg           !< configuration
     integer, intent(in) :: k                    !< occurrence
     type(config_error_t), intent(inout) :: err  !< problem record
-    character(len=:), allocatable :: g
     if (err%found) return
-    g = occurrence_label('fluid', k)
-    associate (p => cfg%fluids(k))
-      call check_material_name(cfg, 'fluid', k, p%name, err)
-      call check_choice(err, g, 'eos', p%eos, eos_names)
-      call check_real(err, g, 'gamma', p%gamma, '> 1', min_value=1.0_wp, min_open=.true.)
-      call positive(g, 'heat_capacity_cv', p%heat_capacity_cv, ' [J/kg/K]')
-      call positive(g, 'reference_density', p%reference_density, ' [kg/m^3]')
-      call positive(g, 'reference_pressure', p%reference_pressure, ' [Pa]')
-      call positive(g, 'reference_temperature', p%reference_temperature, ' [K]')
-      call positive(g, 'bulk_modulus', p%bulk_modulus, ' [Pa]')
-      call non_negative(err, g, 'thermal_expansion', p%thermal_expansion, ' [kg/m^3/K]')
-      call non_negative(err, g, 'stiffened_pressure', p%stiffened_pressure, ' [Pa]')
-      call non_negative(err, g, 'viscosity', p%viscosity, ' [Pa s]')
-      call non_negative(err, g, 'conductivity', p%conductivity, ' [W/m/K]')
-      call check_real(err, g, 'volume_fraction', p%volume_fraction, '0..1', min_value=0.0_wp, &
-        max_value=1.0_wp)
-      call check_finite(err, g, 'velocity', p%velocity, ' [m/s]')
-      call positive(g, 'temperature', p%temperature, ' [K]')
-      call positive(g, 'pressure', p%pressure, ' [Pa]')
-    end associate
-
-  contains
-
-    subroutine positive(group, variable, x, unit)
-      character(len=*), intent(in) :: group, variable, unit
-      real(wp), intent(in) :: x
-      call check_real(err, group, variable, x, '> 0' // unit, min_value=0.0_wp, min_open=.true.)
-    end subroutine positive
+    call check_material_name(cfg, 'fluid', k, cfg%fluids(k)%name, err)
+    call check_fluid_ranges(cfg%fluids(k), occurrence_label('fluid', k), err)
   end subroutine check_fluid
 
-  !> A real >= 0.
-  subroutine non_negative(err, group, variable, x, unit)
-    type(config_error_t), intent(inout) :: err  !< problem record
-    character(len=*), intent(in) :: group       !< group label
-    character(len=*), intent(in) :: variable    !< variable name
-    real(wp), intent(in) :: x                   !< value
-    character(len=*), intent(in) :: unit        !< unit text
-    call check_real(err, group, variable, x, '>= 0' // unit, min_value=0.0_wp)
-  end subroutine non_negative
-
-  !> A real > 0.
-  subroutine positive_real(err, group, variable, x, unit)
-    type(config_error_t), intent(inout) :: err  !< problem record
-    character(len=*), intent(in) :: group       !< group label
-    character(len=*), intent(in) :: variable    !< variable name
-    real(wp), intent(in) :: x                   !< value
-    character(len=*), intent(in) :: unit        !< unit text
-    call check_real(err, group, variable, x, '> 0' // unit, min_value=0.0_wp, min_open=.true.)
-  end subroutine positive_real
-
-  !> `&solid(k)`: material, then geometry and particles, then state and rigid motion.
+  !> `&solid(k)`: the name, the ranges, then the conditions between its variables: tensile
+  !! strength, geometry and particles, packing limits, the loaded box, the porosity the soil
+  !! models need.
   subroutine check_solid(cfg, k, err)
     type(config_t), intent(in) :: cfg           !< configuration
     integer, intent(in) :: k                    !< occurrence
@@ -227,19 +131,7 @@ contains
     g = occurrence_label('solid', k)
     associate (p => cfg%solids(k))
       call check_material_name(cfg, 'solid', k, p%name, err)
-      call check_choice(err, g, 'model', p%model, solid_model_names)
-      call positive_real(err, g, 'density', p%density, ' [kg/m^3]')
-      call positive_real(err, g, 'youngs_modulus', p%youngs_modulus, ' [Pa]')
-      call check_real(err, g, 'poisson_ratio', p%poisson_ratio, '-1 < nu < 0.5', &
-        min_value=-1.0_wp, max_value=0.5_wp, min_open=.true., max_open=.true.)
-      call non_negative(err, g, 'cohesion', p%cohesion, ' [Pa]')
-      call check_real(err, g, 'friction_angle', p%friction_angle, '0..89 [deg]', &
-        min_value=0.0_wp, max_value=89.0_wp)
-      if (err%found) return
-      call check_real(err, g, 'dilation_angle', p%dilation_angle, '-friction_angle..' // &
-        'friction_angle (' // real_repr(p%friction_angle) // ') [deg]', &
-        min_value=-p%friction_angle, max_value=p%friction_angle)
-      call non_negative(err, g, 'tensile_strength', p%tensile_strength, ' [Pa]')
+      call check_solid_ranges(p, g, err)
       if (err%found) return
       if (p%friction_angle > 0.0_wp) then
         limit = p%cohesion / tan(p%friction_angle * pi / 180.0_wp)
@@ -247,18 +139,7 @@ contains
           '<= cohesion / tan(friction_angle) (' // real_repr(limit) // ') [Pa]', &
           max_value=limit)
       end if
-      if (.not. err%found .and. p%k0 /= -1.0_wp) then
-        call check_real(err, g, 'k0', p%k0, '-1 (use nu/(1-nu)) or 0..5', min_value=0.0_wp, &
-          max_value=5.0_wp)
-      end if
       call check_geometry(cfg, k, g, err)
-      call check_finite(err, g, 'velocity', p%velocity, ' [m/s]')
-      call check_finite(err, g, 'velocity_wavenumber', p%velocity_wavenumber, ' [rad/m]')
-      call positive_real(err, g, 'temperature', p%temperature, ' [K]')
-      call positive_real(err, g, 'heat_capacity', p%heat_capacity, ' [J/kg/K]')
-      call non_negative(err, g, 'conductivity', p%conductivity, ' [W/m/K]')
-      call check_real(err, g, 'porosity', p%porosity, '0 <= n < 1', min_value=0.0_wp, &
-        max_value=1.0_wp, max_open=.true.)
       if (.not. err%found .and. p%max_porosity /= 1.0_wp) then
         if (trim(p%model) /= 'mohr_coulomb' .and. trim(p%model) /= 'critical_state_sand') then
           call check_real(err, g, 'max_porosity', p%max_porosity, &
@@ -272,42 +153,22 @@ contains
         end if
       end if
       call check_min_porosity(p, g, err)
-      call positive_real(err, g, 'grain_size', p%grain_size, ' [m]')
-      call check_finite(err, g, 'prescribed_velocity', p%prescribed_velocity, ' [m/s]')
-      call check_finite(err, g, 'acceleration_amplitude', p%acceleration_amplitude, ' [m/s^2]')
-      call non_negative(err, g, 'acceleration_frequency', p%acceleration_frequency, ' [Hz]')
-      call non_negative(err, g, 'acceleration_duration', p%acceleration_duration, &
-        ' [s] (0: no end)')
-      call check_choice(err, g, 'drag_law', p%drag_law, drag_law_names)
-      call non_negative(err, g, 'drag_coefficient', p%drag_coefficient, ' [kg/m^3/s]')
-      call non_negative(err, g, 'forchheimer_a', p%forchheimer_a, ' [-] (Ergun: 150)')
-      call non_negative(err, g, 'forchheimer_b', p%forchheimer_b, ' [-] (Ergun: 1.75)')
-      call check_real(err, g, 'grain_bulk_modulus', p%grain_bulk_modulus, &
-        '>= 0 [Pa] (0: incompressible grains)', min_value=0.0_wp)
-      call check_traction(p, g, err)
-      call check_soil(p, g, err)
+      if (.not. err%found .and. any(p%traction /= 0.0_wp .and. &
+        p%traction_upper <= p%traction_lower)) then
+        call set_error(err, g, 'traction_upper', reals_repr(p%traction_upper), &
+          'each entry > traction_lower (' // reals_repr(p%traction_lower) // &
+          ') along the axes where traction (' // reals_repr(p%traction) // ') is non-zero [m]')
+      end if
+      select case (trim(p%model))
+      case ('cam_clay', 'modified_cam_clay', 'critical_state_sand')
+        ! the specific volume 1 / (1 - porosity) and the packing 1 - porosity need a porosity
+        call check_real(err, g, 'porosity', p%porosity, '0 < n < 1 for model ' // &
+          trim(p%model), min_value=0.0_wp, max_value=1.0_wp, min_open=.true., max_open=.true.)
+      case default
+        ! the other models take the porosity as it is
+      end select
     end associate
   end subroutine check_solid
-
-  !> The surface load of a solid: finite values, a box with upper > lower along every axis
-  !! where the traction is non-zero, a ramp time >= 0.
-  subroutine check_traction(p, g, err)
-    type(solid_params_t), intent(in) :: p       !< solid
-    character(len=*), intent(in) :: g           !< group label
-    type(config_error_t), intent(inout) :: err  !< problem record
-    call check_finite(err, g, 'traction', p%traction, ' [Pa]')
-    call check_finite(err, g, 'traction_lower', p%traction_lower, ' [m]')
-    call check_finite(err, g, 'traction_upper', p%traction_upper, ' [m]')
-    if (err%found) return
-    if (any(p%traction /= 0.0_wp .and. p%traction_upper <= p%traction_lower)) then
-      call set_error(err, g, 'traction_upper', reals_repr(p%traction_upper), &
-        'each entry > traction_lower (' // reals_repr(p%traction_lower) // &
-        ') along the axes where traction (' // reals_repr(p%traction) // ') is non-zero [m]')
-      return
-    end if
-    call non_negative(err, g, 'traction_ramp_time', p%traction_ramp_time, &
-      ' [s] (0: applied at t = 0)')
-  end subroutine check_traction
 
   !> Shape, geometry and particles of `&solid(k)`.
   subroutine check_geometry(cfg, k, g, err)
@@ -321,8 +182,6 @@ contains
     if (err%found) return
     active = cfg%grid%ncells > 1
     associate (p => cfg%solids(k))
-      call check_choice(err, g, 'shape', p%shape, solid_shape_names)
-      if (err%found) return
       select case (p%shape)
       case ('box')
         call check_finite(err, g, 'lower', p%lower, ' [m]')
@@ -383,17 +242,12 @@ contains
           '&solid (' // material_list(cfg) // ')')
         return
       end if
-      call check_finite(err, g, 'lower', p%lower, ' [m]')
-      call check_finite(err, g, 'upper', p%upper, ' [m]')
-      if (.not. err%found .and. any(p%upper < p%lower)) then
+      call check_region_ranges(p, g, err)
+      if (err%found) return
+      if (any(p%upper < p%lower)) then
         call set_error(err, g, 'upper', reals_repr(p%upper), 'each entry >= lower (' // &
           reals_repr(p%lower) // ') [m]')
       end if
-      call check_real(err, g, 'volume_fraction', p%volume_fraction, '0..1', min_value=0.0_wp, &
-        max_value=1.0_wp)
-      call check_finite(err, g, 'velocity', p%velocity, ' [m/s]')
-      call positive_real(err, g, 'temperature', p%temperature, ' [K]')
-      call positive_real(err, g, 'pressure', p%pressure, ' [Pa]')
     end associate
   end subroutine check_region
 
@@ -455,15 +309,8 @@ contains
           '(&grid periodic = ' // periodic_text(cfg%grid%periodic) // ')')
         return
       end if
-      call check_choice(err, g, 'fluid', p%fluid, boundary_fluid_names)
-      call positive_real(err, g, 'pressure', p%pressure, ' [Pa]')
-      call check_finite(err, g, 'velocity', p%velocity, ' [m/s]')
+      call check_boundary_ranges(p, g, err)
       call check_inflow_fluid(cfg, p, g, err)
-      call check_choice(err, g, 'thermal', p%thermal, boundary_thermal_names)
-      call positive_real(err, g, 'temperature', p%temperature, ' [K]')
-      call check_choice(err, g, 'solid', p%solid, boundary_solid_names)
-      call check_finite(err, g, 'solid_velocity', p%solid_velocity, ' [m/s]')
-      call check_finite(err, g, 'solid_traction', p%solid_traction, ' [Pa]')
       call check_velocity_history(p, g, err)
     end associate
   end subroutine check_boundary

@@ -56,6 +56,10 @@ class Mpmice(CMakePackage):
         depends_on("py-h5py", type="run")
         depends_on("py-matplotlib", type="run")
 
+    # The build generates the namelist code from modules/config/namelist/*.toml with
+    # scripts/generate_namelists.py (standard library only, tomllib: Python 3.11).
+    depends_on("python@3.11:", type="build")
+
     def cmake_args(self):
         return [
             self.define("BUILD_TESTING", self.run_tests),

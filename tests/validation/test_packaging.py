@@ -130,6 +130,9 @@ def test_recipe_dependencies_and_variants():
         found = dependency(rec, name)
         assert found, f'no depends_on("{name}")'
         assert 'run' in found[0]['type'] and '+postproc' in found[0]['when'], found[0]
+    # the build runs scripts/generate_namelists.py (tomllib: Python >= 3.11)
+    assert any(d['type'] == ('build',) and d['spec'].startswith('python@3.11')
+               for d in dependency(rec, 'python'))
     assert set(rec.variants) == {'build_type', 'postproc'}
     assert rec.variants['build_type']['default'] == 'Release'
     assert rec.variants['postproc']['default'] is True
