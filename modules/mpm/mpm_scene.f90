@@ -25,7 +25,7 @@ module mpm_scene
   use mpm_particles, only: particles_t, particles_free
   use mpm_seeding, only: seed_solid
   use mpm_shape, only: shape_kind_from_name
-  use mpm_nodes, only: mpm_nodes_t, nodes_init, nodes_free, nq
+  use mpm_nodes, only: mpm_nodes_t, nodes_init, nodes_free, nq, node_rigid_mass
   use mpm_p2g, only: p2g_accumulate, p2g_accumulate_rigid, p2g_complete
   use mpm_nodal, only: nodal_bc_t, nodal_solve, bc_kind_from_name, face_load_power, &
     nodal_bc_at_time
@@ -298,7 +298,8 @@ contains
     type(grid_t), intent(in) :: grid           !< block geometry
     integer :: s
     self%nodes%q(:, :, :, :) = 0.0_wp
-    if (allocated(self%static_q)) self%nodes%q(8:14, :, :, :) = self%static_q(8:14, :, :, :)
+    if (allocated(self%static_q)) self%nodes%q(node_rigid_mass:nq, :, :, :) = &
+      self%static_q(node_rigid_mass:nq, :, :, :)
     do s = 1, self%nsolids
       if (self%static(s)) cycle
       if (self%mats(s)%model == model_rigid) then

@@ -51,12 +51,14 @@ module mpmice_scene
   use mpm_constitutive, only: model_rigid
   use mpm_rigid, only: rigid_is_static
   use mpm_p2g, only: p2g_accumulate_rigid, p2g_complete
+  use mpm_nodes, only: node_rigid_mass
   use mpm_nodal, only: nodal_solve, nodal_finish, nodal_bc_at_time, bc_traction
   use mpm_g2p, only: g2p_update
   use mpm_loads, only: surface_load_t, surface_load_init, surface_load_scatter, &
     surface_load_power
   use exchange_drag, only: drag_law_from_name
-  use mpmice_solid_coupling, only: solid_coupling_t, deposit_size
+  use mpmice_solid_coupling, only: solid_coupling_t
+  use mpmice_deposit_layout, only: deposit_size, deposit_solid_volume
   use mpmice_solid_cells, only: solid_deposit, solid_cell_fields, solid_face_predictor, &
     solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, solid_pore_pressure, &
     fluid_face_blend, fluid_face_predictor_porous
@@ -540,13 +542,14 @@ contains
           if (so%mats(s)%model /= model_rigid) cycle
           self%qscr = 0.0_wp
           call p2g_accumulate_rigid(so%parts(s), self%qscr, so%shape_kind, grid)
-          where (self%qscr(8, :, :, :) > self%owner_m)
+          where (self%qscr(node_rigid_mass, :, :, :) > self%owner_m)
             self%owner = s
-            self%owner_m = self%qscr(8, :, :, :)
+            self%owner_m = self%qscr(node_rigid_mass, :, :, :)
           end where
           ! the body's grain volume deposited at the start of the step (deposit_solids), ghosts
           ! from their owners
-          self%body_frac(:, :, :, s) = min(self%dep(2 + s, :, :, :) / grid%cell_volume, 1.0_wp)
+          self%body_frac(:, :, :, s) = min(self%dep(deposit_solid_volume(s), :, :, :) / &
+            grid%cell_volume, 1.0_wp)
           call halo_exchange_cell(self%fl%halo, dom, grid, self%body_frac(:, :, :, s))
         end do
         self%owner_fixed = all(pack(rigid_is_static(so%motions(1:so%nsolids)), &
