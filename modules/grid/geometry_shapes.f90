@@ -1,6 +1,6 @@
 !> Shapes read from files (docs/geometry.md): a closed polygon in the x-y plane of any number of
 !! vertices, and the band between two profiles y = f(x) (bathymetry: the bed below a profile,
-!! a layer between two profiles). Used by `&solid` seeding (`mpm_seeding`) and `&region`
+!! a layer between two profiles). Used by `&solid` seeding (`particles_seeding`) and `&region`
 !! filling (`ice_initial`); the vertices are read by `config_geometry_files`.
 !!
 !! A polygon holds the points inside by the even-odd rule (a vertex list in either orientation,

@@ -22,8 +22,8 @@ module mpm_scene
   use io_files, only: io_join_path
   use io_xdmf, only: xdmf_particles_t
   use driver_scene, only: scene_t, scene_health_t
-  use mpm_particles, only: particles_t, particles_free
-  use mpm_seeding, only: seed_solid
+  use particles_store, only: particles_t, particles_free
+  use particles_seeding, only: seed_solid
   use mpm_shape, only: shape_kind_from_name
   use mpm_nodes, only: mpm_nodes_t, nodes_init, nodes_free, nq, node_rigid_mass
   use mpm_p2g, only: p2g_accumulate, p2g_accumulate_rigid, p2g_complete
@@ -33,7 +33,7 @@ module mpm_scene
   use mpm_constitutive, only: material_t, material_init, model_from_name, wave_speed, &
     model_rigid
   use mpm_rigid, only: rigid_motion_t, rigid_velocity, rigid_displacement, rigid_is_static
-  use mpm_migration, only: migration_t, migration_init, migrate_particles
+  use particles_migration, only: migration_t, migration_init, migrate_particles
   use mpm_output, only: write_particle_dump, write_particle_checkpoint, &
     read_particle_checkpoint, particle_xdmf_set, write_cell_dump, cell_dump_paths
   implicit none

@@ -9,7 +9,7 @@
 module mpmice_deposit
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
-  use mpm_particles, only: particles_t
+  use particles_store, only: particles_t
   use mpmice_solid_coupling, only: solid_coupling_t
   use mpmice_deposit_layout, only: deposit_mass, deposit_grain_volume, deposit_solid_volume, &
     deposit_plane_low, deposit_plane_high, deposit_rigid_low, deposit_rigid_high, &

@@ -11,7 +11,7 @@
 module mpmice_solid_fields
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
-  use mpm_particles, only: particles_t
+  use particles_store, only: particles_t
   use mpm_nodes, only: mpm_nodes_t, node_mass, node_rigid_mass, node_rigid_momentum
   use ice_state, only: ice_state_t
   use ice_pressure, only: solid_face_fraction

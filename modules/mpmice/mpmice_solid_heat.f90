@@ -18,7 +18,7 @@ module mpmice_solid_heat
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
-  use mpm_particles, only: particles_t
+  use particles_store, only: particles_t
   use mpmice_deposit, only: overlap_weights, deformed_half_widths
   use ice_viscous, only: face_mean
   implicit none

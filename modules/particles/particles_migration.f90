@@ -7,12 +7,12 @@
 !! as `nfield` reals (the 64-bit id bit-copied) through one MPI_Alltoall of counts and one
 !! MPI_Alltoallv; received particles are appended in source-rank order. The send buffers grow
 !! amortised and are kept between calls.
-module mpm_migration
+module particles_migration
   use mpi_f08, only: MPI_Alltoall, MPI_Alltoallv, MPI_INTEGER, MPI_DOUBLE_PRECISION, MPI_Cart_rank
   use mpmice_kinds, only: wp, i8
   use grid_layout, only: grid_t
   use parallel_domain, only: domain_t, domain_block_range
-  use mpm_particles, only: particles_t, particles_reserve, particles_compact
+  use particles_store, only: particles_t, particles_reserve, particles_compact
   implicit none
   private
 
@@ -197,4 +197,4 @@ contains
     p%id(ip) = transfer(buf(34), 1_i8)
     p%hardening(ip) = buf(35)
   end subroutine unpack_particle
-end module mpm_migration
+end module particles_migration
