@@ -1,7 +1,7 @@
 !> The generic time loop: clock, retries of rejected steps, dumps, checkpoints, failure detection
 !! (NaN/Inf, and the optional stops of `driver_stops`: energy growth, particle loss, step
 !! collapse; each reports, dumps the state and stops), the wall-time stop, progress lines and the
-!! stage-timer summary. Every scene (`driver_scene`) runs through it.
+!! stage-timer summary. Every scene (`scene_interface`) runs through it.
 module driver_loop
   use mpi_f08, only: MPI_Bcast, MPI_LOGICAL
   use mpmice_kinds, only: wp, path_len
@@ -17,7 +17,7 @@ module driver_loop
   use driver_clock, only: clock_t, clock_init, clock_propose_dt, clock_advance, clock_finished, &
     clock_resume
   use driver_output, only: write_dump, write_checkpoint, read_checkpoint
-  use driver_scene, only: scene_t
+  use scene_interface, only: scene_t
   use driver_stops, only: stops_watch_state, stops_start, stops_check_dt, stops_check_state
   use io_files, only: io_join_path
   use io_write_failure, only: io_close_checked

@@ -21,7 +21,7 @@ module driver_output
   use io_write_failure, only: io_write_failed, enospc
   use mpmice_faults, only: fault_step
   use driver_clock, only: clock_t
-  use driver_scene, only: scene_t
+  use scene_interface, only: scene_t
   implicit none
   private
 

@@ -8,11 +8,11 @@ module driver_run_mod
   use mpmice_build_info, only: mpmice_version
   use config_types, only: config_t
   use config_echo, only: config_to_text, config_write_used, config_used_path
-  use parallel_domain, only: domain_t, domain_init, domain_free
-  use grid_layout, only: grid_t, grid_init
+  use parallel_domain, only: grid_init, domain_t, domain_init, domain_free
+  use grid_layout, only: grid_t
   use driver_preflight, only: preflight_output_dir
   use driver_loop, only: run_scene, run_status_t
-  use driver_scene, only: scene_t
+  use scene_interface, only: scene_t
   use heat_scene, only: heat_scene_t
   use mpm_scene, only: mpm_scene_t
   use ice_scene, only: ice_scene_t

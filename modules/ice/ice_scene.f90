@@ -23,7 +23,7 @@ module ice_scene
     struct_solver_solve, struct_solver_free, struct_solver_invalidate
   use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field
   use io_xdmf, only: xdmf_particles_t
-  use driver_scene, only: scene_t
+  use scene_interface, only: scene_t
   use ice_eos, only: eos_t, eos_kind_from_name, eos_sound_speed2
   use ice_state, only: ice_state_t, ice_state_alloc, ice_state_free
   use ice_equilibration, only: ice_equilibrate, report_equilibration_failure

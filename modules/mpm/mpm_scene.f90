@@ -21,7 +21,7 @@ module mpm_scene
   use io_hdf5, only: h5_file_t, h5_write_attribute, h5_read_attribute
   use io_files, only: io_join_path
   use io_xdmf, only: xdmf_particles_t
-  use driver_scene, only: scene_t, scene_health_t
+  use scene_interface, only: scene_t, scene_health_t
   use particles_store, only: particles_t, particles_free
   use particles_seeding, only: seed_solid
   use mpm_shape, only: shape_kind_from_name

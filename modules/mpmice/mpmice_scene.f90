@@ -35,7 +35,7 @@ module mpmice_scene
     h5_read_node_field
   use io_xdmf, only: xdmf_particles_t
   use io_files, only: io_join_path
-  use driver_scene, only: scene_t, scene_health_t
+  use scene_interface, only: scene_t, scene_health_t
   use ice_state, only: ice_state_t, ice_solid_alloc
   use ice_scene, only: ice_scene_t, exchange_primitives, exchange_lagrangian, &
     ice_pressure_iteration, ice_step_begin, ice_step_reject
