@@ -8,10 +8,10 @@
 !! MPI_Alltoallv; received particles are appended in source-rank order. The send buffers grow
 !! amortised and are kept between calls.
 module particles_migration
-  use mpi_f08, only: MPI_Alltoall, MPI_Alltoallv, MPI_INTEGER, MPI_DOUBLE_PRECISION, MPI_Cart_rank
   use mpmice_kinds, only: wp, i8
   use grid_layout, only: grid_t
   use parallel_domain, only: domain_t, domain_block_range
+  use parallel_comm, only: alltoall_counts, alltoallv_real, cart_rank
   use particles_store, only: particles_t, particles_reserve, particles_compact
   implicit none
   private
@@ -52,9 +52,9 @@ contains
           ! the Cartesian communicator spans the active dimensions only (parallel_domain)
           coords = [a, b, e]
           if (count(dom%active) == 0) then
-            call MPI_Cart_rank(dom%comm, [0], mig%rank_of(a, b, e))
+            mig%rank_of(a, b, e) = cart_rank(dom%comm, [0])
           else
-            call MPI_Cart_rank(dom%comm, pack(coords, dom%active), mig%rank_of(a, b, e))
+            mig%rank_of(a, b, e) = cart_rank(dom%comm, pack(coords, dom%active))
           end if
         end do
       end do
@@ -126,7 +126,7 @@ contains
         slot(r) = slot(r) + 1
         call pack_particle(p, ip, mig%sendbuf(:, slot(r)))
       end do
-      call MPI_Alltoall(mig%scount, 1, MPI_INTEGER, mig%rcount, 1, MPI_INTEGER, dom%comm)
+      call alltoall_counts(dom%comm, mig%scount, mig%rcount)
       nrecv = sum(mig%rcount)
       if (size(mig%recvbuf, 2) < nrecv) then
         n0 = max(nrecv, 2 * size(mig%recvbuf, 2))
@@ -137,8 +137,8 @@ contains
       do r = 1, dom%nranks - 1
         mig%rdispl(r) = mig%rdispl(r - 1) + mig%rcount(r - 1) * nfield
       end do
-      call MPI_Alltoallv(mig%sendbuf, mig%scount * nfield, mig%sdispl, MPI_DOUBLE_PRECISION, &
-        mig%recvbuf, mig%rcount * nfield, mig%rdispl, MPI_DOUBLE_PRECISION, dom%comm)
+      call alltoallv_real(dom%comm, mig%sendbuf, mig%scount * nfield, mig%sdispl, mig%recvbuf, &
+        mig%rcount * nfield, mig%rdispl)
     else
       nrecv = 0
     end if

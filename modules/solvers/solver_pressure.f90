@@ -41,7 +41,7 @@ module solver_pressure
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_ptr, c_null_ptr, c_associated, &
     c_funloc
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
-  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_SUM, MPI_DOUBLE_PRECISION
+  use parallel_comm, only: MPI_Comm, sum_in_place
   use mpmice_kinds, only: wp, msg_len
   use mpmice_errors, only: fatal
   use mpmice_log, only: log_warning
@@ -368,7 +368,7 @@ contains
     if (solver%nowned > 0) bb(1) = real(dot_product(solver%vector_values, solver%vector_values), wp)
     ! non-finite operator entries of this rank (hypre would stop with an error on them)
     bb(2) = real(count(.not. ieee_is_finite(solver%matrix_values)), wp)
-    call MPI_Allreduce(MPI_IN_PLACE, bb, 2, MPI_DOUBLE_PRECISION, MPI_SUM, solver%fcomm)
+    call sum_in_place(solver%fcomm, bb)
     if (.not. ieee_is_finite(bb(1)) .or. bb(2) > 0.0_wp) then
       ! a NaN or Inf in the system: no solve; x is NaN in the cells whose equation holds one, so
       ! the caller sees where (ice_pressure_iteration ends the step, the run fails with a dump)
@@ -479,7 +479,7 @@ contains
         end do
       end do
     end do
-    call MPI_Allreduce(MPI_IN_PLACE, marked, 1, MPI_DOUBLE_PRECISION, MPI_SUM, solver%fcomm)
+    call sum_in_place(solver%fcomm, marked)
     if (marked(1) == 0.0_wp) x(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), &
       grid%lo(3):grid%hi(3)) = nan
   end subroutine mark_nonfinite
