@@ -11,9 +11,8 @@ module mpmice_deposit
   use grid_layout, only: grid_t
   use particles_store, only: particles_t
   use mpmice_solid_coupling, only: solid_coupling_t
-  use mpmice_deposit_layout, only: deposit_mass, deposit_grain_volume, deposit_solid_volume, &
-    deposit_plane_low, deposit_plane_high, deposit_rigid_low, deposit_rigid_high, &
-    deposit_heat_capacity, deposit_energy, deposit_conductance, deposit_own_high
+  use mpmice_deposit_layout, only: deposit_layout_t, deposit_layout, deposit_mass, &
+    deposit_grain_volume, deposit_solid_volume
   use mpmice_rigid_contact, only: wall_fraction, wall_neighbours, wall_plane
   implicit none
   private
@@ -53,6 +52,7 @@ contains
     real(wp), intent(in), optional :: dt        !< step [s]: plane fractions swept over it
     integer :: ip, d, k, a, b, c, first(3), nc(3), nf(3), ff(3), e, cb(3), nt, tgt(3, 6)
     integer :: ilo(3), ihi(3), iown(3), ivol, icap, iene, icond
+    type(deposit_layout_t) :: lay
     real(wp) :: w(2, 3), wt, vg, l(3), lo, hi, wf, mc, tw(6), step, sup, sdn, wlo, whi, wlo0, whi0
     logical :: own_planes, redirect, sweep
     own_planes = .false.
@@ -60,15 +60,14 @@ contains
     redirect = .false.
     if (present(sliding) .and. present(wall_frac)) redirect = sliding .and. .not. solid%rigid
     ! the plane components this solid writes, and its cell components
-    do d = 1, 3
-      ilo(d) = merge(deposit_rigid_low(nsolids, d), deposit_plane_low(nsolids, d), own_planes)
-      ihi(d) = merge(deposit_rigid_high(nsolids, d), deposit_plane_high(nsolids, d), own_planes)
-      iown(d) = deposit_own_high(nsolids, d)
-    end do
+    lay = deposit_layout(nsolids)
+    ilo = merge(lay%rigid_low, lay%plane_low, own_planes)
+    ihi = merge(lay%rigid_high, lay%plane_high, own_planes)
+    iown = lay%own_high
     ivol = deposit_solid_volume(s)
-    icap = deposit_heat_capacity(nsolids)
-    iene = deposit_energy(nsolids)
-    icond = deposit_conductance(nsolids)
+    icap = lay%heat_capacity
+    iene = lay%energy
+    icond = lay%conductance
     ! not on the planes of a wall cell of a sliding rigid body: the contact corrects the nodal
     ! velocity, not the particle's (the 40 mm debris flow: +367 / -6.6 kPa in a contact cell at
     ! 0.1 s when the sweep reached the bed's planes)

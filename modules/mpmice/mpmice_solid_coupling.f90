@@ -5,7 +5,7 @@
 module mpmice_solid_coupling
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
-  use mpmice_deposit_layout, only: deposit_plane_high, deposit_own_high
+  use mpmice_deposit_layout, only: deposit_layout_t, deposit_layout
   implicit none
   private
 
@@ -45,14 +45,16 @@ contains
     real(wp), intent(in) :: max_fraction        !< cap of the fraction
     integer :: d
     real(wp) :: lo_side, hi_side, fmin, fmax
+    type(deposit_layout_t) :: lay
+    lay = deposit_layout(ns)
     phi_body = phi
     fmin = huge(1.0_wp)
     fmax = 0.0_wp
     do d = 1, 3
       if (.not. grid%active(d)) cycle
       ! the cell's own side of its low plane and of its high plane
-      lo_side = dep(deposit_plane_high(ns, d), c(1), c(2), c(3))
-      hi_side = dep(deposit_own_high(ns, d), c(1), c(2), c(3))
+      lo_side = dep(lay%plane_high(d), c(1), c(2), c(3))
+      hi_side = dep(lay%own_high(d), c(1), c(2), c(3))
       fmin = min(fmin, lo_side, hi_side)
       fmax = max(fmax, lo_side, hi_side)
     end do

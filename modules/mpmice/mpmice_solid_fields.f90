@@ -17,9 +17,8 @@ module mpmice_solid_fields
   use ice_pressure, only: solid_face_fraction
   use exchange_drag, only: drag_reduced_coefficient, drag_impermeable
   use mpmice_solid_coupling, only: solid_coupling_t, surface_body_fraction
-  use mpmice_deposit_layout, only: deposit_mass, deposit_grain_volume, deposit_solid_volume, &
-    deposit_plane_low, deposit_plane_high, deposit_rigid_low, deposit_rigid_high, &
-    deposit_heat_capacity, deposit_energy, deposit_conductance
+  use mpmice_deposit_layout, only: deposit_layout_t, deposit_layout, deposit_mass, &
+    deposit_grain_volume, deposit_solid_volume
   use mpmice_rigid_contact, only: partner_fields
   implicit none
   private
@@ -40,17 +39,19 @@ contains
     real(wp), intent(in) :: max_fraction        !< largest solid fraction [-]
     real(wp), intent(out) :: phi_p(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< particle fraction
     integer :: i, j, k, s, m, ns, ilo(2), ihi(2), irlo(2), irhi(2), icap, iene, icond
+    type(deposit_layout_t) :: lay
     real(wp) :: vol, phi, cs, rho_f, slip, wsum, phi_body, scale, vol_imp, phi_imp
     logical :: mixed
     ns = size(solids)
     ! first and last (direction 1 and 3) of the plane components, 2 apart
-    ilo = [deposit_plane_low(ns, 1), deposit_plane_low(ns, 3)]
-    ihi = [deposit_plane_high(ns, 1), deposit_plane_high(ns, 3)]
-    irlo = [deposit_rigid_low(ns, 1), deposit_rigid_low(ns, 3)]
-    irhi = [deposit_rigid_high(ns, 1), deposit_rigid_high(ns, 3)]
-    icap = deposit_heat_capacity(ns)
-    iene = deposit_energy(ns)
-    icond = deposit_conductance(ns)
+    lay = deposit_layout(ns)
+    ilo = lay%plane_low(1:3:2)
+    ihi = lay%plane_high(1:3:2)
+    irlo = lay%rigid_low(1:3:2)
+    irhi = lay%rigid_high(1:3:2)
+    icap = lay%heat_capacity
+    iene = lay%energy
+    icond = lay%conductance
     associate (sp => state%solid)
       sp%face_fraction = 0.0_wp
       sp%face_fraction_hi = 0.0_wp

@@ -26,16 +26,8 @@ contains
     type(grid_t), intent(in) :: grid                                        !< block geometry
     real(wp), intent(in) :: field(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell array
     real(c_double), intent(out) :: buffer(:)                                !< owned values
-    integer :: i, j, k, m
-    m = 0
-    do k = grid%lo(3), grid%hi(3)
-      do j = grid%lo(2), grid%hi(2)
-        do i = grid%lo(1), grid%hi(1)
-          m = m + 1
-          buffer(m) = real(field(i, j, k), c_double)
-        end do
-      end do
-    end do
+    buffer(1:product(grid%hi - grid%lo + 1)) = real(reshape(field(grid%lo(1):grid%hi(1), &
+      grid%lo(2):grid%hi(2), grid%lo(3):grid%hi(3)), [product(grid%hi - grid%lo + 1)]), c_double)
   end subroutine pack_owned
 
   !> Copy a hypre box buffer back into the owned cells of a cell array.
@@ -43,15 +35,7 @@ contains
     type(grid_t), intent(in) :: grid                                           !< block geometry
     real(c_double), intent(in) :: buffer(:)                                    !< owned values
     real(wp), intent(inout) :: field(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell array
-    integer :: i, j, k, m
-    m = 0
-    do k = grid%lo(3), grid%hi(3)
-      do j = grid%lo(2), grid%hi(2)
-        do i = grid%lo(1), grid%hi(1)
-          m = m + 1
-          field(i, j, k) = real(buffer(m), wp)
-        end do
-      end do
-    end do
+    field(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), grid%lo(3):grid%hi(3)) = &
+      real(reshape(buffer(1:product(grid%hi - grid%lo + 1)), grid%hi - grid%lo + 1), wp)
   end subroutine unpack_owned
 end module solver_box
