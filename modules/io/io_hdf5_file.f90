@@ -245,19 +245,33 @@ contains
     character(len=*), intent(in) :: path   !< object path
     logical :: exists
     character(len=:), allocatable :: clean
-    integer :: i, hdferr
+    integer :: i
     clean = h5_clean_path(path)
     exists = .true.
     if (len(clean) == 0) return
     do i = 1, len(clean) + 1
-      if (i <= len(clean)) then
-        if (clean(i:i) /= '/') cycle
-      end if
-      call h5lexists_f(file%id, clean(1:i - 1), exists, hdferr)
-      call h5_check(hdferr, 'h5lexists_f', file, clean(1:i - 1))
+      if (.not. component_end(clean, i)) cycle
+      exists = link_exists(file, clean(1:i - 1))
       if (.not. exists) return
     end do
   end function h5_exists
+
+  !> True when position `i` of the clean path `clean` ends a path component (a '/' or the end).
+  pure logical function component_end(clean, i) result(at_end)
+    character(len=*), intent(in) :: clean  !< path without leading, trailing or double '/'
+    integer, intent(in) :: i               !< position 1..len(clean) + 1
+    at_end = .true.
+    if (i <= len(clean)) at_end = clean(i:i) == '/'
+  end function component_end
+
+  !> True when the link `path` (its parents existing) exists in the file. Collective.
+  logical function link_exists(file, path) result(exists)
+    type(h5_file_t), intent(in) :: file    !< open file
+    character(len=*), intent(in) :: path   !< object path
+    integer :: hdferr
+    call h5lexists_f(file%id, path, exists, hdferr)
+    call h5_check(hdferr, 'h5lexists_f', file, path)
+  end function link_exists
 
   !> Create the group `path` and any missing parents. Collective.
   subroutine h5_make_groups(file, path)
@@ -266,16 +280,11 @@ contains
     character(len=:), allocatable :: clean
     integer(hid_t) :: group_id
     integer :: i, hdferr
-    logical :: exists
     clean = h5_clean_path(path)
     if (len(clean) == 0) return
     do i = 1, len(clean) + 1
-      if (i <= len(clean)) then
-        if (clean(i:i) /= '/') cycle
-      end if
-      call h5lexists_f(file%id, clean(1:i - 1), exists, hdferr)
-      call h5_check(hdferr, 'h5lexists_f', file, clean(1:i - 1))
-      if (exists) cycle
+      if (.not. component_end(clean, i)) cycle
+      if (link_exists(file, clean(1:i - 1))) cycle
       call h5gcreate_f(file%id, clean(1:i - 1), group_id, hdferr)
       call h5_check(hdferr, 'h5gcreate_f (create group)', file, clean(1:i - 1))
       call h5gclose_f(group_id, hdferr)
