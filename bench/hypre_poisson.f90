@@ -15,8 +15,8 @@ program hypre_poisson
   use mpmice_kinds, only: wp, path_len
   use mpmice_errors, only: fatal
   use mpmice_log, only: log_init
-  use parallel_domain, only: domain_t, domain_init, domain_free
-  use grid_layout, only: grid_t, grid_init, cell_centre, node_position
+  use parallel_domain, only: grid_init, domain_t, domain_init, domain_free
+  use grid_layout, only: grid_t, cell_centre, node_position
   use solver_pressure, only: struct_solver_t, struct_solver_init, struct_solver_set_operator, &
     struct_solver_solve, struct_solver_free
   use solver_poisson_mms, only: mms_build, mms_error_l2

@@ -8,42 +8,34 @@ perturbation, ``||T - T_exact||_2 / ||T_exact - T_base||_2``, and writes a compa
 from __future__ import annotations
 
 import argparse
-import glob
 import os
-import re
 
-import h5py
 import numpy as np
 
 from postproc.analytic import heat_mode_solution
 from postproc.figures import pyplot, save_figure
+from postproc.mpmice_io import cell_centres, list_dumps, read_dump
 from postproc.namelist import parse_namelist_text
+from postproc.run_files import run_name
 
 
 def dump_files(output_dir: str, name: str | None = None) -> list[str]:
-    """Dump files of a run (not checkpoints or failure dumps), sorted by step."""
-    pattern = f"{name}_*.h5" if name else "*_*.h5"
-    files = [f for f in glob.glob(os.path.join(output_dir, pattern))
-             if re.search(r"_\d{6,}\.h5$", f) and "_checkpoint_" not in f and "_failed_" not in f]
-    return sorted(files, key=lambda f: int(re.search(r"_(\d+)\.h5$", f).group(1)))
+    """Dump files of a run (not checkpoints or failure dumps), sorted by step
+    (``mpmice_io.list_dumps`` of the run ``name``, or of the one run in ``output_dir``)."""
+    return list_dumps(output_dir, run_name(output_dir, name))
 
 
 def read_temperature(path: str) -> dict:
-    """Temperature [i, j, k], grid attributes and the resolved input of one dump."""
-    with h5py.File(path, "r") as f:
-        attrs = {k: f.attrs[k] for k in f.attrs}
-        temperature = np.asarray(f["cell/temperature"][...]).T  # file is [k, j, i]
-    text = attrs["namelist"]
-    if isinstance(text, bytes):
-        text = text.decode()
-    nml = parse_namelist_text(str(text))
+    """Temperature [i, j, k], grid attributes and the resolved input of one dump
+    (``mpmice_io.read_dump``)."""
+    dump = read_dump(path)
+    attrs = dump["attrs"]
     ncells = np.asarray(attrs["ncells"]).astype(int)
     lower = np.asarray(attrs["lower"], dtype=float)
     dx = np.asarray(attrs["dx"], dtype=float)
-    centres = [lower[d] + (np.arange(ncells[d]) + 0.5) * dx[d] for d in range(3)]
-    return {"time": float(attrs["time"]), "step": int(attrs["step"]), "T": temperature,
-            "centres": centres, "ncells": ncells, "lower": lower, "upper": lower + ncells * dx,
-            "nml": nml}
+    return {"time": dump["time"], "step": dump["step"], "T": dump["cell"]["temperature"],
+            "centres": list(cell_centres(dump)), "ncells": ncells, "lower": lower,
+            "upper": lower + ncells * dx, "nml": parse_namelist_text(str(attrs["namelist"]))}
 
 
 def exact_temperature(dump: dict) -> np.ndarray:

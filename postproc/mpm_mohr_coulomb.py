@@ -6,7 +6,7 @@ plane-strain simple shear under constant vertical stress (c' = 0; steady tau / s
 sin phi cos psi / (1 - sin phi sin psi), Davis 1968; dilation d eps_yy / d gamma = tan psi,
 strains extension positive).
 
-Runs build/bin/mc_element (src/mc_element.f90, next to the mpmice executable), prints the
+Runs build/bin/mc_element (tools/mc_element.f90, next to the mpmice executable), prints the
 errors and writes mpm_mohr_coulomb.png.
 
 Usage:  python -m postproc.mpm_mohr_coulomb [--out docs/validation]

@@ -67,21 +67,46 @@ def mpi_environment() -> dict[str, str]:
 #: ``--set`` text that lets a run replace the output of an earlier run in its output folder.
 OVERWRITE = "&run overwrite = .true. /"
 
+#: Wall-clock limit of one run [s] unless the caller gives another (validations, studies and
+#: the tests' ``run_mpmice`` fixture alike).
+RUN_TIMEOUT = 600.0
 
-def run_mpmice(args, nranks: int = 1, cwd: str | None = None, timeout: float = 600,
+
+class RunFailed(RuntimeError):
+    """A run ended with a non-zero exit status (``check``) or ran past its time limit."""
+
+
+def _text(stream) -> str:
+    return stream.decode(errors="replace") if isinstance(stream, bytes) else (stream or "")
+
+
+def run_mpmice(args, nranks: int = 1, cwd: str | None = None, timeout: float = RUN_TIMEOUT,
                check: bool = True, exe: str | None = None,
                overwrite: bool = True) -> subprocess.CompletedProcess:
-    """Run ``mpirun -n nranks mpmice ARGS`` (text mode, output captured); with ``check`` a non-zero
-    exit raises RuntimeError with the output. With ``overwrite`` (the default: studies and
-    benchmarks rerun their scenes into the same folders) ``--set '&run overwrite = .true. /'`` is
-    appended, so a folder holding an earlier run's output is reused instead of refused."""
+    """Run ``mpirun -n nranks mpmice ARGS`` (text mode, output captured) and return the
+    ``subprocess.CompletedProcess``. The one way the validations, studies, benchmarks and tests
+    run the program:
+
+    * ``check``: a non-zero exit status raises ``RunFailed`` with the command and its output;
+      without it the caller inspects ``returncode`` (the tests of failing runs);
+    * ``timeout`` [s]: a run still going then is killed and raises ``RunFailed`` with the
+      output it had written, whatever ``check`` says;
+    * ``overwrite`` (the default: studies and benchmarks rerun their scenes into the same
+      folders): ``--set '&run overwrite = .true. /'`` is appended, so a folder holding an earlier
+      run's output is reused instead of refused;
+    * ``exe``: the executable (default ``mpmice_executable()``).
+    """
     args = list(args) + (["--set", OVERWRITE] if overwrite else [])
     command = mpirun_command(exe or mpmice_executable(), args, nranks)
-    result = subprocess.run(command, cwd=cwd, env=mpi_environment(), capture_output=True,
-                            text=True, timeout=timeout, check=False)
+    try:
+        result = subprocess.run(command, cwd=cwd, env=mpi_environment(), capture_output=True,
+                                text=True, timeout=timeout, check=False)
+    except subprocess.TimeoutExpired as err:
+        raise RunFailed(f"{' '.join(command)} did not finish within {timeout} s\n"
+                        f"stdout:\n{_text(err.stdout)}\nstderr:\n{_text(err.stderr)}") from None
     if check and result.returncode != 0:
-        raise RuntimeError(f"{' '.join(command)} failed ({result.returncode}):\n"
-                           f"{result.stdout}\n{result.stderr}")
+        raise RunFailed(f"{' '.join(command)} failed ({result.returncode}):\n"
+                        f"{result.stdout}\n{result.stderr}")
     return result
 
 

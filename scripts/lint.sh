@@ -5,4 +5,4 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 [ -x .venv/bin/python ] || python3 -m venv .venv
 [ -x .venv/bin/fortitude ] || .venv/bin/pip install -q fortitude-lint
-.venv/bin/fortitude check modules src bench "$@"
+.venv/bin/fortitude check modules src tools bench "$@"

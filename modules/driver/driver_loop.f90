@@ -1,9 +1,9 @@
 !> The generic time loop: clock, retries of rejected steps, dumps, checkpoints, failure detection
 !! (NaN/Inf, and the optional stops of `driver_stops`: energy growth, particle loss, step
 !! collapse; each reports, dumps the state and stops), the wall-time stop, progress lines and the
-!! stage-timer summary. Every scene (`driver_scene`) runs through it.
+!! stage-timer summary. Every scene (`scene_interface`) runs through it.
 module driver_loop
-  use mpi_f08, only: MPI_Bcast, MPI_LOGICAL
+  use parallel_comm, only: bcast
   use mpmice_kinds, only: wp, path_len
   use mpmice_errors, only: int_text, real_short_text
   use mpmice_log, only: log_info, log_warning, log_warning_summary
@@ -17,7 +17,7 @@ module driver_loop
   use driver_clock, only: clock_t, clock_init, clock_propose_dt, clock_advance, clock_finished, &
     clock_resume
   use driver_output, only: write_dump, write_checkpoint, read_checkpoint
-  use driver_scene, only: scene_t
+  use scene_interface, only: scene_t
   use driver_stops, only: stops_watch_state, stops_start, stops_check_dt, stops_check_state
   use io_files, only: io_join_path
   use io_write_failure, only: io_close_checked
@@ -169,7 +169,7 @@ contains
       if (cfg%run%wall_time_limit > 0.0_wp) then
         stop_for_wall_time = progress_elapsed(progress) + 2.0_wp * slowest_step_s &
           + 10.0_wp > cfg%run%wall_time_limit
-        call MPI_Bcast(stop_for_wall_time, 1, MPI_LOGICAL, 0, dom%comm)
+        call bcast(dom%comm, stop_for_wall_time, 0)
       end if
       if (stop_for_wall_time .and. .not. clock_finished(clock)) then
         status%reason = 'stopped before &run wall_time_limit = ' // &

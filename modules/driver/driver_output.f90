@@ -8,7 +8,7 @@
 !! it is written to a temporary name and renamed, so an interrupted write never leaves a
 !! half-written file under a checkpoint's name.
 module driver_output
-  use mpi_f08, only: MPI_Barrier, MPI_Comm
+  use parallel_comm, only: MPI_Comm, barrier
   use mpmice_kinds, only: path_len, name_len
   use mpmice_errors, only: fatal
   use mpmice_build_info, only: mpmice_version
@@ -21,7 +21,7 @@ module driver_output
   use io_write_failure, only: io_write_failed, enospc
   use mpmice_faults, only: fault_step
   use driver_clock, only: clock_t
-  use driver_scene, only: scene_t
+  use scene_interface, only: scene_t
   implicit none
   private
 
@@ -69,7 +69,7 @@ contains
     call scene%write_state(file, dom, grid, .false.)
     call h5_close(file)
     if (dom%rank == 0) call io_rename(h5_path // '.tmp', h5_path)
-    call MPI_Barrier(dom%comm)
+    call barrier(dom%comm)
     if (xdmf .and. dom%rank == 0) then
       call scene%output_layout(cell_paths, particle_sets)
       call xdmf_write_dump(io_join_path(output_dir, stem // '.xmf.tmp'), stem // '.h5', grid, &
@@ -112,9 +112,9 @@ contains
     call h5_write_attribute(file, 'stop_dt_reference', clock%dt_reference)
     call scene%write_state(file, dom, grid, .true.)
     call h5_close(file)
-    call MPI_Barrier(dom%comm)
+    call barrier(dom%comm)
     if (dom%rank == 0) call io_rename(tmp_path, final_path)
-    call MPI_Barrier(dom%comm)
+    call barrier(dom%comm)
     if (present(path)) path = final_path
   end subroutine write_checkpoint
 

@@ -20,9 +20,7 @@
 !! started into one folder at the same moment only one goes on.
 module driver_preflight
   use, intrinsic :: iso_fortran_env, only: int64
-  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Comm_split_type, MPI_Comm_free, &
-    MPI_COMM_TYPE_SHARED, MPI_INFO_NULL, MPI_Allreduce, MPI_Bcast, MPI_2DOUBLE_PRECISION, &
-    MPI_MAXLOC, MPI_DOUBLE_PRECISION, MPI_SUM
+  use parallel_comm, only: MPI_Comm, comm_rank, node_sum, max_location, bcast
   use mpmice_kinds, only: wp, path_len, msg_len
   use mpmice_errors, only: int_text
   use config_types, only: config_t, solid_params_t, particles_per_cell_used
@@ -50,23 +48,18 @@ contains
     integer, intent(out) :: stat                          !< 0 fits, 1 refused
     character(len=:), allocatable, intent(out) :: errmsg  !< error line
     type(domain_t) :: dom
-    type(MPI_Comm) :: node
     real(wp) :: mine, node_bytes, available, worst_in(2), worst(2), values(3)
     integer :: node_rank, node_ranks, rank, owner
 
     stat = 0
     errmsg = ''
-    call MPI_Comm_rank(comm, rank)
+    rank = comm_rank(comm)
     call domain_init(dom, comm, cfg%grid%ncells, cfg%grid%periodic, cfg%grid%ghost_width, &
       cfg%grid%dims, cfg%grid%block_cells)
     mine = estimate_block_bytes(cfg, dom)
     call domain_free(dom)
 
-    call MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, node)
-    call MPI_Comm_rank(node, node_rank)
-    call MPI_Comm_size(node, node_ranks)
-    call MPI_Allreduce(mine, node_bytes, 1, MPI_DOUBLE_PRECISION, MPI_SUM, node)
-    call MPI_Comm_free(node)
+    call node_sum(comm, mine, node_bytes, node_rank, node_ranks)
 
     ! the node most over its memory (need / available), as seen by its first rank
     worst_in = [0.0_wp, real(rank, wp)]
@@ -75,12 +68,12 @@ contains
       available = available_memory()
       if (available > 0.0_wp) worst_in(1) = node_bytes / available
     end if
-    call MPI_Allreduce(worst_in, worst, 1, MPI_2DOUBLE_PRECISION, MPI_MAXLOC, comm)
+    call max_location(comm, worst_in, worst)
     if (worst(1) <= 1.0_wp) return
 
     owner = nint(worst(2))
     values = [mine, available, real(node_ranks, wp)]
-    call MPI_Bcast(values, 3, MPI_DOUBLE_PRECISION, owner, comm)
+    call bcast(comm, values, owner)
     stat = 1
     errmsg = 'mpmice: input error: &grid ncells = ' // ints_repr(cfg%grid%ncells) // &
       ': the run needs about ' // gib_text(values(1)) // ' of memory per rank (' // &

@@ -14,8 +14,7 @@
 !! `&run output_dir`, the output folder is the folder that holds the checkpoint (as named on the
 !! command line), not the stored `output_dir` read relative to the current working directory.
 module driver_restart
-  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Bcast, MPI_INTEGER, &
-    MPI_LOGICAL
+  use parallel_comm, only: MPI_Comm, comm_rank, comm_size, bcast
   use mpmice_kinds, only: msg_len
   use mpmice_errors, only: input_error_text, int_text
   use config_types, only: config_t
@@ -62,8 +61,8 @@ contains
     integer :: rank, nranks
     logical :: same_dir
 
-    call MPI_Comm_rank(comm, rank)
-    call MPI_Comm_size(comm, nranks)
+    rank = comm_rank(comm)
+    nranks = comm_size(comm)
     errmsg = ''
     text = ''
     stat = 0
@@ -108,7 +107,7 @@ contains
     end if
     call bcast_status(stat, errmsg, comm)
     if (stat /= 0) return
-    call MPI_Bcast(same_dir, 1, MPI_LOGICAL, 0, comm)
+    call bcast(comm, same_dir, 0)
     if (same_dir) cfg%run%output_dir = io_dirname(path)
   end subroutine restart_load
 
@@ -224,7 +223,7 @@ contains
     integer, intent(inout) :: stat                         !< status (significant on rank 0)
     character(len=:), allocatable, intent(inout) :: errmsg !< error line (rank 0)
     type(MPI_Comm), intent(in) :: comm                     !< communicator
-    call MPI_Bcast(stat, 1, MPI_INTEGER, 0, comm)
+    call bcast(comm, stat, 0)
     if (stat /= 0) call bcast_text(errmsg, comm)
   end subroutine bcast_status
 end module driver_restart

@@ -1,18 +1,18 @@
 !> Run driver: decomposition, output directory and input echo, scene dispatch, final status.
 module driver_run_mod
   use, intrinsic :: iso_fortran_env, only: error_unit
-  use mpi_f08, only: MPI_Comm, MPI_COMM_WORLD, MPI_Comm_dup, MPI_Comm_free, MPI_Bcast, MPI_INTEGER
+  use parallel_comm, only: MPI_Comm, bcast
   use mpmice_kinds, only: msg_len
   use mpmice_errors, only: exit_cleanly, int_text, fatal
   use mpmice_log, only: log_info, log_is_root, log_warning, log_open_file, log_close_file
   use mpmice_build_info, only: mpmice_version
   use config_types, only: config_t
   use config_echo, only: config_to_text, config_write_used, config_used_path
-  use parallel_domain, only: domain_t, domain_init, domain_free
-  use grid_layout, only: grid_t, grid_init
+  use parallel_domain, only: grid_init, domain_t, domain_init, domain_free
+  use grid_layout, only: grid_t
   use driver_preflight, only: preflight_output_dir
   use driver_loop, only: run_scene, run_status_t
-  use driver_scene, only: scene_t
+  use scene_interface, only: scene_t
   use heat_scene, only: heat_scene_t
   use mpm_scene, only: mpm_scene_t
   use ice_scene, only: ice_scene_t
@@ -25,12 +25,13 @@ module driver_run_mod
 contains
 
   !> Run the scene described by `cfg` (read from `source_file`), or continue it from
-  !! `restart_file` ('' when not restarting). Ends the process with status 3 if the run failed.
-  subroutine driver_run(cfg, source_file, restart_file)
+  !! `restart_file` ('' when not restarting) on the ranks of `comm` (the program's duplicate of
+  !! the world communicator). Ends the process with status 3 if the run failed.
+  subroutine driver_run(cfg, source_file, restart_file, comm)
     type(config_t), intent(in) :: cfg                  !< validated configuration
     character(len=*), intent(in) :: source_file        !< case file the configuration came from
     character(len=*), intent(in) :: restart_file       !< checkpoint to continue, '' if none
-    type(MPI_Comm) :: world
+    type(MPI_Comm), intent(in) :: comm                 !< the program's communicator
     type(domain_t) :: dom
     type(grid_t) :: grid
     type(run_status_t) :: status
@@ -40,8 +41,7 @@ contains
     character(len=:), allocatable :: log_msg, dir_errmsg
     integer :: stat
 
-    call MPI_Comm_dup(MPI_COMM_WORLD, world)
-    call domain_init(dom, world, cfg%grid%ncells, cfg%grid%periodic, cfg%grid%ghost_width, &
+    call domain_init(dom, comm, cfg%grid%ncells, cfg%grid%periodic, cfg%grid%ghost_width, &
       cfg%grid%dims, cfg%grid%block_cells)
     call grid_init(grid, dom, cfg%grid%lower, cfg%grid%upper)
     text = config_to_text(cfg)
@@ -64,7 +64,7 @@ contains
         flush(error_unit)
       end if
     end if
-    call MPI_Bcast(stat, 1, MPI_INTEGER, 0, dom%comm)
+    call bcast(dom%comm, stat, 0)
     if (stat /= 0) call exit_cleanly(1)
 
     ! The log file: every line printed from here on (progress, warnings, the timer table).
@@ -84,7 +84,6 @@ contains
     call run_scene(scene, cfg, text, dom, grid, restart_file, status)
 
     call domain_free(dom)
-    call MPI_Comm_free(world)
     if (status%exit_code /= 0) then
       if (log_is_root()) call log_info('mpmice: run failed: ' // trim(status%reason))
       call exit_cleanly(status%exit_code)

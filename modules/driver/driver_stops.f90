@@ -22,7 +22,7 @@ module driver_stops
   use parallel_domain, only: domain_t
   use grid_layout, only: grid_t
   use driver_clock, only: clock_t
-  use driver_scene, only: scene_t, scene_health_t
+  use scene_interface, only: scene_t, scene_health_t
   implicit none
   private
 

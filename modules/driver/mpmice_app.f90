@@ -5,8 +5,7 @@
 !! anything is written. `--check` prints the resolved input on standard output and exits 0.
 module mpmice_app
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_Comm, MPI_COMM_WORLD, MPI_Comm_dup, &
-    MPI_Comm_free, MPI_Comm_rank
+  use parallel_comm, only: MPI_Comm, mpi_start, mpi_stop, comm_rank
   use mpmice_errors, only: exit_cleanly
   use mpmice_log, only: log_init, log_set_verbosity
   use mpmice_signals, only: signals_install
@@ -41,10 +40,9 @@ contains
     call signals_install()
     ! ROMIO for MPI-IO unless the user chose: Open MPI 4.1 OMPIO corrupted collective writes (docs/io.md)
     call io_select_mpiio()
-    call MPI_Init()
+    call mpi_start(comm)
     call signals_install()
-    call MPI_Comm_dup(MPI_COMM_WORLD, comm)
-    call MPI_Comm_rank(comm, rank)
+    rank = comm_rank(comm)
     root = rank == 0
     call log_init(root)
 
@@ -85,9 +83,8 @@ contains
     end if
 
     call log_set_verbosity(cfg%run%verbosity)
-    call MPI_Comm_free(comm)
-    if (cli%action == action_run) call driver_run(cfg, source, trim(cli%restart_file))
-    call MPI_Finalize()
+    if (cli%action == action_run) call driver_run(cfg, source, trim(cli%restart_file), comm)
+    call mpi_stop(comm)
   end subroutine app_run
 
   !> If `stat` /= 0: rank 0 prints `errmsg` on standard error, every rank exits with status 1.

@@ -1,6 +1,6 @@
 !> Shapes read from files (docs/geometry.md): a closed polygon in the x-y plane of any number of
 !! vertices, and the band between two profiles y = f(x) (bathymetry: the bed below a profile,
-!! a layer between two profiles). Used by `&solid` seeding (`mpm_seeding`) and `&region`
+!! a layer between two profiles). Used by `&solid` seeding (`particles_seeding`) and `&region`
 !! filling (`ice_initial`); the vertices are read by `config_geometry_files`.
 !!
 !! A polygon holds the points inside by the even-odd rule (a vertex list in either orientation,
@@ -96,26 +96,14 @@ contains
     real(wp), intent(in) :: px          !< abscissa [m]
     real(wp), intent(out) :: h          !< height [m]
     logical, intent(out) :: covered     !< px within the polyline's x range
-    integer :: lo, hi, mid, n
+    integer :: lo
     real(wp) :: s
-    n = size(x)
     h = 0.0_wp
-    covered = n >= 2
+    covered = size(x) >= 2
     if (.not. covered) return
-    covered = px >= x(1) .and. px <= x(n)
+    call bracket(x, px, lo, s, covered)    ! x(lo) <= px <= x(lo + 1)
     if (.not. covered) return
-    lo = 1
-    hi = n
-    do while (hi - lo > 1)        ! bisection: x(lo) <= px <= x(hi)
-      mid = (lo + hi) / 2
-      if (x(mid) <= px) then
-        lo = mid
-      else
-        hi = mid
-      end if
-    end do
-    s = (px - x(lo)) / (x(hi) - x(lo))
-    h = y(lo) + s * (y(hi) - y(lo))
+    h = y(lo) + s * (y(lo + 1) - y(lo))
   end subroutine profile_height
 
   !> (px, py) inside the profile band of `shape` (see the module description).

@@ -1,4 +1,5 @@
-!> Geometry and index ranges of a rank's block of the uniform Cartesian grid.
+!> Geometry and index ranges of a rank's block of the uniform Cartesian grid (filled from the
+!! decomposition by `parallel_domain%grid_init`).
 !!
 !! Conventions (all indices are global, 1-based; arrays are always rank 3 `(i,j,k)`):
 !! * cell `i` spans `[lower + (i-1) dx, lower + i dx]`; owned cells `lo..hi`; cell fields are
@@ -12,11 +13,10 @@
 !!   bounds in the other two.
 module grid_layout
   use mpmice_kinds, only: wp
-  use parallel_domain, only: domain_t
   implicit none
   private
 
-  public :: grid_t, grid_init, cell_centre, node_position
+  public :: grid_t, cell_centre, node_position
 
   !> Geometry and index ranges of one block.
   type :: grid_t
@@ -42,45 +42,6 @@ module grid_layout
   end type grid_t
 
 contains
-
-  !> Geometry and index ranges of this rank's block from the decomposition `dom`.
-  subroutine grid_init(grid, dom, lower, upper)
-    type(grid_t), intent(out) :: grid    !< block geometry to fill
-    type(domain_t), intent(in) :: dom    !< decomposition (already initialised)
-    real(wp), intent(in) :: lower(3)     !< low corner of the domain [m]
-    real(wp), intent(in) :: upper(3)     !< high corner of the domain [m]
-    integer :: d
-
-    grid%ndim = dom%ndim
-    grid%active = dom%active
-    grid%periodic = dom%periodic
-    grid%ncells = dom%ncells
-    grid%lower = lower
-    grid%upper = upper
-    grid%dx = (upper - lower) / real(dom%ncells, wp)
-    grid%cell_volume = grid%dx(1) * grid%dx(2) * grid%dx(3)
-    grid%ng = dom%ng
-    grid%lo = dom%lo
-    grid%hi = dom%hi
-    grid%lbc = dom%lo - dom%ng
-    grid%ubc = dom%hi + dom%ng
-    do d = 1, 3
-      grid%at_lower(d) = dom%coords(d) == 0
-      grid%at_upper(d) = dom%coords(d) == dom%dims(d) - 1
-      if (grid%active(d)) then
-        grid%nlo(d) = dom%lo(d)
-        grid%nhi(d) = dom%hi(d)
-        if (grid%at_upper(d) .and. .not. grid%periodic(d)) grid%nhi(d) = dom%hi(d) + 1
-        grid%lbn(d) = dom%lo(d) - dom%ng(d)
-        grid%ubn(d) = dom%hi(d) + 1 + dom%ng(d)
-      else
-        grid%nlo(d) = 1
-        grid%nhi(d) = 1
-        grid%lbn(d) = 1
-        grid%ubn(d) = 1
-      end if
-    end do
-  end subroutine grid_init
 
   !> Coordinate [m] of the centre of cell `i` along dimension `d`.
   pure elemental function cell_centre(grid, d, i) result(x)

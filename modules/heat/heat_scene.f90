@@ -16,7 +16,7 @@ module heat_scene
   use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field
   use io_xdmf, only: xdmf_particles_t
   use heat_conduction, only: heat_t, heat_init, heat_assemble, heat_free
-  use driver_scene, only: scene_t
+  use scene_interface, only: scene_t
   implicit none
   private
 

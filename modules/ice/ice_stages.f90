@@ -22,7 +22,7 @@ module ice_stages
   use parallel_reduce, only: global_max, global_sum
   use grid_layout, only: grid_t
   use solver_pressure, only: struct_solver_t, struct_solver_set_operator, struct_solver_solve
-  use driver_scene, only: scene_t
+  use scene_interface, only: scene_t
   use ice_state, only: ice_state_t
   use ice_equilibration, only: ice_equilibrate, report_equilibration_failure
   use ice_face_velocity, only: ice_face_velocities

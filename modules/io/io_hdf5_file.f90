@@ -14,9 +14,8 @@
 !! the file (`mpiio_collective_is_safe`): there they are independent, because OMPIO's collective
 !! writes corrupted datasets in our tests (docs/io.md). `io_select_mpiio` avoids OMPIO.
 module io_hdf5_file
-  use mpi_f08, only: MPI_Comm, MPI_COMM_NULL, MPI_INFO_NULL, MPI_Comm_rank, MPI_Comm_size, &
-    MPI_Barrier, MPI_Allreduce, MPI_Get_library_version, MPI_LOGICAL, MPI_LAND, &
-    MPI_MAX_LIBRARY_VERSION_STRING
+  use parallel_comm, only: MPI_Comm, MPI_COMM_NULL, MPI_INFO_NULL, comm_rank, comm_size, &
+    barrier, all_and, mpi_library_version
   use hdf5, only: hid_t, hsize_t, h5open_f, h5fcreate_f, h5fopen_f, h5fclose_f, &
     h5pcreate_f, h5pclose_f, h5pset_fapl_mpio_f, h5pset_libver_bounds_f, h5pset_dxpl_mpio_f, &
     h5lexists_f, h5gcreate_f, h5gclose_f, h5dcreate_f, h5dopen_f, h5dclose_f, h5dget_space_f, &
@@ -112,7 +111,7 @@ contains
     call h5_check(hdferr, 'h5fclose_f (close file)', file)
     ! MPI-IO makes one rank's writes visible to another after close and a later open only when
     ! the close has completed everywhere first: a collective close is not a barrier.
-    call MPI_Barrier(file%comm)
+    call barrier(file%comm)
     file%id = -1_hid_t
     file%is_open = .false.
     file%output = .false.
@@ -136,10 +135,10 @@ contains
     ! of a failed read before stopping)
     call h5eset_auto_f(0, hdferr)
     file%comm = comm
-    call MPI_Comm_rank(comm, file%rank)
-    call MPI_Comm_size(comm, file%nranks)
+    file%rank = comm_rank(comm)
+    file%nranks = comm_size(comm)
     ! All ranks must agree on the transfer mode.
-    call MPI_Allreduce(mpiio_collective_is_safe(), file%collective, 1, MPI_LOGICAL, MPI_LAND, comm)
+    file%collective = all_and(comm, mpiio_collective_is_safe())
   end subroutine start_open
 
   !> False when Open MPI's OMPIO component may serve MPI-IO: its default collective-write module
@@ -149,12 +148,10 @@ contains
   !! unless `OMPI_MCA_io` excludes it (`^ompio`) or names other components only (`romio321`).
   function mpiio_collective_is_safe() result(safe)
     logical :: safe
-    character(len=MPI_MAX_LIBRARY_VERSION_STRING) :: version
     character(len=256) :: setting
     integer :: length, status
-    call MPI_Get_library_version(version, length)
     safe = .true.
-    if (index(version(1:length), 'Open MPI') == 0) return
+    if (index(mpi_library_version(), 'Open MPI') == 0) return
     call get_environment_variable('OMPI_MCA_io', setting, length, status)
     if (status /= 0 .or. length == 0) then
       safe = .false.
@@ -248,19 +245,33 @@ contains
     character(len=*), intent(in) :: path   !< object path
     logical :: exists
     character(len=:), allocatable :: clean
-    integer :: i, hdferr
+    integer :: i
     clean = h5_clean_path(path)
     exists = .true.
     if (len(clean) == 0) return
     do i = 1, len(clean) + 1
-      if (i <= len(clean)) then
-        if (clean(i:i) /= '/') cycle
-      end if
-      call h5lexists_f(file%id, clean(1:i - 1), exists, hdferr)
-      call h5_check(hdferr, 'h5lexists_f', file, clean(1:i - 1))
+      if (.not. component_end(clean, i)) cycle
+      exists = link_exists(file, clean(1:i - 1))
       if (.not. exists) return
     end do
   end function h5_exists
+
+  !> True when position `i` of the clean path `clean` ends a path component (a '/' or the end).
+  pure logical function component_end(clean, i) result(at_end)
+    character(len=*), intent(in) :: clean  !< path without leading, trailing or double '/'
+    integer, intent(in) :: i               !< position 1..len(clean) + 1
+    at_end = .true.
+    if (i <= len(clean)) at_end = clean(i:i) == '/'
+  end function component_end
+
+  !> True when the link `path` (its parents existing) exists in the file. Collective.
+  logical function link_exists(file, path) result(exists)
+    type(h5_file_t), intent(in) :: file    !< open file
+    character(len=*), intent(in) :: path   !< object path
+    integer :: hdferr
+    call h5lexists_f(file%id, path, exists, hdferr)
+    call h5_check(hdferr, 'h5lexists_f', file, path)
+  end function link_exists
 
   !> Create the group `path` and any missing parents. Collective.
   subroutine h5_make_groups(file, path)
@@ -269,16 +280,11 @@ contains
     character(len=:), allocatable :: clean
     integer(hid_t) :: group_id
     integer :: i, hdferr
-    logical :: exists
     clean = h5_clean_path(path)
     if (len(clean) == 0) return
     do i = 1, len(clean) + 1
-      if (i <= len(clean)) then
-        if (clean(i:i) /= '/') cycle
-      end if
-      call h5lexists_f(file%id, clean(1:i - 1), exists, hdferr)
-      call h5_check(hdferr, 'h5lexists_f', file, clean(1:i - 1))
-      if (exists) cycle
+      if (.not. component_end(clean, i)) cycle
+      if (link_exists(file, clean(1:i - 1))) cycle
       call h5gcreate_f(file%id, clean(1:i - 1), group_id, hdferr)
       call h5_check(hdferr, 'h5gcreate_f (create group)', file, clean(1:i - 1))
       call h5gclose_f(group_id, hdferr)

@@ -14,7 +14,7 @@
 !! when `rank_counts` is absent, the `N` particles are split evenly in file order (the first
 !! `mod(N, nranks)` ranks get one more) and the caller migrates them to their owners.
 module io_hdf5_particles
-  use mpi_f08, only: MPI_Exscan, MPI_Allreduce, MPI_INTEGER8, MPI_LOGICAL, MPI_SUM, MPI_LOR
+  use parallel_comm, only: exscan_sum, all_or
   use hdf5, only: hid_t, hsize_t, h5dwrite_f, h5dread_f, h5dclose_f, h5dget_space_f, &
     h5screate_simple_f, h5sselect_hyperslab_f, h5sselect_none_f, h5sclose_f, h5pclose_f, &
     h5kind_to_type, H5S_SELECT_SET_F, H5_REAL_KIND, H5_INTEGER_KIND
@@ -228,9 +228,7 @@ contains
         trim(file%path) // ':/' // h5_clean_path(path) // ')')
     end if
     count = int(n, i8)
-    call MPI_Exscan(count, offset, 1, MPI_INTEGER8, MPI_SUM, file%comm)
-    if (file%rank == 0) offset = 0_i8
-    call MPI_Allreduce(count, total, 1, MPI_INTEGER8, MPI_SUM, file%comm)
+    call exscan_sum(file%comm, count, offset, total)
     call record_rank_counts(file, path, count)
 
     t%n = n
@@ -371,7 +369,7 @@ contains
     call h5dclose_f(dset, hdferr)
     call h5_check(hdferr, 'h5dclose_f', file, counts_path(path))
     ! Decide together so that no rank is left waiting in a later collective call.
-    call MPI_Allreduce(bad, any_bad, 1, MPI_LOGICAL, MPI_LOR, file%comm)
+    any_bad = all_or(file%comm, bad)
     if (any_bad) then
       call fatal('HDF5: particle arrays of one group must have the same per-rank lengths: ' &
         // trim(file%path) // ':/' // h5_clean_path(path))

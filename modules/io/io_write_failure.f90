@@ -11,7 +11,7 @@ module io_write_failure
   use, intrinsic :: iso_c_binding, only: c_int, c_null_char
   use io_posix, only: c_unlink, posix_errno, posix_error_text
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
-  use mpi_f08, only: MPI_COMM_WORLD, MPI_Comm_size, MPI_Abort, MPI_Initialized, MPI_Finalized
+  use parallel_comm, only: world_ranks, abort_world
   implicit none
   private
 
@@ -116,16 +116,12 @@ contains
     integer, intent(in) :: code                !< errno after the failure (0: unknown)
     character(len=*), intent(in), optional :: message !< the reason as text, instead of `code`
     character(len=:), allocatable :: reason
-    logical :: initialized, finalized
     integer :: nranks
     flush(output_unit)
     reason = io_system_error_text(code)
     if (present(message)) reason = trim(message)
     if (len(reason) == 0) reason = 'write failed'
-    nranks = 1
-    call MPI_Initialized(initialized)
-    call MPI_Finalized(finalized)
-    if (initialized .and. .not. finalized) call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+    nranks = world_ranks()
     ! on several ranks, a rank that finds the file gone (ENOENT) failed after another removed it
     if (nranks == 1 .or. code /= enoent) then
       write(error_unit, '(a)') 'mpmice: run failed: cannot write ' // trim(final) // ': ' // &
@@ -133,7 +129,7 @@ contains
       flush(error_unit)
     end if
     call io_remove_file(written)
-    if (nranks > 1) call MPI_Abort(MPI_COMM_WORLD, 3)
+    if (nranks > 1) call abort_world(3)
     ! not MPI_Finalize: HDF5 1.10 closes its open files in a finalize callback, and closing the
     ! file that failed crashes there
     call c_exit(3_c_int)

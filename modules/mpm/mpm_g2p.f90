@@ -9,7 +9,7 @@
 module mpm_g2p
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
-  use mpm_particles, only: particles_t
+  use particles_store, only: particles_t
   use mpm_shape, only: particle_stencil, max_stencil
   use mpm_nodes, only: mpm_nodes_t
   use mpm_tensor, only: det3, mul3

@@ -6,8 +6,9 @@
 module mpm_loads
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
-  use mpm_particles, only: particles_t
+  use particles_store, only: particles_t
   use mpm_shape, only: particle_stencil, max_stencil
+  use mpm_nodes, only: node_force
   implicit none
   private
 
@@ -45,7 +46,8 @@ contains
     load%ramp_time = ramp_time
   end function surface_load_init
 
-  !> Add the load at time `time` [s] to the node forces q(5:7) (local scatter; the caller sums
+  !> Add the load at time `time` [s] to the node forces q(node_force:node_force + 2) (local
+  !! scatter; the caller sums
   !! the halo afterwards).
   subroutine surface_load_scatter(load, p, q, kind, grid, time)
     type(surface_load_t), intent(in) :: load     !< load
@@ -67,8 +69,10 @@ contains
         do b = 1, nn(2)
           do a = 1, nn(1)
             s = w(a, 1) * w(b, 2) * w(c, 3)
-            q(5:7, first(1) + a - 1, first(2) + b - 1, first(3) + c - 1) = &
-              q(5:7, first(1) + a - 1, first(2) + b - 1, first(3) + c - 1) + s * f
+            associate (qf => q(node_force:node_force + 2, first(1) + a - 1, first(2) + b - 1, &
+              first(3) + c - 1))
+              qf = qf + s * f
+            end associate
           end do
         end do
       end do

@@ -8,8 +8,8 @@
 !! constant (`solid_velocity`) or a piecewise-linear history in time (`solid_velocity_times`,
 !! `solid_velocity_history`), evaluated by `nodal_bc_at_time` at the end of the step, t + dt,
 !! so that v^L and a = (v^L - v^n)/dt carry the face to its velocity at t + dt.
-!! Nodes touched by a rigid material (`q(8) > 0`) take its velocity before the face conditions
-!! (`&mpm rigid_contact = 'no_slip'`), or, with 'friction', keep the deformable material's velocity
+!! Nodes touched by a rigid material (`q(node_rigid_mass) > 0`) take its velocity before the face
+!! conditions (`&mpm rigid_contact = 'no_slip'`), or, with 'friction', keep the deformable material's velocity
 !! except where it approaches the rigid body: then the normal relative velocity is removed and the
 !! tangential one reduced by Coulomb friction mu |dv_n| (stick when smaller), the normal the rigid
 !! body's grad m / |grad m| (`rigid_contact_velocity`).
@@ -18,7 +18,8 @@
 module mpm_nodal
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
-  use mpm_nodes, only: mpm_nodes_t
+  use mpm_nodes, only: mpm_nodes_t, node_mass, node_momentum, node_force, node_rigid_mass, &
+    node_rigid_momentum, node_rigid_gradient
   implicit none
   private
 
@@ -138,16 +139,16 @@ contains
     do k = grid%lbn(3), grid%ubn(3)
       do j = grid%lbn(2), grid%ubn(2)
         do i = grid%lbn(1), grid%ubn(1)
-          m = nodes%q(1, i, j, k)
-          if (m <= min_mass .and. nodes%q(8, i, j, k) <= min_mass) then
+          m = nodes%q(node_mass, i, j, k)
+          if (m <= min_mass .and. nodes%q(node_rigid_mass, i, j, k) <= min_mass) then
             nodes%vel(:, i, j, k) = 0.0_wp
             nodes%vel_l(:, i, j, k) = 0.0_wp
             nodes%acc(:, i, j, k) = 0.0_wp
             cycle
           end if
           if (m > min_mass) then
-            v = nodes%q(2:4, i, j, k) / m
-            f = nodes%q(5:7, i, j, k) + m * gravity + &             ! eq. 40
+            v = nodes%q(node_momentum:node_momentum + 2, i, j, k) / m
+            f = nodes%q(node_force:node_force + 2, i, j, k) + m * gravity + &   ! eq. 40
               face_load(grid, bc, [i, j, k])
             if (damping > 0.0_wp) f = f - damping * abs(f) * &
               merge(sign(1.0_wp, v), 0.0_wp, v /= 0.0_wp)
@@ -157,16 +158,18 @@ contains
             vl = 0.0_wp
           end if
           ! a node touched by a rigid body moves with it (no-slip contact) or slides on it
-          if (nodes%q(8, i, j, k) > min_mass) then
+          if (nodes%q(node_rigid_mass, i, j, k) > min_mass) then
             if (bc%friction_contact .and. m > min_mass) then
               f = 0.0_wp
               if (present(contact_accel)) f = dt * contact_accel(:, i, j, k) * on
               vt = vl
-              vl = rigid_contact_velocity(vl + f, nodes%q(9:11, i, j, k) / nodes%q(8, i, j, k) * &
-                on, nodes%q(12:14, i, j, k) * on, mu) - f
+              vl = rigid_contact_velocity(vl + f, nodes%q(node_rigid_momentum: &
+                node_rigid_momentum + 2, i, j, k) / nodes%q(node_rigid_mass, i, j, k) * on, &
+                nodes%q(node_rigid_gradient:node_rigid_gradient + 2, i, j, k) * on, mu) - f
               if (present(contact_dv)) contact_dv(:, i, j, k) = vt - vl
             else
-              vl = nodes%q(9:11, i, j, k) / nodes%q(8, i, j, k) * on
+              vl = nodes%q(node_rigid_momentum:node_rigid_momentum + 2, i, j, k) / &
+                nodes%q(node_rigid_mass, i, j, k) * on
             end if
           end if
           call apply_face_bc(grid, bc, [i, j, k], on, vl)
@@ -205,13 +208,14 @@ contains
     do k = grid%lbn(3), grid%ubn(3)
       do j = grid%lbn(2), grid%ubn(2)
         do i = grid%lbn(1), grid%ubn(1)
-          if (nodes%q(1, i, j, k) <= min_mass) cycle
-          if (nodes%q(8, i, j, k) > min_mass) then
+          if (nodes%q(node_mass, i, j, k) <= min_mass) cycle
+          if (nodes%q(node_rigid_mass, i, j, k) > min_mass) then
             if (.not. contact) cycle
             vt = (nodes%vel_l(:, i, j, k) + contact_dv(:, i, j, k)) * on
-            vl = rigid_contact_velocity(vt, nodes%q(9:11, i, j, k) / nodes%q(8, i, j, k) * on, &
-              nodes%q(12:14, i, j, k) * on, bc%friction)
-            if (present(contact_force)) contact_force(:, i, j, k) = nodes%q(1, i, j, k) * &
+            vl = rigid_contact_velocity(vt, nodes%q(node_rigid_momentum: &
+              node_rigid_momentum + 2, i, j, k) / nodes%q(node_rigid_mass, i, j, k) * on, &
+              nodes%q(node_rigid_gradient:node_rigid_gradient + 2, i, j, k) * on, bc%friction)
+            if (present(contact_force)) contact_force(:, i, j, k) = nodes%q(node_mass, i, j, k) * &
               (vt - vl) / dt
           else
             vl = nodes%vel_l(:, i, j, k) * on
@@ -237,7 +241,7 @@ contains
     do k = grid%nlo(3), grid%nhi(3)
       do j = grid%nlo(2), grid%nhi(2)
         do i = grid%nlo(1), grid%nhi(1)
-          if (nodes%q(1, i, j, k) <= min_mass) cycle
+          if (nodes%q(node_mass, i, j, k) <= min_mass) cycle
           power = power + dot_product(face_load(grid, bc, [i, j, k]), nodes%vel_l(:, i, j, k))
         end do
       end do

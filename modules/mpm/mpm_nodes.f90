@@ -1,16 +1,33 @@
 !> Node fields of the solid materials on this block (allocated once, bounds lbn..ubn): the P2G
-!! scatter `q(14, ...)` = (mass, momentum x/y/z, force x/y/z of the deformable materials, mass,
-!! momentum x/y/z and mass gradient x/y/z of the rigid ones) and the nodal solution (velocity v^n, velocity after the
-!! solve v^L, acceleration a).
+!! scatter `q(nq, ...)` and the nodal solution (velocity v^n, velocity after the solve v^L,
+!! acceleration a). The components of `q`:
+!!
+!! | index | content |
+!! |---|---|
+!! | `node_mass` | mass of the deformable materials [kg] |
+!! | `node_momentum` + 0..2 | their momentum x/y/z [kg m/s] |
+!! | `node_force` + 0..2 | their internal and external force x/y/z [N] |
+!! | `node_rigid_mass` | mass of the rigid materials [kg] (> 0: the node touches a rigid body) |
+!! | `node_rigid_momentum` + 0..2 | their momentum x/y/z [kg m/s] |
+!! | `node_rigid_gradient` + 0..2 | their mass gradient x/y/z [kg/m] (the contact normal) |
+!!
+!! `node_rigid_mass:nq` is the rigid materials' share.
 module mpm_nodes
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   implicit none
   private
 
-  public :: mpm_nodes_t, nodes_init, nodes_free, nq
+  public :: mpm_nodes_t, nodes_init, nodes_free, nq, node_mass, node_momentum, node_force, &
+    node_rigid_mass, node_rigid_momentum, node_rigid_gradient
 
-  !> Components scattered to the nodes = mass, momentum(3), force(3); rigid mass, momentum(3), mass gradient(3)
+  integer, parameter :: node_mass = 1            !< deformable mass [kg]
+  integer, parameter :: node_momentum = 2        !< first of the deformable momentum (3) [kg m/s]
+  integer, parameter :: node_force = 5           !< first of the deformable force (3) [N]
+  integer, parameter :: node_rigid_mass = 8      !< rigid mass [kg]
+  integer, parameter :: node_rigid_momentum = 9  !< first of the rigid momentum (3) [kg m/s]
+  integer, parameter :: node_rigid_gradient = 12 !< first of the rigid mass gradient (3) [kg/m]
+  !> Components scattered to the nodes.
   integer, parameter :: nq = 14
 
   !> Node fields of one solid material.

@@ -9,7 +9,7 @@ module mpm_output
   use io_hdf5, only: h5_file_t, h5_write_particles, h5_read_particles, h5_write_cell_field
   use grid_layout, only: grid_t
   use io_xdmf, only: xdmf_particles_t
-  use mpm_particles, only: particles_t, particles_resize
+  use particles_store, only: particles_t, particles_resize
   implicit none
   private
 

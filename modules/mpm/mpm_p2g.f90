@@ -7,7 +7,7 @@ module mpm_p2g
   use grid_layout, only: grid_t
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_reverse_node
-  use mpm_particles, only: particles_t
+  use particles_store, only: particles_t
   use mpm_shape, only: particle_stencil, max_stencil
   use mpm_nodes, only: mpm_nodes_t
   implicit none

@@ -21,11 +21,11 @@ module mpm_scene
   use io_hdf5, only: h5_file_t, h5_write_attribute, h5_read_attribute
   use io_files, only: io_join_path
   use io_xdmf, only: xdmf_particles_t
-  use driver_scene, only: scene_t, scene_health_t
-  use mpm_particles, only: particles_t, particles_free
-  use mpm_seeding, only: seed_solid
+  use scene_interface, only: scene_t, scene_health_t
+  use particles_store, only: particles_t, particles_free
+  use particles_seeding, only: seed_solid
   use mpm_shape, only: shape_kind_from_name
-  use mpm_nodes, only: mpm_nodes_t, nodes_init, nodes_free, nq
+  use mpm_nodes, only: mpm_nodes_t, nodes_init, nodes_free, nq, node_rigid_mass
   use mpm_p2g, only: p2g_accumulate, p2g_accumulate_rigid, p2g_complete
   use mpm_nodal, only: nodal_bc_t, nodal_solve, bc_kind_from_name, face_load_power, &
     nodal_bc_at_time
@@ -33,7 +33,7 @@ module mpm_scene
   use mpm_constitutive, only: material_t, material_init, model_from_name, wave_speed, &
     model_rigid
   use mpm_rigid, only: rigid_motion_t, rigid_velocity, rigid_displacement, rigid_is_static
-  use mpm_migration, only: migration_t, migration_init, migrate_particles
+  use particles_migration, only: migration_t, migration_init, migrate_particles
   use mpm_output, only: write_particle_dump, write_particle_checkpoint, &
     read_particle_checkpoint, particle_xdmf_set, write_cell_dump, cell_dump_paths
   implicit none
@@ -299,7 +299,8 @@ contains
     type(grid_t), intent(in) :: grid           !< block geometry
     integer :: s
     self%nodes%q(:, :, :, :) = 0.0_wp
-    if (allocated(self%static_q)) self%nodes%q(8:14, :, :, :) = self%static_q(8:14, :, :, :)
+    if (allocated(self%static_q)) self%nodes%q(node_rigid_mass:nq, :, :, :) = &
+      self%static_q(node_rigid_mass:nq, :, :, :)
     do s = 1, self%nsolids
       if (self%static(s)) cycle
       if (self%mats(s)%model == model_rigid) then

@@ -12,7 +12,9 @@ module mpmice_contact_force
   use mpm_constitutive, only: model_rigid
   use mpm_rigid, only: rigid_is_static
   use mpm_p2g, only: p2g_accumulate_rigid
+  use mpm_nodes, only: node_rigid_mass
   use mpmice_rigid_contact, only: fluid_pressure_force
+  use mpmice_deposit_layout, only: deposit_solid_volume
   implicit none
   private
 
@@ -83,13 +85,14 @@ contains
         if (so%mats(s)%model /= model_rigid) cycle
         self%qscr = 0.0_wp
         call p2g_accumulate_rigid(so%parts(s), self%qscr, so%shape_kind, grid)
-        where (self%qscr(8, :, :, :) > self%owner_m)
+        where (self%qscr(node_rigid_mass, :, :, :) > self%owner_m)
           self%owner = s
-          self%owner_m = self%qscr(8, :, :, :)
+          self%owner_m = self%qscr(node_rigid_mass, :, :, :)
         end where
         ! the body's grain volume deposited at the start of the step (deposit_solids), ghosts
         ! from their owners
-        self%body_frac(:, :, :, s) = min(dep(2 + s, :, :, :) / grid%cell_volume, 1.0_wp)
+        self%body_frac(:, :, :, s) = min(dep(deposit_solid_volume(s), :, :, :) / &
+          grid%cell_volume, 1.0_wp)
         call halo_exchange_cell(halo, dom, grid, self%body_frac(:, :, :, s))
       end do
       self%owner_fixed = all(pack(rigid_is_static(so%motions(1:so%nsolids)), &

@@ -1,5 +1,5 @@
 !> Geostatic effective stress of a porous solid under a fluid (coupled scene). The seeding
-!! (`mpm_seeding`, `&solid geostatic`) gives each particle sigma_v = -(1 - n) rho_s |g| d, the
+!! (`particles_seeding`, `&solid geostatic`) gives each particle sigma_v = -(1 - n) rho_s |g| d, the
 !! weight of the grains over its depth d below the solid's surface, and K0 sigma_v across. Under
 !! a hydrostatic pore fluid (`&physics hydrostatic_init`) the skeleton carries only the grains'
 !! submerged weight: sigma'_v = -(1 - n) (rho_s - rho_f) |g| d (Terzaghi), the fluid's pressure
@@ -12,7 +12,7 @@ module mpmice_geostatic
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
-  use mpm_particles, only: particles_t
+  use particles_store, only: particles_t
   implicit none
   private
 

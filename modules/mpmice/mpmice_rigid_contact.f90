@@ -15,11 +15,12 @@
 module mpmice_rigid_contact
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
-  use mpm_nodes, only: mpm_nodes_t
+  use mpm_nodes, only: mpm_nodes_t, node_mass, node_rigid_mass
   use ice_state, only: ice_state_t
   use exchange_solid_phase, only: solid_phase_t
   use exchange_drag, only: drag_reduced_coefficient
   use mpmice_solid_coupling, only: solid_coupling_t, surface_body_fraction
+  use mpmice_deposit_layout, only: deposit_solid_volume
   implicit none
   private
 
@@ -141,11 +142,11 @@ contains
     mass_r = 0.0_wp
     do s = 1, ns
       if (solids(s)%rigid) then
-        vol_r = vol_r + dep(2 + s, c(1), c(2), c(3))
-        mass_r = mass_r + dep(2 + s, c(1), c(2), c(3)) * solids(s)%grain_density
+        vol_r = vol_r + dep(deposit_solid_volume(s), c(1), c(2), c(3))
+        mass_r = mass_r + dep(deposit_solid_volume(s), c(1), c(2), c(3)) * solids(s)%grain_density
       else
-        vol_d = vol_d + dep(2 + s, c(1), c(2), c(3))
-        mass_d = mass_d + dep(2 + s, c(1), c(2), c(3)) * solids(s)%grain_density
+        vol_d = vol_d + dep(deposit_solid_volume(s), c(1), c(2), c(3))
+        mass_d = mass_d + dep(deposit_solid_volume(s), c(1), c(2), c(3)) * solids(s)%grain_density
       end if
     end do
     phi_d = min(vol_d / grid%cell_volume, max_fraction)
@@ -183,11 +184,11 @@ contains
           wsum = 0.0_wp
           do s = 1, ns
             if (solids(s)%rigid .eqv. deformable) cycle
-            if (dep(2 + s, c(1), c(2), c(3)) <= 0.0_wp) cycle
-            cs = cs + dep(2 + s, c(1), c(2), c(3)) * scale * drag_reduced_coefficient( &
-              solids(s)%drag_law, phi_k, solids(s)%grain_size, f%viscosity, rho_f, slip, &
+            if (dep(deposit_solid_volume(s), c(1), c(2), c(3)) <= 0.0_wp) cycle
+            cs = cs + dep(deposit_solid_volume(s), c(1), c(2), c(3)) * scale * &
+              drag_reduced_coefficient(solids(s)%drag_law, phi_k, solids(s)%grain_size, f%viscosity, rho_f, slip, &
               solids(s)%drag_coefficient, solids(s)%forchheimer_a, solids(s)%forchheimer_b)
-            wsum = wsum + dep(2 + s, c(1), c(2), c(3))
+            wsum = wsum + dep(deposit_solid_volume(s), c(1), c(2), c(3))
           end do
           sp%drag(c(1), c(2), c(3), m) = 0.0_wp
           if (wsum > 0.0_wp) sp%drag(c(1), c(2), c(3), m) = cs / wsum
@@ -215,7 +216,8 @@ contains
       do k = grid%lbn(3) + top(3), grid%ubn(3) - top(3)
         do j = grid%lbn(2) + top(2), grid%ubn(2) - top(2)
           do i = grid%lbn(1) + top(1), grid%ubn(1) - top(1)
-            if (nodes%q(1, i, j, k) <= min_mass .or. nodes%q(8, i, j, k) <= min_mass) cycle
+            if (nodes%q(node_mass, i, j, k) <= min_mass .or. &
+              nodes%q(node_rigid_mass, i, j, k) <= min_mass) cycle
             g = 0.0_wp
             vs = 0.0_wp
             wsum = 0.0_wp

@@ -40,7 +40,7 @@ module mpmice_scene
   use io_hdf5, only: h5_file_t
   use io_xdmf, only: xdmf_particles_t
   use io_files, only: io_join_path
-  use driver_scene, only: scene_t, scene_health_t
+  use scene_interface, only: scene_t, scene_health_t
   use exchange_solid_phase, only: solid_phase_alloc
   use ice_scene, only: ice_scene_t
   use ice_stages, only: exchange_primitives, ice_step_begin, ice_step_reject, &
@@ -56,7 +56,8 @@ module mpmice_scene
   use mpm_loads, only: surface_load_t, surface_load_init, surface_load_scatter, &
     surface_load_power
   use exchange_drag, only: drag_law_from_name
-  use mpmice_solid_coupling, only: solid_coupling_t, deposit_size
+  use mpmice_solid_coupling, only: solid_coupling_t
+  use mpmice_deposit_layout, only: deposit_size
   use mpmice_solid_cells, only: solid_deposit, solid_cell_fields, solid_face_predictor, &
     solid_face_to_nodes, solid_track_fraction, solid_cell_velocity, solid_pore_pressure, &
     fluid_face_blend, fluid_face_predictor_porous

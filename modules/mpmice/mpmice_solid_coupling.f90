@@ -1,15 +1,15 @@
-!> The coupling parameters of one solid material and the layout of the cell deposit its particles
-!! build (paper eq. 28; `mpmice_solid_cells%solid_deposit` fills it, `solid_cell_fields` and
-!! `mpmice_rigid_contact%partner_fields` read it): the per-solid parameters the pressure equation,
-!! the exchange and the heat of a coupled scene need, the number of deposit components, and what
-!! the face-plane components say about the body in a cell (`surface_body_fraction`).
+!> The coupling parameters of one solid material: the per-solid parameters the pressure equation,
+!! the exchange and the heat of a coupled scene need, and what the face-plane components of the
+!! cell deposit (paper eq. 28; layout `mpmice_deposit_layout`) say about the body in a cell
+!! (`surface_body_fraction`).
 module mpmice_solid_coupling
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
+  use mpmice_deposit_layout, only: deposit_layout_t, deposit_layout
   implicit none
   private
 
-  public :: solid_coupling_t, deposit_size, surface_body_fraction
+  public :: solid_coupling_t, surface_body_fraction
 
   !> Coupling parameters of one solid material.
   type :: solid_coupling_t
@@ -25,18 +25,7 @@ module mpmice_solid_coupling
     logical :: rigid = .false.              !< a rigid (prescribed-motion) body
   end type solid_coupling_t
 
-  !> Deposit components beyond the 8 + nsolids of the mechanics and the face planes: heat
-  !! capacity, energy and grain conductance (3), the cell's own side of its high planes (3), the
-  !! rigid bodies' low / high side of the low planes when they slide (6).
-  integer, parameter :: extra_components = 12
-
 contains
-
-  !> Number of deposit components of `nsolids` solids (`mpmice_solid_cells%solid_deposit`).
-  pure integer function deposit_size(nsolids)
-    integer, intent(in) :: nsolids  !< number of solids
-    deposit_size = 8 + nsolids + extra_components
-  end function deposit_size
 
   !> Solid fraction of the body in cell c: where one of the cell's face planes carries no grains
   !! on the cell's side and another carries more than the cell average `phi` (a free surface of
@@ -56,14 +45,16 @@ contains
     real(wp), intent(in) :: max_fraction        !< cap of the fraction
     integer :: d
     real(wp) :: lo_side, hi_side, fmin, fmax
+    type(deposit_layout_t) :: lay
+    lay = deposit_layout(ns)
     phi_body = phi
     fmin = huge(1.0_wp)
     fmax = 0.0_wp
     do d = 1, 3
       if (.not. grid%active(d)) cycle
       ! the cell's own side of its low plane and of its high plane
-      lo_side = dep(2 + ns + 2 * d, c(1), c(2), c(3))
-      hi_side = dep(11 + ns + d, c(1), c(2), c(3))
+      lo_side = dep(lay%plane_high(d), c(1), c(2), c(3))
+      hi_side = dep(lay%own_high(d), c(1), c(2), c(3))
       fmin = min(fmin, lo_side, hi_side)
       fmax = max(fmax, lo_side, hi_side)
     end do

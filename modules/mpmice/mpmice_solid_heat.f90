@@ -4,7 +4,7 @@
 !! The solid's heat lives where the fluid's does, on the ICE cells:
 !! * the particles deposit their heat capacity m_p c_s, energy m_p c_s T_p and grain conductance
 !!   (m_p / rho_s) k_s with the same overlap weights w_pc as their grain volume
-!!   (`mpmice_solid_cells%solid_deposit`); the cell temperature is the capacity-weighted mean;
+!!   (`mpmice_deposit%solid_deposit`); the cell temperature is the capacity-weighted mean;
 !! * conduction (eqs. 38-39) is explicit on the cells with face conductances the harmonic mean of
 !!   phi_s k_s of the two cells (zero where either has no solid), the same stencil and ghost
 !!   conditions as the fluid's conduction (`ice_viscous`), so that at local thermal equilibrium
@@ -18,8 +18,8 @@ module mpmice_solid_heat
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
-  use mpm_particles, only: particles_t
-  use mpmice_solid_cells, only: overlap_weights, deformed_half_widths
+  use particles_store, only: particles_t
+  use mpmice_deposit, only: overlap_weights, deformed_half_widths
   use ice_viscous, only: face_mean
   implicit none
   private

@@ -8,12 +8,14 @@
 module parallel_domain
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Dims_create, MPI_Cart_create, &
     MPI_Cart_coords, MPI_Cart_shift, MPI_Comm_free, MPI_PROC_NULL, MPI_COMM_NULL, operator(/=)
+  use mpmice_kinds, only: wp
   use mpmice_errors, only: fatal
+  use grid_layout, only: grid_t
   implicit none
   private
 
   public :: domain_t, domain_init, domain_free, block_range, choose_dims, blocks_given, &
-    domain_block_range, domain_min_block_cells
+    domain_block_range, domain_min_block_cells, grid_init
 
   !> A rank's place in the Cartesian decomposition.
   type :: domain_t
@@ -213,4 +215,43 @@ contains
     end if
     dom%initialized = .false.
   end subroutine domain_free
+
+  !> Geometry and index ranges of this rank's block from the decomposition `dom`.
+  subroutine grid_init(grid, dom, lower, upper)
+    type(grid_t), intent(out) :: grid    !< block geometry to fill
+    type(domain_t), intent(in) :: dom    !< decomposition (already initialised)
+    real(wp), intent(in) :: lower(3)     !< low corner of the domain [m]
+    real(wp), intent(in) :: upper(3)     !< high corner of the domain [m]
+    integer :: d
+
+    grid%ndim = dom%ndim
+    grid%active = dom%active
+    grid%periodic = dom%periodic
+    grid%ncells = dom%ncells
+    grid%lower = lower
+    grid%upper = upper
+    grid%dx = (upper - lower) / real(dom%ncells, wp)
+    grid%cell_volume = grid%dx(1) * grid%dx(2) * grid%dx(3)
+    grid%ng = dom%ng
+    grid%lo = dom%lo
+    grid%hi = dom%hi
+    grid%lbc = dom%lo - dom%ng
+    grid%ubc = dom%hi + dom%ng
+    do d = 1, 3
+      grid%at_lower(d) = dom%coords(d) == 0
+      grid%at_upper(d) = dom%coords(d) == dom%dims(d) - 1
+      if (grid%active(d)) then
+        grid%nlo(d) = dom%lo(d)
+        grid%nhi(d) = dom%hi(d)
+        if (grid%at_upper(d) .and. .not. grid%periodic(d)) grid%nhi(d) = dom%hi(d) + 1
+        grid%lbn(d) = dom%lo(d) - dom%ng(d)
+        grid%ubn(d) = dom%hi(d) + 1 + dom%ng(d)
+      else
+        grid%nlo(d) = 1
+        grid%nhi(d) = 1
+        grid%lbn(d) = 1
+        grid%ubn(d) = 1
+      end if
+    end do
+  end subroutine grid_init
 end module parallel_domain

@@ -48,15 +48,7 @@ contains
         end do
       end do
     end do
-    if (clear) then
-      do k = box(1, 3), box(2, 3)
-        do j = box(1, 2), box(2, 2)
-          do i = box(1, 1), box(2, 1)
-            field(i, j, k) = 0.0_wp
-          end do
-        end do
-      end do
-    end if
+    if (clear) field(box(1, 1):box(2, 1), box(1, 2):box(2, 2), box(1, 3):box(2, 3)) = 0.0_wp
   end subroutine pack_box_3
 
   !> Copy `field(1:ncomp, box)` into `buf(1:ncomp*box_size(box))`; zero it afterwards when `clear`.
@@ -79,17 +71,7 @@ contains
         end do
       end do
     end do
-    if (clear) then
-      do k = box(1, 3), box(2, 3)
-        do j = box(1, 2), box(2, 2)
-          do i = box(1, 1), box(2, 1)
-            do c = 1, ncomp
-              field(c, i, j, k) = 0.0_wp
-            end do
-          end do
-        end do
-      end do
-    end if
+    if (clear) field(:, box(1, 1):box(2, 1), box(1, 2):box(2, 2), box(1, 3):box(2, 3)) = 0.0_wp
   end subroutine pack_box_4
 
   !> Copy `buf` into `field(box)`, or add it when `add`.

@@ -17,7 +17,7 @@
 !!   `integer(c_int)` here instead).
 module solver_hypre_api
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_ptr, c_funptr, c_char, c_null_char
-  use mpi_f08, only: MPI_Comm
+  use parallel_comm, only: MPI_Comm
   use mpmice_errors, only: fatal
   use mpmice_kinds, only: msg_len
   implicit none

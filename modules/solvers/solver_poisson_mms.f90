@@ -10,7 +10,7 @@
 !! (folded into the diagonal and the right-hand side). The discrete solution is second-order
 !! accurate at cell centres.
 module solver_poisson_mms
-  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_SUM, MPI_DOUBLE_PRECISION
+  use parallel_comm, only: MPI_Comm, sum_in_place
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t, cell_centre, node_position
   implicit none
@@ -136,7 +136,7 @@ contains
         end do
       end do
     end do
-    call MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE_PRECISION, MPI_SUM, comm)
+    call sum_in_place(comm, sums)
     error = sqrt(sums(1) / sums(2))
   end function mms_error_l2
 

@@ -33,22 +33,22 @@
 !! `struct_solver_invalidate` forces a rebuild at the next solve (scenes call it when they write a
 !! checkpoint, so that a restarted run rebuilds at the same solve as the continuing run).
 !!
-!! Direct fast path: when the whole operator is one line on this rank (one active grid dimension
-!! and one rank), it is a symmetric tridiagonal matrix (cyclic when periodic) and is factorised
-!! (LDL^T, Sherman-Morrison for the periodic corner) in `set_operator` and solved directly: 0
-!! iterations, the true relative residual (one step of iterative refinement if it is above the
-!! tolerance). hypre is kept for everything else, and as a fallback should the factorisation
+!! Direct fast path (`solver_line`): when the whole operator is one line on this rank (one
+!! active grid dimension and one rank), it is factorised in `set_operator` and solved directly
+!! (0 iterations); hypre is kept for everything else, and as a fallback should the factorisation
 !! meet a non-positive pivot.
 module solver_pressure
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_ptr, c_null_ptr, c_associated, &
     c_funloc
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
-  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_SUM, MPI_DOUBLE_PRECISION
+  use parallel_comm, only: MPI_Comm, sum_in_place
   use mpmice_kinds, only: wp, msg_len
   use mpmice_errors, only: fatal
   use mpmice_log, only: log_warning
   use parallel_domain, only: domain_t
   use grid_layout, only: grid_t
+  use solver_box, only: check_bounds, pack_owned, unpack_owned
+  use solver_line, only: line_solver_t, line_init, line_free, line_factor, line_solve
   use solver_hypre_api, only: hypre_c_comm, hypre_check, HYPRE_ERROR_CONV, HYPRE_Init, &
     HYPRE_ClearError, HYPRE_ERROR_GENERIC, HYPRE_ClearAllErrors, &
     HYPRE_StructGridCreate, HYPRE_StructGridDestroy, HYPRE_StructGridSetExtents, &
@@ -126,18 +126,7 @@ module solver_pressure
     integer :: last_iterations = 0        !< PCG iterations of the last full-tolerance solve
     ! direct path: one tridiagonal line on this rank
     logical :: direct = .false.           !< the operator is one line on this rank
-    logical :: direct_ready = .false.     !< the factorisation of the current operator is valid
-    integer :: nline = 0                  !< cells on the line
-    logical :: line_periodic = .false.    !< the line is periodic (corner coupling)
-    real(wp) :: corner = 0.0_wp           !< A(1,n) = A(n,1) = -(low-face coefficient of cell 1)
-    real(wp) :: sm_denominator = 1.0_wp   !< Sherman-Morrison 1 + gamma u.z (periodic)
-    real(wp), allocatable :: line_diag(:) !< (nline) diagonal of A
-    real(wp), allocatable :: line_off(:)  !< (nline) A(m,m+1), m < nline
-    real(wp), allocatable :: fac_d(:)     !< (nline) LDL^T pivots of T
-    real(wp), allocatable :: fac_l(:)     !< (nline) LDL^T multipliers of T
-    real(wp), allocatable :: sm_z(:)      !< (nline) T^{-1} (e_1 - e_n) (periodic)
-    real(wp), allocatable :: line_x(:)    !< (nline) solution work vector
-    real(wp), allocatable :: line_r(:)    !< (nline) residual / correction work vector
+    type(line_solver_t) :: line           !< its factorisation (`line%ready`: valid)
     logical :: initialized = .false.      !< set by struct_solver_init
   end type struct_solver_t
 
@@ -244,13 +233,8 @@ contains
     solver%direct = dom%nranks == 1 .and. count(grid%active) == 1
     if (present(direct)) solver%direct = solver%direct .and. direct
     if (solver%direct) then
-      solver%nline = solver%nowned
-      solver%line_periodic = solver%periodic(solver%dims(1))
-      allocate(solver%line_diag(solver%nline), solver%line_off(solver%nline), &
-        solver%fac_d(solver%nline), solver%fac_l(solver%nline), solver%sm_z(solver%nline), &
-        solver%line_x(solver%nline), solver%line_r(solver%nline))
+      call line_init(solver%line, solver%nowned, solver%periodic(solver%dims(1)))
     end if
-    solver%direct_ready = .false.
     solver%operator_set = .false.
     solver%setup_done = .false.
     solver%operator_changed = .false.
@@ -305,8 +289,8 @@ contains
     end do
     solver%operator_set = .true.
     if (solver%direct) then
-      call factor_line(solver)
-      if (solver%direct_ready) return
+      call line_factor(solver%line, solver%matrix_values, solver%nentries)
+      if (solver%line%ready) return
     end if
     call hypre_check(HYPRE_StructMatrixSetBoxValues(solver%matrix, solver%ilower, solver%iupper, &
       solver%nentries, solver%entries, solver%matrix_values), 'HYPRE_StructMatrixSetBoxValues')
@@ -366,7 +350,7 @@ contains
     call check_bounds(grid, ubound(rhs), 'rhs')
     call check_bounds(grid, ubound(x), 'x')
 
-    if (solver%direct_ready) then
+    if (solver%line%ready) then
       ! the direct solve is exact to round-off: no looser tolerance needed
       call solve_line(solver, grid, rhs, x, relative_residual)
       iterations = 0
@@ -384,10 +368,10 @@ contains
     if (solver%nowned > 0) bb(1) = real(dot_product(solver%vector_values, solver%vector_values), wp)
     ! non-finite operator entries of this rank (hypre would stop with an error on them)
     bb(2) = real(count(.not. ieee_is_finite(solver%matrix_values)), wp)
-    call MPI_Allreduce(MPI_IN_PLACE, bb, 2, MPI_DOUBLE_PRECISION, MPI_SUM, solver%fcomm)
+    call sum_in_place(solver%fcomm, bb)
     if (.not. ieee_is_finite(bb(1)) .or. bb(2) > 0.0_wp) then
       ! a NaN or Inf in the system: no solve; x is NaN in the cells whose equation holds one, so
-      ! the caller sees where (ice_pressure_iteration ends the step, the run fails with a dump)
+      ! the caller sees where (ice_stage_pressure ends the step, the run fails with a dump)
       call mark_nonfinite(solver, grid, rhs, x)
       iterations = 0
       relative_residual = ieee_value(1.0_wp, ieee_quiet_nan)
@@ -495,7 +479,7 @@ contains
         end do
       end do
     end do
-    call MPI_Allreduce(MPI_IN_PLACE, marked, 1, MPI_DOUBLE_PRECISION, MPI_SUM, solver%fcomm)
+    call sum_in_place(solver%fcomm, marked)
     if (marked(1) == 0.0_wp) x(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), &
       grid%lo(3):grid%hi(3)) = nan
   end subroutine mark_nonfinite
@@ -522,15 +506,8 @@ contains
     solver%comm = c_null_ptr
     if (allocated(solver%matrix_values)) deallocate(solver%matrix_values)
     if (allocated(solver%vector_values)) deallocate(solver%vector_values)
-    if (allocated(solver%line_diag)) deallocate(solver%line_diag)
-    if (allocated(solver%line_off)) deallocate(solver%line_off)
-    if (allocated(solver%fac_d)) deallocate(solver%fac_d)
-    if (allocated(solver%fac_l)) deallocate(solver%fac_l)
-    if (allocated(solver%sm_z)) deallocate(solver%sm_z)
-    if (allocated(solver%line_x)) deallocate(solver%line_x)
-    if (allocated(solver%line_r)) deallocate(solver%line_r)
+    call line_free(solver%line)
     solver%direct = .false.
-    solver%direct_ready = .false.
     solver%operator_set = .false.
     solver%initialized = .false.
   end subroutine struct_solver_free
@@ -582,150 +559,17 @@ contains
     solver%setups = solver%setups + 1
   end subroutine setup_krylov
 
-  ! ------------------------------------------------------------------ direct line path
-
-  !> Factorise the line operator held in `matrix_values` (centre, then the low-neighbour entry
-  !! -coef of hypre dimension 1, per cell in line order). Non-periodic: A = T, tridiagonal.
-  !! Periodic: A = T + gamma u u^T with u = e_1 - e_n and gamma = -A(1,n) (the low-face
-  !! coefficient of cell 1), so T is A without the corner couplings and with gamma taken off
-  !! A(1,1) and A(n,n); T keeps A's row sums, so it is SPD when A is (diagonally dominant with a
-  !! wall or reaction term). T = L D L^T; `direct_ready` stays false on a non-positive or
-  !! non-finite pivot (the caller then falls back to hypre).
-  subroutine factor_line(solver)
-    type(struct_solver_t), intent(inout) :: solver  !< direct solver, operator values packed
-    integer :: m, n, ne
-    real(wp) :: gamma, dm
-
-    n = solver%nline
-    ne = solver%nentries
-    do m = 1, n
-      solver%line_diag(m) = real(solver%matrix_values((m - 1) * ne + 1), wp)
-    end do
-    do m = 1, n - 1
-      solver%line_off(m) = real(solver%matrix_values(m * ne + 2), wp)
-    end do
-    solver%line_off(n) = 0.0_wp
-    solver%corner = 0.0_wp
-    if (solver%line_periodic .and. n > 1) solver%corner = real(solver%matrix_values(2), wp)
-    gamma = -solver%corner
-
-    solver%direct_ready = .false.
-    do m = 1, n
-      dm = solver%line_diag(m)
-      if (m == 1 .or. m == n) dm = dm - gamma
-      if (m > 1) then
-        solver%fac_l(m - 1) = solver%line_off(m - 1) / solver%fac_d(m - 1)
-        dm = dm - solver%fac_l(m - 1) * solver%line_off(m - 1)
-      end if
-      if (.not. (dm > 0.0_wp .and. dm <= huge(dm))) return
-      solver%fac_d(m) = dm
-    end do
-    solver%fac_l(n) = 0.0_wp
-    solver%sm_denominator = 1.0_wp
-    if (solver%line_periodic .and. n > 1) then
-      solver%sm_z = 0.0_wp
-      solver%sm_z(1) = 1.0_wp
-      solver%sm_z(n) = -1.0_wp
-      call ldlt_solve(n, solver%fac_d, solver%fac_l, solver%sm_z)
-      solver%sm_denominator = 1.0_wp + gamma * (solver%sm_z(1) - solver%sm_z(n))
-      if (.not. (solver%sm_denominator > 0.0_wp .and. &
-        solver%sm_denominator <= huge(1.0_wp))) return
-    end if
-    solver%direct_ready = .true.
-  end subroutine factor_line
-
-  !> y = T^{-1} y with T = L D L^T (unit lower bidiagonal L, multipliers `l`, pivots `d`).
-  pure subroutine ldlt_solve(n, d, l, y)
-    integer, intent(in) :: n            !< unknowns
-    real(wp), intent(in) :: d(:), l(:)  !< pivots (n), multipliers (n - 1)
-    real(wp), intent(inout) :: y(:)     !< right-hand side in, solution out
-    integer :: m
-    do m = 2, n
-      y(m) = y(m) - l(m - 1) * y(m - 1)
-    end do
-    do m = 1, n
-      y(m) = y(m) / d(m)
-    end do
-    do m = n - 1, 1, -1
-      y(m) = y(m) - l(m) * y(m + 1)
-    end do
-  end subroutine ldlt_solve
-
-  !> y = A^{-1} y on the line (Sherman-Morrison correction for the periodic corner).
-  pure subroutine line_apply_inverse(n, periodic, corner, denominator, d, l, z, y)
-    integer, intent(in) :: n                  !< unknowns
-    logical, intent(in) :: periodic           !< corner coupling present
-    real(wp), intent(in) :: corner            !< A(1,n)
-    real(wp), intent(in) :: denominator       !< 1 + gamma u.z
-    real(wp), intent(in) :: d(:), l(:), z(:)  !< LDL^T factors of T, z = T^{-1} u
-    real(wp), intent(inout) :: y(:)           !< right-hand side in, solution out
-    real(wp) :: s
-    call ldlt_solve(n, d, l, y)
-    if (periodic .and. n > 1) then
-      s = -corner * (y(1) - y(n)) / denominator
-      y(1:n) = y(1:n) - s * z(1:n)
-    end if
-  end subroutine line_apply_inverse
-
-  !> r = b - A x on the line.
-  pure subroutine line_residual(n, periodic, corner, diag, off, b, x, r)
-    integer, intent(in) :: n                    !< unknowns
-    logical, intent(in) :: periodic             !< corner coupling present
-    real(wp), intent(in) :: corner              !< A(1,n)
-    real(wp), intent(in) :: diag(:), off(:)     !< A(m,m), A(m,m+1)
-    real(wp), intent(in) :: b(:), x(:)          !< right-hand side, solution
-    real(wp), intent(out) :: r(:)               !< residual
-    integer :: m
-    do m = 1, n
-      r(m) = b(m) - diag(m) * x(m)
-    end do
-    do m = 1, n - 1
-      r(m) = r(m) - off(m) * x(m + 1)
-      r(m + 1) = r(m + 1) - off(m) * x(m)
-    end do
-    if (periodic .and. n > 1) then
-      r(1) = r(1) - corner * x(n)
-      r(n) = r(n) - corner * x(1)
-    end if
-  end subroutine line_residual
-
-  !> Direct solve on the line: x = A^{-1} rhs in the owned cells and the true relative
-  !! residual, with one step of iterative refinement when that is above the tolerance.
-  !! A zero right-hand side gives x = 0.
+  !> Direct solve on the line (`solver_line`): x = A^{-1} rhs in the owned cells and the true
+  !! relative residual.
   subroutine solve_line(solver, grid, rhs, x, relative_residual)
     type(struct_solver_t), intent(inout) :: solver  !< factorised direct solver
     type(grid_t), intent(in) :: grid                !< block geometry
     real(wp), intent(in) :: rhs(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)  !< right-hand side
     real(wp), intent(inout) :: x(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< solution out
     real(wp), intent(out) :: relative_residual     !< ||b - A x||_2 / ||b||_2
-    real(wp) :: bnorm
-    integer :: n
-
-    n = solver%nline
     call pack_owned(grid, rhs, solver%vector_values)
-    bnorm = sqrt(dot_product(solver%vector_values, solver%vector_values))
-    if (bnorm == 0.0_wp) then
-      solver%line_x = 0.0_wp
-      call unpack_owned(grid, solver%line_x, x)
-      relative_residual = 0.0_wp
-      return
-    end if
-    solver%line_x = solver%vector_values
-    call line_apply_inverse(n, solver%line_periodic, solver%corner, solver%sm_denominator, &
-      solver%fac_d, solver%fac_l, solver%sm_z, solver%line_x)
-    call line_residual(n, solver%line_periodic, solver%corner, solver%line_diag, &
-      solver%line_off, solver%vector_values, solver%line_x, solver%line_r)
-    relative_residual = sqrt(dot_product(solver%line_r, solver%line_r)) / bnorm
-    if (relative_residual > solver%tolerance) then
-      ! one step of iterative refinement: x <- x + A^{-1} (b - A x)
-      call line_apply_inverse(n, solver%line_periodic, solver%corner, solver%sm_denominator, &
-        solver%fac_d, solver%fac_l, solver%sm_z, solver%line_r)
-      solver%line_x = solver%line_x + solver%line_r
-      call line_residual(n, solver%line_periodic, solver%corner, solver%line_diag, &
-        solver%line_off, solver%vector_values, solver%line_x, solver%line_r)
-      relative_residual = sqrt(dot_product(solver%line_r, solver%line_r)) / bnorm
-    end if
-    call unpack_owned(grid, solver%line_x, x)
+    call line_solve(solver%line, solver%vector_values, solver%tolerance, relative_residual)
+    call unpack_owned(grid, solver%line%x, x)
   end subroutine solve_line
 
   !> Destroy PCG and PFMG if they exist.
@@ -755,46 +599,4 @@ contains
     end if
   end subroutine check_ready
 
-  !> Abort unless a cell array covers the grid's cell allocation bounds.
-  subroutine check_bounds(grid, upper, name)
-    type(grid_t), intent(in) :: grid      !< block geometry
-    integer, intent(in) :: upper(3)       !< upper bounds of the array
-    character(len=*), intent(in) :: name  !< argument name (for the message)
-    if (any(upper < grid%ubc)) call fatal('struct solver: array ' // name // &
-      ' does not have the cell allocation bounds of the grid')
-  end subroutine check_bounds
-
-  !> Copy the owned cells of a cell array into a hypre box buffer (i fastest).
-  subroutine pack_owned(grid, field, buffer)
-    type(grid_t), intent(in) :: grid                                        !< block geometry
-    real(wp), intent(in) :: field(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell array
-    real(c_double), intent(out) :: buffer(:)                                !< owned values
-    integer :: i, j, k, m
-    m = 0
-    do k = grid%lo(3), grid%hi(3)
-      do j = grid%lo(2), grid%hi(2)
-        do i = grid%lo(1), grid%hi(1)
-          m = m + 1
-          buffer(m) = real(field(i, j, k), c_double)
-        end do
-      end do
-    end do
-  end subroutine pack_owned
-
-  !> Copy a hypre box buffer back into the owned cells of a cell array.
-  subroutine unpack_owned(grid, buffer, field)
-    type(grid_t), intent(in) :: grid                                           !< block geometry
-    real(c_double), intent(in) :: buffer(:)                                    !< owned values
-    real(wp), intent(inout) :: field(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell array
-    integer :: i, j, k, m
-    m = 0
-    do k = grid%lo(3), grid%hi(3)
-      do j = grid%lo(2), grid%hi(2)
-        do i = grid%lo(1), grid%hi(1)
-          m = m + 1
-          field(i, j, k) = real(buffer(m), wp)
-        end do
-      end do
-    end do
-  end subroutine unpack_owned
 end module solver_pressure

@@ -10,18 +10,20 @@ other skip is reported as a failure too (``pytest_runtest_makereport`` below), e
 ``allowed_skip(reason)``: a test whose external reference data (``../shared/reference``, not part
 of the repository) are absent skips with a reason starting ``ALLOWED_SKIP``, also under
 ``MPMICE_REQUIRE_ALL`` (docs/testing.md).
-* ``run_mpmice(args, nranks=1, cwd=None, timeout=300)``: run it under ``mpirun`` and return the
-  ``subprocess.CompletedProcess`` (text mode, stdout and stderr captured, not checked).
+* ``run_mpmice(args, nranks=1, cwd=None, timeout=RUN_TIMEOUT, check=False)``: run it under
+  ``mpirun`` through ``postproc.run_case.run_mpmice`` (the one run helper) and return the
+  ``subprocess.CompletedProcess`` (text mode, stdout and stderr captured); a time-out, and with
+  ``check`` a non-zero exit status, fails the test with the output.
 * ``tmp_case_dir``: an empty directory per test, the default working directory of ``run_mpmice``.
 """
 
 import os
-import subprocess
 from pathlib import Path
 
 import pytest
 
-from postproc.run_case import mpi_environment, mpirun_command
+from postproc import run_case
+from postproc.run_case import RUN_TIMEOUT, RunFailed
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 
@@ -94,16 +96,12 @@ def tmp_case_dir(tmp_path):
 def run_mpmice(mpmice_exe, tmp_case_dir):
     """Function running mpmice under mpirun; see the module docstring."""
 
-    def run(args, nranks=1, cwd=None, timeout=300):
-        env = mpi_environment()
-        command = mpirun_command(mpmice_exe, args, nranks)
+    def run(args, nranks=1, cwd=None, timeout=RUN_TIMEOUT, check=False):
         try:
-            return subprocess.run(command, cwd=str(cwd or tmp_case_dir), env=env, text=True,
-                                  capture_output=True, timeout=timeout, check=False)
-        except subprocess.TimeoutExpired as err:
-            partial = [s.decode(errors='replace') if isinstance(s, bytes) else (s or '')
-                       for s in (err.stdout, err.stderr)]
-            pytest.fail(f'{" ".join(command)} did not finish within {timeout} s\n'
-                        f'stdout:\n{partial[0]}\nstderr:\n{partial[1]}')
+            return run_case.run_mpmice(args, nranks=nranks, cwd=str(cwd or tmp_case_dir),
+                                       timeout=timeout, check=check, exe=mpmice_exe,
+                                       overwrite=False)
+        except RunFailed as err:
+            pytest.fail(str(err), pytrace=False)
 
     return run

@@ -6,9 +6,8 @@ import signal
 import subprocess
 import time
 
-import h5py
-import numpy as np
 
+from postproc.dump_compare import assert_dumps_identical
 from postproc.heat_conduction import dump_files
 from postproc.run_case import mpi_environment, mpirun_command, run_mpmice
 
@@ -29,9 +28,7 @@ def assert_same_dumps(reference_dir, other_dir):
     dumps = dump_files(str(reference_dir))
     assert len(dumps) == 5  # t = 0, 0.25, 0.5, 0.75, 1
     for path in dumps:
-        with h5py.File(path) as a, h5py.File(os.path.join(other_dir, os.path.basename(path))) as b:
-            assert a.attrs["time"] == b.attrs["time"]
-            assert np.array_equal(a["cell/temperature"][...], b["cell/temperature"][...]), path
+        assert_dumps_identical(path, os.path.join(other_dir, os.path.basename(path)))
 
 
 def test_sigusr1_checkpoints_and_restart_continues_identically(tmp_path, mpmice_exe):

@@ -1,4 +1,4 @@
-"""Mohr-Coulomb element tests through the postproc script (src/mc_element.f90,
+"""Mohr-Coulomb element tests through the postproc script (tools/mc_element.f90,
 postproc/mpm_mohr_coulomb.py): drained triaxial peak and dilation, plane-strain simple shear
 (Davis 1968). The same checks on the Fortran side are in tests/unit/test_mpm_constitutive.pf."""
 import pytest

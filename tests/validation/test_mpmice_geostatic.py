@@ -12,18 +12,18 @@ import h5py
 import numpy as np
 
 from postproc.mpmice_io import list_dumps
-from postproc.run_case import ROOT, run_mpmice
+from postproc.run_case import ROOT
 
 BLOCK = os.path.join(ROOT, "namelists", "mpmice_submerged_block_2d.nml")
 N, RHO_S, G, NU, TOP = 0.4, 2650.0, 9.81, 0.3, 0.2
 
 
-def _run(tmp_path, geostatic):
+def _run(run_mpmice, tmp_path, geostatic):
     out = os.path.join(str(tmp_path), f"geo_{geostatic}")
     run_mpmice([BLOCK, "--set", f"&run output_dir = '{out}', end_time = 0.05, "
                 "output_interval = 0.01 /",
                 "--set", "&solid name = 'sand', upper = 1.0, 0.2, 0.025, geostatic = "
-                f"{'.true.' if geostatic else '.false.'} /"], nranks=1, cwd=str(tmp_path))
+                f"{'.true.' if geostatic else '.false.'} /"], nranks=1, cwd=str(tmp_path), check=True)
     dumps = []
     for path in list_dumps(out, "block2d"):
         with h5py.File(path, "r") as f:
@@ -36,12 +36,12 @@ def _run(tmp_path, geostatic):
     return dumps
 
 
-def test_geostatic_submerged_layer_stays_at_rest(tmp_path):
+def test_geostatic_submerged_layer_stays_at_rest(run_mpmice, tmp_path):
     """With `geostatic = .true.` the layer stays at rest (speeds < 1e-5 m/s over 0.05 s) and
     keeps the analytic submerged-weight stress (1e-9 relative at the lowest particles at
     t = 0, 1e-5 later); the
     same layer started stress-free moves at > 1e-4 m/s (it settles under its weight)."""
-    geo = _run(tmp_path, True)
+    geo = _run(run_mpmice, tmp_path, True)
     assert len(geo) == 6
     for n, d in enumerate(geo):
         speed = np.hypot(d["velocity_x"], d["velocity_y"])
@@ -54,5 +54,5 @@ def test_geostatic_submerged_layer_stays_at_rest(tmp_path):
         k0 = NU / (1.0 - NU)
         assert np.allclose(d["stress_xx"][low], k0 * d["stress_yy"][low], rtol=tol)
         assert np.allclose(d["stress_zz"][low], k0 * d["stress_yy"][low], rtol=tol)
-    free = _run(tmp_path, False)
+    free = _run(run_mpmice, tmp_path, False)
     assert max(np.hypot(d["velocity_x"], d["velocity_y"]).max() for d in free) > 1e-4

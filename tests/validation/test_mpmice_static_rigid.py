@@ -17,20 +17,14 @@ Runs: ~1 s, ~2 s, ~8 s (1 rank).
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 from postproc.mpmice_io import list_dumps, read_dump
-from postproc.run_case import ROOT, run_mpmice
+from postproc.run_case import ROOT
 
 OFF = "&mpm cache_static_rigid = .false. /"
 
 
-@pytest.fixture(autouse=True)
-def _executable(mpmice_exe, monkeypatch):
-    monkeypatch.setenv("MPMICE_EXE", str(mpmice_exe))
-
-
-def run_pair(tmp_path, namelist, name, settings):
+def run_pair(run_mpmice, tmp_path, namelist, name, settings):
     """Dumps of the run with the kept share (on) and without it (off)."""
     dumps = {}
     for label, extra in (("on", []), ("off", ["--set", OFF])):
@@ -39,7 +33,7 @@ def run_pair(tmp_path, namelist, name, settings):
         for text in settings:
             args += ["--set", text]
         args += ["--set", f"&run output_dir = '{out}' /"]
-        run_mpmice(args, cwd=str(tmp_path), timeout=600)
+        run_mpmice(args, cwd=tmp_path, timeout=600, check=True)
         dumps[label] = [read_dump(p) for p in list_dumps(out, name)]
     assert len(dumps["on"]) == len(dumps["off"]) >= 2
     return dumps["on"], dumps["off"]
@@ -67,14 +61,14 @@ def assert_identical(on, off):
             assert np.array_equal(fa[key], fb[key], equal_nan=True), (a["time"], key)
 
 
-def test_mpm_block_on_static_bed_is_bitwise_unchanged(tmp_path):
-    on, off = run_pair(tmp_path, "mpm_friction_block_2d.nml", "friction",
+def test_mpm_block_on_static_bed_is_bitwise_unchanged(run_mpmice, tmp_path):
+    on, off = run_pair(run_mpmice, tmp_path, "mpm_friction_block_2d.nml", "friction",
                        ["&run end_time = 0.05, output_interval = 0.025 /"])
     assert_identical(on, off)
 
 
-def test_heated_static_porous_medium_is_bitwise_unchanged(tmp_path):
-    on, off = run_pair(tmp_path, "mpmice_thermal_cavity_2d.nml", "cavity",
+def test_heated_static_porous_medium_is_bitwise_unchanged(run_mpmice, tmp_path):
+    on, off = run_pair(run_mpmice, tmp_path, "mpmice_thermal_cavity_2d.nml", "cavity",
                        ["&run end_time = 6.0e4, output_interval = 3.0e4 /"])
     assert_identical(on, off)
     # the medium did change temperature: the kept deposit had to be renewed
@@ -82,8 +76,8 @@ def test_heated_static_porous_medium_is_bitwise_unchanged(tmp_path):
     assert np.max(np.abs(on[-1]["cell"]["water/temperature"] - t0)) > 1e-4
 
 
-def test_debris_flow_with_kept_bed_share_agrees(tmp_path):
-    on, off = run_pair(tmp_path, "mpmice_debris_flow_2d.nml", "debris",
+def test_debris_flow_with_kept_bed_share_agrees(run_mpmice, tmp_path):
+    on, off = run_pair(run_mpmice, tmp_path, "mpmice_debris_flow_2d.nml", "debris",
                        ["&solid name = 'sand', youngs_modulus = 5.0e6 /",
                         "&run end_time = 0.1, output_interval = 0.05 /"])
     compared = ("cell/pressure", "cell/water/velocity_x", "cell/water/velocity_y",

@@ -9,20 +9,20 @@ import pytest
 from postproc import mpmice_porous_heat as heat
 from postproc import mpmice_thermal_cavity as cavity
 from postproc.mpmice_io import list_dumps, read_dump
-from postproc.run_case import run_mpmice
 
 
 @pytest.fixture(autouse=True)
 def _executable(mpmice_exe, monkeypatch):
+    """The studies of postproc run the executable the tests use."""
     monkeypatch.setenv("MPMICE_EXE", str(mpmice_exe))
 
 
-def _run(tmp_path, namelist, label, name, *sets, nranks=1):
+def _run(run_mpmice, tmp_path, namelist, label, name, *sets, nranks=1):
     out = str(tmp_path / label)
     args = [namelist, "--set", f"&run output_dir = '{out}' /"]
     for text in sets:
         args += ["--set", text]
-    run_mpmice(args, nranks=nranks, cwd=str(tmp_path))
+    run_mpmice(args, nranks=nranks, cwd=str(tmp_path), check=True)
     return [read_dump(p) for p in list_dumps(out, name)]
 
 
@@ -57,11 +57,11 @@ def test_porous_conduction_second_order(tmp_path):
     assert np.all(orders >= 1.8), orders
 
 
-def test_heat_exchange_conserves_energy(tmp_path):
+def test_heat_exchange_conserves_energy(run_mpmice, tmp_path):
     """Adiabatic column, water at T0 + 2 K, skeleton at T0: both relax to the capacity-weighted
     mean (rho_bar_f c_f (T0 + 2) + phi_s rho_s c_s T0) / (rho_bar_f c_f + phi_s rho_s c_s) to
     5e-9 K (measured 2.2e-9 K); total energy conserved to 5e-15 relative (measured 6.7e-16)."""
-    dumps = _run(tmp_path, heat.NAMELIST, "exchange", heat.NAME,
+    dumps = _run(run_mpmice, tmp_path, heat.NAMELIST, "exchange", heat.NAME,
                  "&grid ncells = 5, 1, 1 /", "&run end_time = 100.0, output_interval = 100.0 /",
                  "&time dt_max = 10.0 /", "&coupling heat_exchange_coefficient = 1.0e6 /",
                  f"&fluid name = 'water', temperature = {heat.T0 + 2.0} /",
@@ -83,13 +83,13 @@ def test_heat_exchange_conserves_energy(tmp_path):
     assert np.max(np.abs(last["cell"]["skeleton/temperature"] - mean)) < 5e-9
 
 
-def test_porous_medium_at_rest_under_gravity(tmp_path):
+def test_porous_medium_at_rest_under_gravity(run_mpmice, tmp_path):
     """The cavity with adiabatic walls and uniform temperature stays at rest: after 1000 steps
     (2e6 s) the water speed is below 5e-17 m/s (measured 5.5e-18) and the temperatures unchanged
     to 5e-12 K (measured 6.8e-13 K) (the
     fluids' bulk density in the wall face pressure once gave a 0.3 g imbalance here whose drag
     heated the water by 0.03 K per day)."""
-    dumps = _run(tmp_path, cavity.NAMELIST, "rest", cavity.NAME,
+    dumps = _run(run_mpmice, tmp_path, cavity.NAMELIST, "rest", cavity.NAME,
                  "&grid ncells = 10, 10, 1 /", "&run end_time = 2.0e6, output_interval = 1.0e6 /",
                  "&time dt_max = 2000.0 /",
                  "&boundary face = 'x-', thermal = 'adiabatic' /",
@@ -105,7 +105,7 @@ def test_porous_medium_at_rest_under_gravity(tmp_path):
 def _cavity(tmp_path, label, n, nranks=1, ra=None, thermal_times=0.3, dumps=3):
     grain = cavity.grain_for(ra) if ra else cavity.PAPER_GRAIN
     end = thermal_times * cavity.THERMAL_TIME
-    return _run(tmp_path, cavity.NAMELIST, label, cavity.NAME,
+    return _run(run_mpmice, tmp_path, cavity.NAMELIST, label, cavity.NAME,
                 f"&grid ncells = {n}, {n}, 1, upper = 1.0, 1.0, {1.0 / n} /",
                 f"&run end_time = {end}, output_interval = {end / dumps} /",
                 f"&solid name = 'skeleton', grain_size = {grain}, upper = 1.0, 1.0, {1.0 / n} /",

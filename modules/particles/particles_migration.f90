@@ -7,12 +7,12 @@
 !! as `nfield` reals (the 64-bit id bit-copied) through one MPI_Alltoall of counts and one
 !! MPI_Alltoallv; received particles are appended in source-rank order. The send buffers grow
 !! amortised and are kept between calls.
-module mpm_migration
-  use mpi_f08, only: MPI_Alltoall, MPI_Alltoallv, MPI_INTEGER, MPI_DOUBLE_PRECISION, MPI_Cart_rank
+module particles_migration
   use mpmice_kinds, only: wp, i8
   use grid_layout, only: grid_t
   use parallel_domain, only: domain_t, domain_block_range
-  use mpm_particles, only: particles_t, particles_reserve, particles_compact
+  use parallel_comm, only: alltoall_counts, alltoallv_real, cart_rank
+  use particles_store, only: particles_t, particles_reserve, particles_compact
   implicit none
   private
 
@@ -52,9 +52,9 @@ contains
           ! the Cartesian communicator spans the active dimensions only (parallel_domain)
           coords = [a, b, e]
           if (count(dom%active) == 0) then
-            call MPI_Cart_rank(dom%comm, [0], mig%rank_of(a, b, e))
+            mig%rank_of(a, b, e) = cart_rank(dom%comm, [0])
           else
-            call MPI_Cart_rank(dom%comm, pack(coords, dom%active), mig%rank_of(a, b, e))
+            mig%rank_of(a, b, e) = cart_rank(dom%comm, pack(coords, dom%active))
           end if
         end do
       end do
@@ -110,15 +110,8 @@ contains
 
     if (dom%nranks > 1) then
       nsend = sum(mig%scount)
-      if (size(mig%sendbuf, 2) < nsend) then
-        n0 = max(nsend, 2 * size(mig%sendbuf, 2))
-        deallocate(mig%sendbuf)
-        allocate(mig%sendbuf(nfield, n0))
-      end if
-      slot(0) = 0
-      do r = 1, dom%nranks - 1
-        slot(r) = slot(r - 1) + mig%scount(r - 1)
-      end do
+      call reserve_columns(mig%sendbuf, nsend)
+      slot = exclusive_offsets(mig%scount, 1)
       mig%sdispl(:) = slot * nfield
       do ip = 1, p%np
         r = mig%dest(ip)
@@ -126,19 +119,12 @@ contains
         slot(r) = slot(r) + 1
         call pack_particle(p, ip, mig%sendbuf(:, slot(r)))
       end do
-      call MPI_Alltoall(mig%scount, 1, MPI_INTEGER, mig%rcount, 1, MPI_INTEGER, dom%comm)
+      call alltoall_counts(dom%comm, mig%scount, mig%rcount)
       nrecv = sum(mig%rcount)
-      if (size(mig%recvbuf, 2) < nrecv) then
-        n0 = max(nrecv, 2 * size(mig%recvbuf, 2))
-        deallocate(mig%recvbuf)
-        allocate(mig%recvbuf(nfield, n0))
-      end if
-      mig%rdispl(0) = 0
-      do r = 1, dom%nranks - 1
-        mig%rdispl(r) = mig%rdispl(r - 1) + mig%rcount(r - 1) * nfield
-      end do
-      call MPI_Alltoallv(mig%sendbuf, mig%scount * nfield, mig%sdispl, MPI_DOUBLE_PRECISION, &
-        mig%recvbuf, mig%rcount * nfield, mig%rdispl, MPI_DOUBLE_PRECISION, dom%comm)
+      call reserve_columns(mig%recvbuf, nrecv)
+      mig%rdispl(:) = exclusive_offsets(mig%rcount, nfield)
+      call alltoallv_real(dom%comm, mig%sendbuf, mig%scount * nfield, mig%sdispl, mig%recvbuf, &
+        mig%rcount * nfield, mig%rdispl)
     else
       nrecv = 0
     end if
@@ -157,6 +143,32 @@ contains
       p%np = n0 + nrecv
     end if
   end subroutine migrate_particles
+
+  !> Grow the message buffer `buf(nfield, :)` to at least `n` columns (at least doubling, so
+  !! that a growing exchange reallocates rarely; the contents are not kept).
+  subroutine reserve_columns(buf, n)
+    real(wp), allocatable, intent(inout) :: buf(:, :)  !< (nfield, capacity) buffer
+    integer, intent(in) :: n                           !< columns needed
+    integer :: rows, capacity
+    if (size(buf, 2) >= n) return
+    rows = size(buf, 1)
+    capacity = max(n, 2 * size(buf, 2))
+    deallocate(buf)
+    allocate(buf(rows, capacity))
+  end subroutine reserve_columns
+
+  !> Offsets of consecutive blocks of `counts(r) * scale` entries, rank 0 first: the
+  !! displacements of an all-to-all exchange.
+  pure function exclusive_offsets(counts, scale) result(offsets)
+    integer, intent(in) :: counts(0:)            !< (0:nranks-1) block sizes
+    integer, intent(in) :: scale                 !< entries per count
+    integer :: offsets(0:size(counts) - 1)
+    integer :: r
+    offsets(0) = 0
+    do r = 1, size(counts) - 1
+      offsets(r) = offsets(r - 1) + counts(r - 1) * scale
+    end do
+  end function exclusive_offsets
 
   !> Pack particle `ip` into `buf(nfield)`.
   pure subroutine pack_particle(p, ip, buf)
@@ -197,4 +209,4 @@ contains
     p%id(ip) = transfer(buf(34), 1_i8)
     p%hardening(ip) = buf(35)
   end subroutine unpack_particle
-end module mpm_migration
+end module particles_migration

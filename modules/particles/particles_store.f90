@@ -8,7 +8,7 @@
 !!   tension positive [Pa]. `stress` is the Cauchy (effective) stress in the current frame, used by
 !!   P2G; `stress_unrot` = R^T stress R is the same stress in the polar-decomposition frame of
 !!   eqs. 12-15, the state of the rate-form constitutive models.
-module mpm_particles
+module particles_store
   use mpmice_kinds, only: wp, i8
   implicit none
   private
@@ -152,4 +152,4 @@ contains
     p%np = 0
     p%capacity = 0
   end subroutine particles_free
-end module mpm_particles
+end module particles_store

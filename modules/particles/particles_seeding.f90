@@ -13,11 +13,11 @@
 !! the shape's surface straight above it (`depth_below_surface`), and K0 sigma_v across it
 !! (K0 = nu/(1-nu) when k0 < 0). The coupled scene then takes the pore fluid's buoyancy off
 !! (mpmice `buoyant_geostatic_stress`).
-module mpm_seeding
+module particles_seeding
   use mpmice_kinds, only: wp, i8
   use grid_layout, only: grid_t
   use config_materials, only: solid_params_t
-  use mpm_particles, only: particles_t, particles_reserve, identity_f
+  use particles_store, only: particles_t, particles_reserve, identity_f
   use geometry_shapes, only: file_shape_contains, shape_kind_polygon, shape_kind_profile
   implicit none
   private
@@ -200,4 +200,4 @@ contains
     end do
     depth = abs(0.5_wp * (inside_at + outside_at) - x(dv))
   end function depth_below_surface
-end module mpm_seeding
+end module particles_seeding

@@ -16,7 +16,7 @@
 !! * `health` (optional, collective) gives the run loop's stops (`driver_stops`) the solids'
 !!   energy, the power of the loads on them and the particle counts; scenes without solids keep
 !!   the default, which reports nothing (`has_solids = .false.`).
-module driver_scene
+module scene_interface
   use mpmice_kinds, only: wp, i8, name_len
   use mpmice_timers, only: timer_set_t
   use config_types, only: config_t
@@ -149,4 +149,4 @@ contains
     if (.false.) health%energy = time + real(dom%rank + grid%ng(1), wp) + &
       merge(1.0_wp, 0.0_wp, same_type_as(self, self))
   end subroutine scene_no_health
-end module driver_scene
+end module scene_interface
