@@ -2,7 +2,8 @@
 for the diagnostic runs that isolate why the model's slide is slower than the measured one.
 
 Usage:  python -m postproc.mpmice_grilli2017_slide --dir RUN [--dir RUN2 ...] [--label L ...]
-            [--reference DIR] [--shape-shift S] [--out DIR] [--name STEM]
+            [--reference DIR] [--shape-shift S] [--alt-shift S] [--mu MU ...] [--fit-end T]
+            [--out DIR] [--name STEM]
 
 Per run and dump: the front (the largest x of the bead particles + a quarter cell, as
 postproc.mpmice_grilli2017.front), the beads' mass centre x, and their mass-weighted mean
@@ -94,7 +95,7 @@ def at_time(tr, t):
     return n if abs(tr["time"][n] - t) < 0.011 else None
 
 
-def plot(tracks, rec, shape_shift, mus, path):
+def plot(tracks, rec, shape_shift, mus, path, alt_shift=None):
     plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.8), sharex=True)
     t = np.linspace(0.0, 0.8, 81)
@@ -102,12 +103,16 @@ def plot(tracks, rec, shape_shift, mus, path):
     for key, ax, x0 in (("front", axes[0], x0_front), ("centroid", axes[1], x0_cent)):
         ax.plot(rec["time"] - shape_shift, rec[key], "ks", mfc="none", ms=7,
                 label="Grilli et al. (2017), digitised shapes")
+        if alt_shift is not None:
+            ax.plot(rec["time"] - alt_shift, rec[key], "k^", mfc="none", ms=7,
+                    label=f"the same at model = record {-alt_shift:+g} s")
         for k, (label, tr) in enumerate(tracks.items()):
             ax.plot(tr["time"], tr[key], "-", color=f"C{k}", label=label)
-        for mu in mus:
+        for j, mu in enumerate(mus):
             for sub, ls in ((False, ":"), (True, "--")):
                 a = block_acceleration(mu, sub)
-                ax.plot(t, x0 + 0.5 * a * t**2 * math.cos(SLOPE), ls, color="0.5", lw=0.8,
+                ax.plot(t, x0 + 0.5 * a * t**2 * math.cos(SLOPE), ls, color=f"{0.2 + 0.4 * j:.1f}",
+                        lw=0.9,
                         label=f"{'submerged' if sub else 'dry'} block, mu = {mu:g}")
         ax.set_xlabel(f"model time [s] (record = model + {shape_shift:g} s)")
         ax.set_ylabel(f"slide {key} x [m]")
@@ -128,6 +133,8 @@ def main(argv=None) -> int:
     parser.add_argument("--shape-shift", type=float, default=0.0)
     parser.add_argument("--mu", type=float, action="append", default=None,
                         help="bed friction of the block references (repeatable; default 0.41)")
+    parser.add_argument("--alt-shift", type=float, default=None,
+                        help="also plot the shapes at record = model + this [s]")
     parser.add_argument("--fit-end", type=float, default=FIT_END)
     parser.add_argument("--out", default=None)
     parser.add_argument("--name", default="grilli2017_slide")
@@ -171,7 +178,8 @@ def main(argv=None) -> int:
               f"{np.max(tr['speed']):.3f} m/s at {tr['time'][int(np.argmax(tr['speed']))]:.2f} s")
         for n in range(tr["time"].size):
             table.append({"run": label, **{k: float(v[n]) for k, v in tr.items()}})
-    plot(tracks, rec, args.shape_shift, mus, os.path.join(out, f"{args.name}.png"))
+    plot(tracks, rec, args.shape_shift, mus, os.path.join(out, f"{args.name}.png"),
+         args.alt_shift)
     with open(os.path.join(out, f"{args.name}.csv"), "w", newline="", encoding="utf-8") as f:
         writer = csv.DictWriter(f, fieldnames=["run", "time", "front", "centroid", "speed"])
         writer.writeheader()
