@@ -20,6 +20,8 @@ Cases (each isolates one candidate cause of the slow slide; the scene's values i
   mu0         bed friction 0 [0.41]
   mu025       bed friction 0.25 [0.41]
   mu030       bed friction 0.30 [0.41]
+  mu033       bed friction 0.33 [0.41]: the contact's measured excess at 20 mm (+0.08) taken
+              off, so that the bed's effective friction is ~0.41
   noslip      rigid_contact = 'no_slip' [friction]: the beads stick to the bed's nodes
   nodrag      drag_law = 'constant', drag_coefficient = 0 [forchheimer]: no fluid-solid drag
   darcy       forchheimer_b = 0 [1.75]: the linear (Darcy) part of the Ergun law only
@@ -109,6 +111,7 @@ def _register():
         "mu0": (["&mpm contact_friction = 0.0 /"], _same),
         "mu025": (["&mpm contact_friction = 0.25 /"], _same),
         "mu030": (["&mpm contact_friction = 0.30 /"], _same),
+        "mu033": (["&mpm contact_friction = 0.33 /"], _same),
         "noslip": (["&mpm rigid_contact = 'no_slip' /"], _same),
         "nodrag": ([beads + "drag_law = 'constant', drag_coefficient = 0.0 /"], _same),
         "darcy": ([beads + "forchheimer_b = 0.0 /"], _same),
