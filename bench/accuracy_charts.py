@@ -29,6 +29,10 @@ Accuracy charts (--only names):
   cavity              porous thermal cavity (postproc.mpmice_thermal_cavity), Ra = 100, to 0.3
                       thermal times (steady from 0.2): |Nu_hot / 3.1 - 1| (benchmark 3.10-3.16);
                       advection order 1 vs 2.
+  grilli              Grilli et al. (2017) test 17 (postproc.mpmice_grilli2017): RMS of model -
+                      record at WG1 over its first wave / the record's RMS; 40, 20 mm cells (and
+                      10 mm for the Forchheimer curve) x drag law (Forchheimer, Kozeny-Carman) x
+                      air layer (0.07, 0.11, 0.19 m); runs in $MPMICE_GRILLI_RUNS are reused.
 Stability maps:
   drag_map            consolidation column (50 cells, densities / 100) at a fixed dt (2^-22 ..
                       2^-14 s) x grain size (1 mm .. 10 um: drag relaxation rate beta = 9.8e4 ..
@@ -385,6 +389,63 @@ def chart_cavity(work: str, quick: bool) -> list[dict]:
     return rows
 
 
+#: Grilli et al. (2017) test 17: model end [s] = record 2.05 s (the end of WG1's first wave) - 0.3
+GRILLI_END = 1.75
+#: curve label -> case of postproc.mpmice_grilli2017_cases (drag law, air layer's height)
+GRILLI_CURVES = {"Forchheimer (Ergun) drag, air 0.11 m": "base",
+                 "Kozeny-Carman drag, air 0.11 m": "kozeny",
+                 "Forchheimer, air 0.07 m": "air007",
+                 "Forchheimer, air 0.19 m": "air019"}
+
+
+def _grilli_log_run_time(out: str) -> float:
+    """The program's 'total run' timer from <out>/grilli.log (nan when absent)."""
+    path = os.path.join(out, "grilli.log")
+    if not os.path.isfile(path):
+        return math.nan
+    with open(path, encoding="utf-8") as f:
+        m = _TOTAL_RUN.findall(f.read())
+    return float(m[-1]) if m else math.nan
+
+
+def chart_grilli(work: str, quick: bool) -> list[dict]:
+    """Grilli test 17 (postproc.mpmice_grilli2017): RMS of model - record at WG1 over its first
+    wave / the record's RMS there; 40, 20 (and, base curve only, 10) mm cells x drag law x air
+    layer. Runs go to $MPMICE_GRILLI_RUNS when set (a finished run there is reused: its run
+    time is read from its log, its wall time left NaN), else to the temporary folder."""
+    from postproc import mpmice_grilli2017 as grilli                  # noqa: PLC0415
+    from postproc import mpmice_grilli2017_cases as grilli_cases      # noqa: PLC0415
+    root = os.environ.get("MPMICE_GRILLI_RUNS", work)
+    ref = grilli.reference_gauges(grilli.DEFAULT_REFERENCE)
+    rows = []
+    for label, case in GRILLI_CURVES.items():
+        ladder = (40,) if quick else ((40, 20, 10) if case == "base" else (40, 20))
+        for mm in ladder:
+            out, code, wall = grilli_cases.run_case(case, mm, GRILLI_END, root)
+            status = stiff.read_status(out, grilli.NAME)
+            finished = status.get("state") == "finished"
+            run = {"exit_code": 0 if finished else (code if code is not None else 3),
+                   "state": status.get("state", "?"), "steps": int(status.get("step", -1)),
+                   "run_s": _grilli_log_run_time(out), "wall_s": wall}
+            err, trough, arrival = math.nan, math.nan, math.nan
+            if finished:
+                t_model, model = grilli.gauge_series(list_dumps_read(out, grilli.NAME))
+                meas = {(r["gauge"], r["measure"]): r
+                        for r in grilli.gauge_measures(ref, t_model, model, 0.3)}
+                err = meas[("WG1", "rms over first wave")]["amplitude_error"]
+                trough = meas[("WG1", "trough")]["amplitude_error"]
+                arrival = meas[("WG1", "trough")]["arrival_error_s"]
+            rows.append(row_of("grilli", label, round(5600 / mm), 1, run, err,
+                               cell_mm=mm, wg1_trough_amp_error=trough,
+                               wg1_trough_arrival_error_s=arrival))
+    return rows
+
+
+def list_dumps_read(out: str, name: str) -> list[dict]:
+    """Every dump of a run, read."""
+    return [read_dump(p) for p in list_dumps(out, name)]
+
+
 ACCURACY = {
     "sod": (chart_sod, "Sod shock tube (ICE), t = 0.2", "relative L1 density error"),
     "terzaghi": (chart_terzaghi, "Consolidation column (MPMICE), paper's densities",
@@ -399,6 +460,9 @@ ACCURACY = {
     "cavity": (chart_cavity, f"Porous thermal cavity (MPMICE), Ra = {CAVITY_RA:g}, "
                              f"{CAVITY_END} thermal times",
                f"|Nu_hot / {CAVITY_NU} - 1| (benchmarks 3.10-3.16)"),
+    "grilli": (chart_grilli, f"Grilli et al. (2017) test 17 (MPMICE), WG1, model t <= "
+                             f"{GRILLI_END} s",
+               "RMS(model - record) / RMS(record) at WG1"),
 }
 
 

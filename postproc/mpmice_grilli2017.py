@@ -1,7 +1,7 @@
 """Grilli et al. (2017) test 17 against the laboratory records: gauges WG1..4 and slide shapes.
 
 Usage:  python -m postproc.mpmice_grilli2017 --dir RUN [--dir RUN2 ...] [--label L ...]
-            [--reference DIR] [--shift S] [--shape-shift S] [--out DIR]
+            [--reference DIR] [--shift S] [--shape-shift S] [--out DIR] [--stem STEM]
 
 Runs of namelists/mpmice_grilli2017_2d.nml (any cell size; dumps every 0.02 s: the code writes
 no per-step probe series, so the gauges are sampled from the dumps). The reference folder
@@ -45,8 +45,8 @@ against the digitised shape's largest x; centroid x = the beads' mass-weighted m
 the centroid of the digitised thickness y - bed over x (trapezoids; its area, 5.5e-3 to
 7.8e-3 m^2 over the six times against the wedge's 6.0e-3, shows the digitising scatter).
 
-Writes grilli2017_gauges.png, grilli2017_shapes.png and grilli2017.csv (one row per measure and
-run) in --out (default: the first run's folder); prints the same numbers.
+Writes <stem>_gauges.png, <stem>_shapes.png and <stem>.csv (one row per measure and run; stem
+default grilli2017) in --out (default: the first run's folder); prints the same numbers.
 """
 from __future__ import annotations
 
@@ -288,6 +288,7 @@ def main(argv=None) -> int:
     parser.add_argument("--shift", type=float, default=0.3)
     parser.add_argument("--shape-shift", type=float, default=0.0)
     parser.add_argument("--out", default=None)
+    parser.add_argument("--stem", default="grilli2017", help="file name stem of the outputs")
     args = parser.parse_args(argv)
     if not os.path.isdir(args.reference):
         raise SystemExit(f"reference folder {args.reference} not found (--reference DIR)")
@@ -325,17 +326,17 @@ def main(argv=None) -> int:
                   f"{row['record_centroid_x_m']:13.3f} {row['model_centroid_x_m']:15.3f} "
                   f"{row['best_model_time_s']:7.2f} {row['best_rms_mm']:9.2f}")
             table.append({"run": label, "kind": "shape", **row})
-    plot_gauges(ref, runs, args.shift, os.path.join(out, "grilli2017_gauges.png"))
+    plot_gauges(ref, runs, args.shift, os.path.join(out, f"{args.stem}_gauges.png"))
     plot_shapes(shapes, dumps_by_run, args.shape_shift,
-                os.path.join(out, "grilli2017_shapes.png"))
+                os.path.join(out, f"{args.stem}_shapes.png"))
     fields = sorted({k for row in table for k in row}, key=lambda k: (k not in ("run", "kind"), k))
-    with open(os.path.join(out, "grilli2017.csv"), "w", newline="", encoding="utf-8") as f:
+    with open(os.path.join(out, f"{args.stem}.csv"), "w", newline="", encoding="utf-8") as f:
         writer = csv.DictWriter(f, fieldnames=fields)
         writer.writeheader()
         for row in table:
             writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v)
                              for k, v in row.items()})
-    print(f"written: {out}/grilli2017_gauges.png, grilli2017_shapes.png, grilli2017.csv")
+    print(f"written: {out}/{args.stem}_gauges.png, {args.stem}_shapes.png, {args.stem}.csv")
     return 0
 
 
