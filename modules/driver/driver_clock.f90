@@ -11,11 +11,12 @@
 module driver_clock
   use mpmice_kinds, only: wp, path_len
   use mpmice_errors, only: int_text, real_short_text
+  use config_types, only: run_params_t, time_params_t
   implicit none
   private
 
   public :: clock_t, clock_init, clock_propose_dt, clock_advance, clock_finished, clock_resume
-  public :: clock_next_dt, clock_reject, clock_refusal, clock_accept
+  public :: clock_from_config, clock_next_dt, clock_reject, clock_refusal, clock_accept
 
   real(wp), parameter :: event_slack = 1.0e-9_wp  !< relative slack for landing on an event time
   !> a gap to the next event below this many proposed steps is taken in two equal steps
@@ -76,6 +77,16 @@ contains
     if (present(cfl)) clock%cfl = cfl
     if (present(dt_min)) clock%dt_min = dt_min
   end subroutine clock_init
+
+  !> Start a clock at t = 0 with the run's `&run` end, intervals and step limit and its `&time`
+  !! step policy.
+  subroutine clock_from_config(clock, run, time)
+    type(clock_t), intent(out) :: clock       !< clock to start
+    type(run_params_t), intent(in) :: run     !< `&run`
+    type(time_params_t), intent(in) :: time   !< `&time`
+    call clock_init(clock, run%end_time, run%output_interval, run%checkpoint_interval, &
+      run%max_steps, time%dt_init, time%dt_max, time%dt_growth, time%cfl, time%dt_min)
+  end subroutine clock_from_config
 
   !> First try of the next step: `dt` [s] from clock_propose_dt for the scene's stability limit
   !! `dt_limit` [s] (huge when none), which the clock keeps for the retries and clock_accept.

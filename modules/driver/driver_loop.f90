@@ -14,7 +14,7 @@ module driver_loop
   use parallel_reduce, only: global_any, global_max
   use mpmice_signals, only: signals_install, signal_received, signal_name
   use grid_layout, only: grid_t
-  use driver_clock, only: clock_t, clock_init, clock_next_dt, clock_reject, clock_refusal, &
+  use driver_clock, only: clock_t, clock_from_config, clock_next_dt, clock_reject, clock_refusal, &
     clock_accept, clock_finished, clock_resume
   use driver_output, only: write_dump, write_checkpoint, read_checkpoint
   use scene_interface, only: scene_t
@@ -60,9 +60,7 @@ contains
     t_output = timer_register(timers, 'output and checkpoint')
     call signals_install()
     call scene%init(params, dom, grid, timers)
-    call clock_init(clock, cfg%run%end_time, cfg%run%output_interval, &
-      cfg%run%checkpoint_interval, cfg%run%max_steps, cfg%time%dt_init, cfg%time%dt_max, &
-      cfg%time%dt_growth, cfg%time%cfl, cfg%time%dt_min)
+    call clock_from_config(clock, cfg%run, cfg%time)
     call progress_init(progress, cfg%run%progress_interval, 0.0_wp, cfg%run%end_time)
 
     ! until the run ends, its status file says 'running': a run that dies on the way (killed, or
