@@ -1,19 +1,28 @@
-!> Simulated-time bookkeeping of a run: time, step, the next time step, and the output and
-!! checkpoint events the steps are clipped to land on exactly.
+!> Simulated-time bookkeeping of a run and its whole time-step policy: time, step, the next time
+!! step (Courant number `cfl` handed to the scene's stability limit, `dt_min`/`dt_max`, growth
+!! limit, halvings of a rejected step), and the output and checkpoint events the steps are
+!! clipped to land on exactly. The run loop asks the clock for each step (`clock_next_dt`),
+!! reports a rejected one (`clock_reject`), asks whether a step may still be tried
+!! (`clock_refusal`) and accounts for the accepted one (`clock_accept`).
 !!
 !! The clock is the part of the run state a checkpoint must carry so that a restarted run takes the
 !! very same steps (bitwise-identical continuation): `time`, `step`, `dt_next`, `output_index`,
 !! `checkpoint_index`.
 module driver_clock
-  use mpmice_kinds, only: wp
+  use mpmice_kinds, only: wp, path_len
+  use mpmice_errors, only: int_text, real_short_text
+  use config_types, only: run_params_t, time_params_t
   implicit none
   private
 
   public :: clock_t, clock_init, clock_propose_dt, clock_advance, clock_finished, clock_resume
+  public :: clock_from_config, clock_next_dt, clock_reject, clock_refusal, clock_accept
 
   real(wp), parameter :: event_slack = 1.0e-9_wp  !< relative slack for landing on an event time
   !> a gap to the next event below this many proposed steps is taken in two equal steps
   real(wp), parameter :: balance_ratio = 1.5_wp
+  integer, parameter :: max_step_retries = 8  !< halvings of dt before a rejected step is fatal
+  real(wp), parameter :: retry_factor = 0.5_wp  !< a rejected step is retried with this times dt
 
   !> Run clock.
   type :: clock_t
@@ -31,6 +40,11 @@ module driver_clock
     real(wp) :: dt_max = huge(1.0_wp)         !< largest step [s]
     real(wp) :: dt_growth = 1.1_wp            !< largest ratio of successive proposed steps
     real(wp) :: cfl = 0.5_wp                  !< Courant number of the scenes' stability limits
+    real(wp) :: dt_min = 0.0_wp               !< smallest step tried; below it the run fails [s]
+    real(wp) :: dt_limit = huge(1.0_wp)       !< stability limit of the step being tried [s]
+    real(wp) :: dt_rejected = 0.0_wp          !< last rejected step [s] (0: none this step)
+    integer :: retries = 0                    !< rejections of the step being tried
+    integer :: rejected = 0                   !< steps rejected (and retried) in this invocation
     real(wp) :: energy_reference = -1.0_wp    !< solids' energy at t = 0 [J] (< 0: not yet set)
     real(wp) :: load_work = 0.0_wp            !< work put in by gravity and loads so far [J]
     real(wp) :: dt_reference = 0.0_wp         !< first step's stability limit [s] (0: not set)
@@ -42,7 +56,7 @@ contains
 
   !> Start a clock at t = 0.
   subroutine clock_init(clock, end_time, output_interval, checkpoint_interval, max_steps, dt_init, &
-      dt_max, dt_growth, cfl)
+      dt_max, dt_growth, cfl, dt_min)
     type(clock_t), intent(out) :: clock          !< clock to start
     real(wp), intent(in) :: end_time             !< simulated end time [s]
     real(wp), intent(in) :: output_interval      !< dump interval [s]
@@ -52,6 +66,7 @@ contains
     real(wp), intent(in) :: dt_max               !< largest step [s]
     real(wp), intent(in) :: dt_growth            !< largest ratio of successive steps
     real(wp), intent(in), optional :: cfl        !< Courant number (default 0.5)
+    real(wp), intent(in), optional :: dt_min     !< smallest step [s] (default 0)
     clock%end_time = end_time
     clock%output_interval = output_interval
     clock%checkpoint_interval = checkpoint_interval
@@ -60,7 +75,68 @@ contains
     clock%dt_max = dt_max
     clock%dt_growth = dt_growth
     if (present(cfl)) clock%cfl = cfl
+    if (present(dt_min)) clock%dt_min = dt_min
   end subroutine clock_init
+
+  !> Start a clock at t = 0 with the run's `&run` end, intervals and step limit and its `&time`
+  !! step policy.
+  subroutine clock_from_config(clock, run, time)
+    type(clock_t), intent(out) :: clock       !< clock to start
+    type(run_params_t), intent(in) :: run     !< `&run`
+    type(time_params_t), intent(in) :: time   !< `&time`
+    call clock_init(clock, run%end_time, run%output_interval, run%checkpoint_interval, &
+      run%max_steps, time%dt_init, time%dt_max, time%dt_growth, time%cfl, time%dt_min)
+  end subroutine clock_from_config
+
+  !> First try of the next step: `dt` [s] from clock_propose_dt for the scene's stability limit
+  !! `dt_limit` [s] (huge when none), which the clock keeps for the retries and clock_accept.
+  subroutine clock_next_dt(clock, dt_limit, dt)
+    type(clock_t), intent(inout) :: clock  !< run clock
+    real(wp), intent(in) :: dt_limit       !< scene stability limit [s]
+    real(wp), intent(out) :: dt            !< step to try [s]
+    clock%dt_limit = dt_limit
+    clock%retries = 0
+    clock%dt_rejected = 0.0_wp
+    dt = clock_propose_dt(clock, dt_limit)
+  end subroutine clock_next_dt
+
+  !> The scene rejected the step `dt` [s]: retry with `retry_factor` dt, which also bounds the
+  !! stability limit the next step grows from.
+  subroutine clock_reject(clock, dt)
+    type(clock_t), intent(inout) :: clock  !< run clock
+    real(wp), intent(inout) :: dt          !< rejected step on entry, the retry on exit [s]
+    clock%retries = clock%retries + 1
+    clock%rejected = clock%rejected + 1
+    clock%dt_rejected = dt
+    dt = retry_factor * dt
+    clock%dt_limit = min(clock%dt_limit, dt)
+  end subroutine clock_reject
+
+  !> Why the step `dt` [s] may not be tried: below `dt_min`, or the step was rejected
+  !! `max_step_retries + 1` times (every try put back its changes, so a dump shows the last
+  !! accepted state); '' when it may be tried.
+  function clock_refusal(clock, dt) result(reason)
+    type(clock_t), intent(in) :: clock  !< run clock
+    real(wp), intent(in) :: dt          !< step to try [s]
+    character(len=path_len) :: reason
+    reason = ''
+    if (dt < clock%dt_min) then
+      reason = 'time step ' // real_short_text(dt) // ' s fell below &time dt_min = ' // &
+        real_short_text(clock%dt_min) // ' s at t = ' // real_short_text(clock%time) // ' s'
+    else if (clock%retries > max_step_retries) then
+      reason = 'step ' // int_text(clock%step + 1) // ' rejected ' // &
+        int_text(max_step_retries + 1) // ' times, the last at dt = ' // &
+        real_short_text(clock%dt_rejected) // ' s, at t = ' // real_short_text(clock%time) // ' s'
+    end if
+  end function clock_refusal
+
+  !> Account for the accepted step `dt` [s] (clock_advance with the stability limit kept by
+  !! clock_next_dt and clock_reject).
+  subroutine clock_accept(clock, dt)
+    type(clock_t), intent(inout) :: clock  !< run clock
+    real(wp), intent(in) :: dt             !< step taken [s]
+    call clock_advance(clock, dt, clock%dt_limit)
+  end subroutine clock_accept
 
   !> The next step [s]: the proposed step limited by `dt_limit` (stability limit of the scene, pass
   !! huge when none), then shortened to land exactly on the next output, checkpoint or end time.

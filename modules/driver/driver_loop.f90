@@ -14,10 +14,11 @@ module driver_loop
   use parallel_reduce, only: global_any, global_max
   use mpmice_signals, only: signals_install, signal_received, signal_name
   use grid_layout, only: grid_t
-  use driver_clock, only: clock_t, clock_init, clock_propose_dt, clock_advance, clock_finished, &
-    clock_resume
+  use driver_clock, only: clock_t, clock_from_config, clock_next_dt, clock_reject, clock_refusal, &
+    clock_accept, clock_finished, clock_resume
   use driver_output, only: write_dump, write_checkpoint, read_checkpoint
   use scene_interface, only: scene_t
+  use scene_params, only: scene_params_t
   use driver_stops, only: stops_watch_state, stops_start, stops_check_dt, stops_check_state
   use io_files, only: io_join_path
   use io_write_failure, only: io_close_checked
@@ -25,8 +26,6 @@ module driver_loop
   private
 
   public :: run_scene, run_status_t
-
-  integer, parameter :: max_step_retries = 8  !< halvings of dt before a rejected step is fatal
 
   !> How a run ended.
   type :: run_status_t
@@ -39,9 +38,11 @@ module driver_loop
 
 contains
 
-  !> Run `scene` from its initial state, or continue it from `restart_file` (not '').
-  subroutine run_scene(scene, cfg, namelist_text, dom, grid, restart_file, status)
+  !> Run `scene` with its parameters `params` from its initial state, or continue it from
+  !! `restart_file` (not '').
+  subroutine run_scene(scene, params, cfg, namelist_text, dom, grid, restart_file, status)
     class(scene_t), intent(inout) :: scene           !< the scene to run
+    class(scene_params_t), intent(in) :: params      !< the scene's groups (from `cfg`)
     type(config_t), intent(in) :: cfg                !< validated configuration
     character(len=*), intent(in) :: namelist_text    !< resolved input (stored in every file)
     type(domain_t), intent(in) :: dom                !< decomposition
@@ -52,16 +53,14 @@ contains
     type(timer_set_t) :: timers
     type(progress_t) :: progress
     real(wp) :: dt, dt_limit, slowest_step_s, step_start_s, load_power, energy_peak
-    integer :: t_output, retries, rejected, signum
+    integer :: t_output, signum
     logical :: accepted, stop_for_wall_time, stopped_early, watch_state
     character(len=path_len) :: stop_reason
 
     t_output = timer_register(timers, 'output and checkpoint')
     call signals_install()
-    call scene%init(cfg, dom, grid, timers)
-    call clock_init(clock, cfg%run%end_time, cfg%run%output_interval, &
-      cfg%run%checkpoint_interval, cfg%run%max_steps, cfg%time%dt_init, cfg%time%dt_max, &
-      cfg%time%dt_growth, cfg%time%cfl)
+    call scene%init(params, dom, grid, timers)
+    call clock_from_config(clock, cfg%run, cfg%time)
     call progress_init(progress, cfg%run%progress_interval, 0.0_wp, cfg%run%end_time)
 
     ! until the run ends, its status file says 'running': a run that dies on the way (killed, or
@@ -93,7 +92,6 @@ contains
 
     slowest_step_s = 0.0_wp
     stopped_early = .false.
-    rejected = 0
     ! a signal that came during start-up (the handler is installed before MPI_Init) stops the run
     ! before its first step, with a checkpoint of the initial (or restored) state
     signum = global_max(dom, signal_received())
@@ -110,33 +108,22 @@ contains
         call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, stop_reason, status)
         exit
       end if
-      dt = clock_propose_dt(clock, dt_limit)
-      do retries = 0, max_step_retries
-        if (dt < cfg%time%dt_min) exit
+      call clock_next_dt(clock, dt_limit, dt)
+      do
+        stop_reason = clock_refusal(clock, dt)
+        if (len_trim(stop_reason) > 0) exit
         call scene%step(dom, grid, clock%time, dt, timers, accepted)
         if (accepted) exit
-        rejected = rejected + 1
         call log_warning('step ' // int_text(clock%step + 1) // ' rejected at dt = ' // &
           real_short_text(dt) // ' s; retrying with dt/2')
-        dt = 0.5_wp * dt
-        dt_limit = min(dt_limit, dt)
+        call clock_reject(clock, dt)
       end do
-      if (dt < cfg%time%dt_min) then
-        stop_reason = 'time step ' // real_short_text(dt) // ' s fell below &time dt_min = ' // &
-          real_short_text(cfg%time%dt_min) // ' s at t = ' // real_short_text(clock%time) // ' s'
-      else if (.not. accepted) then
-        ! every retry down to 2 dt was rejected; each put back its changes (scene%step), so the
-        ! dump shows the last accepted state
-        stop_reason = 'step ' // int_text(clock%step + 1) // ' rejected ' // &
-          int_text(max_step_retries + 1) // ' times, the last at dt = ' // &
-          real_short_text(2.0_wp * dt) // ' s, at t = ' // real_short_text(clock%time) // ' s'
-      end if
       if (len_trim(stop_reason) > 0) then
         call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, stop_reason, status)
         exit
       end if
 
-      call clock_advance(clock, dt, dt_limit)
+      call clock_accept(clock, dt)
 
       if (global_any(dom, .not. scene%all_finite(grid))) then
         call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, 'non-finite values ' &
@@ -207,7 +194,7 @@ contains
     if (status%exit_code /= 0) status%state = 'failed'
     if (dom%rank == 0) call write_status_file(cfg, clock, status)
     call progress_update(progress, clock%step, clock%time, clock%dt, force=.true.)
-    if (rejected > 0) call log_info(int_text(rejected) // ' steps were rejected and retried')
+    if (clock%rejected > 0) call log_info(int_text(clock%rejected) // ' steps were rejected and retried')
     if (cfg%run%max_energy_growth > 0.0_wp) call log_info('run stops: largest solid energy / ' &
       // 'reference ' // real_short_text(energy_peak) // ' (&run max_energy_growth = ' // &
       real_short_text(cfg%run%max_energy_growth) // ')')

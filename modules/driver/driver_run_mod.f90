@@ -13,6 +13,8 @@ module driver_run_mod
   use driver_preflight, only: preflight_output_dir
   use driver_loop, only: run_scene, run_status_t
   use scene_interface, only: scene_t
+  use scene_params, only: scene_params_t
+  use driver_scene_params, only: scene_params_from_config
   use heat_scene, only: heat_scene_t
   use mpm_scene, only: mpm_scene_t
   use ice_scene, only: ice_scene_t
@@ -36,6 +38,7 @@ contains
     type(grid_t) :: grid
     type(run_status_t) :: status
     class(scene_t), allocatable :: scene
+    class(scene_params_t), allocatable :: params
     character(len=:), allocatable :: text
     character(len=msg_len) :: errmsg
     character(len=:), allocatable :: log_msg, dir_errmsg
@@ -81,7 +84,8 @@ contains
     call log_info('mpmice: version ' // mpmice_version)
 
     call make_scene(cfg, scene)
-    call run_scene(scene, cfg, text, dom, grid, restart_file, status)
+    call scene_params_from_config(cfg, params)
+    call run_scene(scene, params, cfg, text, dom, grid, restart_file, status)
 
     call domain_free(dom)
     if (status%exit_code /= 0) then

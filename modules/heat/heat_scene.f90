@@ -3,10 +3,10 @@
 module heat_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use mpmice_kinds, only: wp, name_len
-  use mpmice_errors, only: int_text, real_short_text
+  use mpmice_errors, only: fatal, int_text, real_short_text
   use mpmice_log, only: log_info, log_warning
   use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
-  use config_types, only: config_t
+  use scene_params, only: scene_params_t, heat_scene_params_t
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_exchange_cell, halo_free
   use parallel_reduce, only: global_sum_field
@@ -54,23 +54,38 @@ module heat_scene
 contains
 
   !> Initial field (exact solution at t = 0), halo buffers and solver.
-  subroutine heat_scene_init(self, cfg, dom, grid, timers)
+  subroutine heat_scene_init(self, params, dom, grid, timers)
     class(heat_scene_t), intent(inout) :: self   !< scene
-    type(config_t), intent(in) :: cfg            !< validated configuration
+    class(scene_params_t), intent(in) :: params  !< the scene's own parameters
+    type(domain_t), intent(in) :: dom            !< decomposition
+    type(grid_t), intent(in) :: grid             !< block geometry
+    type(timer_set_t), intent(inout) :: timers   !< stage timers
+    select type (params)
+    type is (heat_scene_params_t)
+      call heat_scene_setup(self, params, dom, grid, timers)
+    class default
+      call fatal('heat scene: given the parameters of another scene')
+    end select
+  end subroutine heat_scene_init
+
+  !> `heat_scene_init` with the scene's own parameters.
+  subroutine heat_scene_setup(self, par, dom, grid, timers)
+    class(heat_scene_t), intent(inout) :: self   !< scene
+    type(heat_scene_params_t), intent(in) :: par !< the scene's groups
     type(domain_t), intent(in) :: dom            !< decomposition
     type(grid_t), intent(in) :: grid             !< block geometry
     type(timer_set_t), intent(inout) :: timers   !< stage timers
     self%t_assemble = timer_register(timers, 'assemble')
     self%t_halo = timer_register(timers, 'halo exchange')
     self%t_solve = timer_register(timers, 'implicit solve (hypre)')
-    call heat_init(self%heat, grid, cfg%heat%conductivity, cfg%heat%density, &
-      cfg%heat%heat_capacity, cfg%heat%base_temperature, cfg%heat%amplitude, cfg%heat%modes, &
-      cfg%numerics%time_theta)
+    call heat_init(self%heat, grid, par%heat%conductivity, par%heat%density, &
+      par%heat%heat_capacity, par%heat%base_temperature, par%heat%amplitude, par%heat%modes, &
+      par%numerics%time_theta)
     call halo_init(self%halo, dom, grid, 1)
-    call struct_solver_init(self%solver, dom, grid, cfg%solver%tolerance, &
-      cfg%solver%max_iterations, cfg%solver%print_level)
-    self%tolerance = cfg%solver%tolerance
-  end subroutine heat_scene_init
+    call struct_solver_init(self%solver, dom, grid, par%solver%tolerance, &
+      par%solver%max_iterations, par%solver%print_level)
+    self%tolerance = par%solver%tolerance
+  end subroutine heat_scene_setup
 
   !> No stability limit: the scheme is implicit.
   function heat_scene_stable_dt(self, dom, grid, cfl) result(dt)

@@ -27,7 +27,8 @@
 module ice_bc
   use mpmice_kinds, only: wp
   use mpmice_errors, only: fatal
-  use config_types, only: config_t, boundary_params_t, boundary_for_face
+  use config_types, only: boundary_params_t
+  use scene_params, only: ice_scene_params_t
   use grid_layout, only: grid_t
   implicit none
   private
@@ -60,16 +61,16 @@ module ice_bc
 
 contains
 
-  !> Conditions from the configuration.
-  subroutine ice_bc_init(bc, cfg)
+  !> Conditions from the scene's `&boundary` groups (resolved per face) and `&fluid` names.
+  subroutine ice_bc_init(bc, par)
     type(ice_bc_t), intent(out) :: bc   !< face conditions
-    type(config_t), intent(in) :: cfg   !< configuration
+    type(ice_scene_params_t), intent(in) :: par  !< the ICE scene's groups
     type(boundary_params_t) :: b
     integer :: f, m
     do f = 1, 6
-      b = boundary_for_face(cfg, f)
-      do m = 1, cfg%nfluids
-        if (cfg%fluids(m)%name == b%inflow_fluid .and. len_trim(b%inflow_fluid) > 0) then
+      b = par%faces(f)
+      do m = 1, par%nfluids
+        if (par%fluids(m)%name == b%inflow_fluid .and. len_trim(b%inflow_fluid) > 0) then
           bc%inflow_fluid(f) = m
         end if
       end do

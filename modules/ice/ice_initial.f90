@@ -16,7 +16,7 @@
 module ice_initial
   use mpmice_kinds, only: wp
   use mpmice_errors, only: fatal, real_short_text
-  use config_types, only: config_t
+  use scene_params, only: ice_scene_params_t
   use grid_layout, only: grid_t, cell_centre
   use geometry_shapes, only: file_shape_contains
   use ice_eos, only: eos_density
@@ -29,18 +29,18 @@ module ice_initial
 contains
 
   !> Fill rho, temp, vel, spvol and pressure of the owned cells.
-  subroutine ice_initial_state(state, cfg, grid)
+  subroutine ice_initial_state(state, par, grid)
     type(ice_state_t), intent(inout) :: state  !< fluids (parameters set)
-    type(config_t), intent(in) :: cfg          !< configuration
+    type(ice_scene_params_t), intent(in) :: par  !< the ICE scene's groups
     type(grid_t), intent(in) :: grid           !< block geometry
     integer :: i, j, k, m, dg, c
-    real(wp) :: phi(cfg%nfluids), t(cfg%nfluids), p(cfg%nfluids), v(3, cfg%nfluids), fsum
+    real(wp) :: phi(par%nfluids), t(par%nfluids), p(par%nfluids), v(3, par%nfluids), fsum
     real(wp), allocatable :: p_hydro(:, :, :)
 
     dg = 0
-    if (cfg%physics%hydrostatic_init) then
+    if (par%physics%hydrostatic_init) then
       do c = 1, 3
-        if (cfg%physics%gravity(c) /= 0.0_wp) then
+        if (par%physics%gravity(c) /= 0.0_wp) then
           if (dg /= 0 .or. .not. grid%active(c)) call fatal('ice scene: hydrostatic_init ' // &
             'needs gravity along one active axis')
           dg = c
@@ -49,18 +49,18 @@ contains
     end if
     if (dg /= 0) then
       allocate(p_hydro(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), grid%lo(3):grid%hi(3)))
-      call hydrostatic_pressures(state, cfg, grid, dg, p_hydro)
+      call hydrostatic_pressures(state, par, grid, dg, p_hydro)
     end if
     do k = grid%lo(3), grid%hi(3)
       do j = grid%lo(2), grid%hi(2)
         do i = grid%lo(1), grid%hi(1)
-          call material_state(cfg, grid, [i, j, k], phi, t, p, v)
+          call material_state(par, grid, [i, j, k], phi, t, p, v)
           fsum = sum(phi)
           if (abs(fsum - 1.0_wp) > 1.0e-6_wp) call fatal('ice scene: initial volume fractions '&
             // 'sum to ' // real_short_text(fsum) // ' in a cell, not 1 (check &fluid and ' // &
             '&region volume_fraction)')
           if (dg /= 0) p = p_hydro(i, j, k)
-          do m = 1, cfg%nfluids
+          do m = 1, par%nfluids
             associate (f => state%fluid(m))
               f%rho(i, j, k) = phi(m) * eos_density(f%eos, p(m), t(m))
               f%temp(i, j, k) = t(m)
@@ -75,8 +75,8 @@ contains
   end subroutine ice_initial_state
 
   !> Volume fraction, temperature, pressure and velocity of every fluid in global cell `idx`.
-  subroutine material_state(cfg, grid, idx, phi, t, p, v)
-    type(config_t), intent(in) :: cfg     !< configuration
+  subroutine material_state(par, grid, idx, phi, t, p, v)
+    type(ice_scene_params_t), intent(in) :: par  !< the ICE scene's groups
     type(grid_t), intent(in) :: grid      !< block geometry
     integer, intent(in) :: idx(3)         !< global cell index
     real(wp), intent(out) :: phi(:)       !< volume fractions
@@ -86,20 +86,20 @@ contains
     integer :: m, r
     real(wp) :: x(3)
     x = cell_centre(grid, [1, 2, 3], idx)
-    do m = 1, cfg%nfluids
-      associate (c => cfg%fluids(m))
+    do m = 1, par%nfluids
+      associate (c => par%fluids(m))
         phi(m) = c%volume_fraction
         t(m) = c%temperature
         p(m) = c%pressure
         v(:, m) = c%velocity
-        do r = 1, cfg%nregions
-          if (cfg%regions(r)%material /= c%name) cycle
-          if (all(x >= cfg%regions(r)%lower .and. x <= cfg%regions(r)%upper .or. &
-            .not. grid%active) .and. file_shape_contains(cfg%regions(r)%geometry, x)) then
-            phi(m) = cfg%regions(r)%volume_fraction
-            t(m) = cfg%regions(r)%temperature
-            p(m) = cfg%regions(r)%pressure
-            v(:, m) = cfg%regions(r)%velocity
+        do r = 1, par%nregions
+          if (par%regions(r)%material /= c%name) cycle
+          if (all(x >= par%regions(r)%lower .and. x <= par%regions(r)%upper .or. &
+            .not. grid%active) .and. file_shape_contains(par%regions(r)%geometry, x)) then
+            phi(m) = par%regions(r)%volume_fraction
+            t(m) = par%regions(r)%temperature
+            p(m) = par%regions(r)%pressure
+            v(:, m) = par%regions(r)%velocity
           end if
         end do
       end associate
@@ -108,20 +108,20 @@ contains
 
   !> Hydrostatic pressure [Pa] of every owned cell, each column (gravity along dimension `dg`)
   !! integrated once from the global top face down to the block's last cell.
-  subroutine hydrostatic_pressures(state, cfg, grid, dg, p_hydro)
+  subroutine hydrostatic_pressures(state, par, grid, dg, p_hydro)
     type(ice_state_t), intent(in) :: state  !< fluids (EOS parameters)
-    type(config_t), intent(in) :: cfg       !< configuration
+    type(ice_scene_params_t), intent(in) :: par  !< the ICE scene's groups
     type(grid_t), intent(in) :: grid        !< block geometry
     integer, intent(in) :: dg               !< gravity dimension
     !> pressure of the owned cells [Pa]
     real(wp), intent(out) :: p_hydro(grid%lo(1):, grid%lo(2):, grid%lo(3):)
     integer :: i, j, k, c, top, last, step, it, idx(3), lo(3), hi(3)
     real(wp) :: g, h, rho, rho_prev, p_prev, pnew, pc
-    real(wp) :: phi(cfg%nfluids), t(cfg%nfluids), p(cfg%nfluids), v(3, cfg%nfluids)
+    real(wp) :: phi(par%nfluids), t(par%nfluids), p(par%nfluids), v(3, par%nfluids)
 
-    g = abs(cfg%physics%gravity(dg))
+    g = abs(par%physics%gravity(dg))
     h = 0.5_wp * g * grid%dx(dg)
-    if (cfg%physics%gravity(dg) < 0.0_wp) then
+    if (par%physics%gravity(dg) < 0.0_wp) then
       top = grid%ncells(dg)
       last = grid%lo(dg)
       step = -1
@@ -139,12 +139,12 @@ contains
       do j = lo(2), hi(2)
         do i = lo(1), hi(1)
           idx = [i, j, k]
-          p_prev = cfg%physics%reference_pressure
+          p_prev = par%physics%reference_pressure
           rho_prev = 0.0_wp
           pc = p_prev
           do c = top, last, step
             idx(dg) = c
-            call material_state(cfg, grid, idx, phi, t, p, v)
+            call material_state(par, grid, idx, phi, t, p, v)
             do it = 1, 200
               rho = mixture_density(state, phi, t, pc)
               pnew = p_prev + h * (rho_prev + rho)

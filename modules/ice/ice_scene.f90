@@ -14,7 +14,7 @@ module ice_scene
   use mpmice_log, only: log_info
   use mpmice_timers, only: timer_set_t, timer_register
   use mpmice_faults, only: fault_step
-  use config_types, only: config_t
+  use scene_params, only: scene_params_t, ice_scene_params_t
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_init, halo_free
   use parallel_reduce, only: global_max, global_min, global_sum
@@ -58,9 +58,24 @@ module ice_scene
 contains
 
   !> Materials from `&fluid`, initial state from `&fluid` and `&region`, solver and halos.
-  subroutine ice_scene_init(self, cfg, dom, grid, timers)
+  subroutine ice_scene_init(self, params, dom, grid, timers)
     class(ice_scene_t), intent(inout) :: self    !< scene
-    type(config_t), intent(in) :: cfg            !< validated configuration
+    class(scene_params_t), intent(in) :: params  !< the scene's own parameters
+    type(domain_t), intent(in) :: dom            !< decomposition
+    type(grid_t), intent(in) :: grid             !< block geometry
+    type(timer_set_t), intent(inout) :: timers   !< stage timers
+    select type (params)
+    type is (ice_scene_params_t)
+      call ice_scene_setup(self, params, dom, grid, timers)
+    class default
+      call fatal('ice scene: given the parameters of another scene')
+    end select
+  end subroutine ice_scene_init
+
+  !> `ice_scene_init` with the scene's own parameters.
+  subroutine ice_scene_setup(self, par, dom, grid, timers)
+    class(ice_scene_t), intent(inout) :: self    !< scene
+    type(ice_scene_params_t), intent(in) :: par  !< the scene's groups
     type(domain_t), intent(in) :: dom            !< decomposition
     type(grid_t), intent(in) :: grid             !< block geometry
     type(timer_set_t), intent(inout) :: timers   !< stage timers
@@ -76,24 +91,24 @@ contains
     self%t_halo = timer_register(timers, 'ICE halo exchange')
     self%fault_nan_step = fault_step('nan_pressure_step')   ! testing aids (docs/testing.md)
     self%fault_huge_step = fault_step('huge_pressure_step')
-    self%gravity = cfg%physics%gravity
-    self%k_exchange = cfg%ice%exchange_coefficient
-    self%h_exchange = cfg%ice%heat_exchange_coefficient
-    self%sound_speed_factor = cfg%ice%sound_speed_factor
-    self%outer_tolerance = cfg%ice%outer_tolerance
-    self%max_outer = cfg%ice%max_outer_iterations
-    self%eq_tolerance = cfg%ice%equilibration_tolerance
-    self%eq_max = cfg%ice%max_equilibration_iterations
-    self%order = cfg%numerics%advection_order
-    self%theta = cfg%numerics%time_theta
+    self%gravity = par%physics%gravity
+    self%k_exchange = par%ice%exchange_coefficient
+    self%h_exchange = par%ice%heat_exchange_coefficient
+    self%sound_speed_factor = par%ice%sound_speed_factor
+    self%outer_tolerance = par%ice%outer_tolerance
+    self%max_outer = par%ice%max_outer_iterations
+    self%eq_tolerance = par%ice%equilibration_tolerance
+    self%eq_max = par%ice%max_equilibration_iterations
+    self%order = par%numerics%advection_order
+    self%theta = par%numerics%time_theta
     self%face_time = self%theta
-    if (cfg%ice%smagorinsky) self%smagorinsky = cfg%ice%smagorinsky_constant
-    self%compression = cfg%ice%interface_compression
-    if (cfg%nfluids < 1) call fatal('ice scene: no &fluid group')
+    if (par%ice%smagorinsky) self%smagorinsky = par%ice%smagorinsky_constant
+    self%compression = par%ice%interface_compression
+    if (par%nfluids < 1) call fatal('ice scene: no &fluid group')
 
-    call ice_state_alloc(self%state, grid, cfg%nfluids)
-    do m = 1, cfg%nfluids
-      associate (f => self%state%fluid(m), c => cfg%fluids(m))
+    call ice_state_alloc(self%state, grid, par%nfluids)
+    do m = 1, par%nfluids
+      associate (f => self%state%fluid(m), c => par%fluids(m))
         f%name = c%name
         f%eos = eos_t(kind=eos_kind_from_name(c%eos), gamma=c%gamma, cv=c%heat_capacity_cv, &
           rho_ref=c%reference_density, p_ref=c%reference_pressure, &
@@ -104,24 +119,24 @@ contains
       end associate
     end do
 
-    call ice_bc_init(self%bc, cfg)
-    call ice_initial_state(self%state, cfg, grid)
+    call ice_bc_init(self%bc, par)
+    call ice_initial_state(self%state, par, grid)
     self%state%closed = .not. self%bc%open
     self%state%p_boundary = self%bc%p_face
     self%state%inflow_fluid = self%bc%inflow_fluid
     allocate(self%sources(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
-      grid%lbc(3):grid%ubc(3), 4, cfg%nfluids), source=0.0_wp)
+      grid%lbc(3):grid%ubc(3), 4, par%nfluids), source=0.0_wp)
     allocate(self%p_start, mold=self%state%pressure)
 
     call halo_init(self%halo, dom, grid, 1)
-    call struct_solver_init(self%solver, dom, grid, cfg%solver%tolerance, &
-      cfg%solver%max_iterations, cfg%solver%print_level)
+    call struct_solver_init(self%solver, dom, grid, par%solver%tolerance, &
+      par%solver%max_iterations, par%solver%print_level)
     call exchange_primitives(self, dom, grid)
     call ice_equilibrate(self%state, grid, self%eq_tolerance, self%eq_max, its, failed)
     failed = global_sum(dom, failed)
     if (failed > 0) call fatal('ice scene: initial pressure equilibration failed in ' // &
       int_text(failed) // ' cells')
-  end subroutine ice_scene_init
+  end subroutine ice_scene_setup
 
   !> CFL limit: cfl * min over cells, directions and fluids of dx / (|u| + f c), f the
   !! sound-speed factor (0: the advective limit of the implicit scheme), and cfl times the

@@ -13,7 +13,8 @@ module mpm_scene
   use mpmice_errors, only: int_text, real_short_text, fatal
   use mpmice_log, only: log_info, log_warning
   use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
-  use config_types, only: config_t, boundary_for_face, history_points_used, solid_params_t
+  use config_types, only: history_points_used, solid_params_t
+  use scene_params, only: scene_params_t, mpm_scene_params_t
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_free
   use parallel_reduce, only: global_sum, global_max, global_min
@@ -85,9 +86,24 @@ module mpm_scene
 contains
 
   !> Materials, particles, node fields, boundary conditions.
-  subroutine mpm_init(self, cfg, dom, grid, timers)
+  subroutine mpm_init(self, params, dom, grid, timers)
     class(mpm_scene_t), intent(inout) :: self    !< scene
-    type(config_t), intent(in) :: cfg            !< validated configuration
+    class(scene_params_t), intent(in) :: params  !< the scene's own parameters
+    type(domain_t), intent(in) :: dom            !< decomposition
+    type(grid_t), intent(in) :: grid             !< block geometry
+    type(timer_set_t), intent(inout) :: timers   !< stage timers
+    select type (params)
+    type is (mpm_scene_params_t)
+      call mpm_setup(self, params, dom, grid, timers)
+    class default
+      call fatal('mpm scene: given the parameters of another scene')
+    end select
+  end subroutine mpm_init
+
+  !> `mpm_init` with the scene's own parameters.
+  subroutine mpm_setup(self, par, dom, grid, timers)
+    class(mpm_scene_t), intent(inout) :: self    !< scene
+    type(mpm_scene_params_t), intent(in) :: par  !< the scene's groups
     type(domain_t), intent(in) :: dom            !< decomposition
     type(grid_t), intent(in) :: grid             !< block geometry
     type(timer_set_t), intent(inout) :: timers   !< stage timers
@@ -98,17 +114,17 @@ contains
     self%t_nodal = timer_register(timers, 'MPM nodal solve')
     self%t_g2p = timer_register(timers, 'MPM grid to particle + stress')
     self%t_migrate = timer_register(timers, 'MPM migration')
-    self%nsolids = cfg%nsolids
+    self%nsolids = par%nsolids
     allocate(self%names(self%nsolids), self%parts(self%nsolids), self%mats(self%nsolids), &
       self%global_np(self%nsolids), self%motions(self%nsolids), self%static(self%nsolids))
-    self%shape_kind = shape_kind_from_name(cfg%numerics%shape_function)
-    self%gravity = cfg%physics%gravity
-    self%ramp_time = cfg%mpm%gravity_ramp_time
-    self%damping = cfg%mpm%local_damping
-    self%flip = cfg%mpm%flip_fraction
+    self%shape_kind = shape_kind_from_name(par%numerics%shape_function)
+    self%gravity = par%physics%gravity
+    self%ramp_time = par%mpm%gravity_ramp_time
+    self%damping = par%mpm%local_damping
+    self%flip = par%mpm%flip_fraction
     mmin = huge(1.0_wp)
     do s = 1, self%nsolids
-      associate (sp => cfg%solids(s))
+      associate (sp => par%solids(s))
         self%names(s) = sp%name
         self%mats(s) = material_init(model_from_name(sp%model), (1.0_wp - sp%porosity) * &
           sp%density, sp%youngs_modulus, sp%poisson_ratio, sp%cohesion, sp%friction_angle, &
@@ -122,7 +138,7 @@ contains
           sp%acceleration_frequency, sp%acceleration_duration)
         call seed_solid(self%parts(s), sp, grid, self%gravity)
         if (self%mats(s)%model == model_rigid) call move_rigid(self, s, grid, 0.0_wp, 0.0_wp)
-        self%static(s) = cfg%mpm%cache_static_rigid .and. &
+        self%static(s) = par%mpm%cache_static_rigid .and. &
           self%mats(s)%model == model_rigid .and. rigid_is_static(self%motions(s))
         if (self%parts(s)%np > 0) mmin = min(mmin, minval(self%parts(s)%mass(1:self%parts(s)%np)))
         self%global_np(s) = global_sum(dom, int(self%parts(s)%np, i8))
@@ -132,7 +148,7 @@ contains
     end do
     self%min_mass = 1.0e-12_wp * global_min(dom, mmin)
     do face = 1, 6
-      associate (b => boundary_for_face(cfg, face))
+      associate (b => par%faces(face))
         self%bc%kind(face) = bc_kind_from_name(b%solid)
         self%bc%velocity(:, face) = b%solid_velocity
         n = history_points_used(b%solid_velocity_times)
@@ -144,15 +160,15 @@ contains
         self%bc%traction(:, face) = b%solid_traction
       end associate
     end do
-    self%bc%friction_contact = trim(cfg%mpm%rigid_contact) == 'friction'
-    self%bc%friction = cfg%mpm%contact_friction
+    self%bc%friction_contact = trim(par%mpm%rigid_contact) == 'friction'
+    self%bc%friction = par%mpm%contact_friction
     call nodes_init(self%nodes, grid)
     call keep_static_share(self, grid)
     call halo_init(self%halo, dom, grid, nq)
     call migration_init(self%mig, dom, grid)
-    self%series_path = io_join_path(trim(cfg%run%output_dir), trim(cfg%run%name) // &
+    self%series_path = io_join_path(trim(par%run%output_dir), trim(par%run%name) // &
       '_mpm_series.csv')
-  end subroutine mpm_init
+  end subroutine mpm_setup
 
   !> The `&solid` parameters of the soil models (docs/soil_models.md): Modified Cam-Clay M
   !! (from `friction_angle` phi when 0: M = 6 sin phi / (3 - sin phi), triaxial compression),

@@ -31,7 +31,8 @@ module mpmice_scene
   use mpmice_errors, only: fatal, int_text, real_short_text
   use mpmice_log, only: log_info
   use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
-  use config_types, only: config_t, boundary_for_face, boundary_params_t
+  use config_types, only: boundary_params_t
+  use scene_params, only: scene_params_t, mpmice_scene_params_t
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_free, halo_reverse_cell_vec, &
     halo_exchange_cell
@@ -128,28 +129,43 @@ contains
 
   !> Fluids, solids, the solid phase on the grid; the fluids are scaled into the pore space and
   !! equilibrated with it.
-  subroutine mpmice_init(self, cfg, dom, grid, timers)
+  subroutine mpmice_init(self, params, dom, grid, timers)
     class(mpmice_scene_t), intent(inout) :: self  !< scene
-    type(config_t), intent(in) :: cfg             !< validated configuration
+    class(scene_params_t), intent(in) :: params   !< the scene's own parameters
+    type(domain_t), intent(in) :: dom             !< decomposition
+    type(grid_t), intent(in) :: grid              !< block geometry
+    type(timer_set_t), intent(inout) :: timers    !< stage timers
+    select type (params)
+    type is (mpmice_scene_params_t)
+      call mpmice_setup(self, params, dom, grid, timers)
+    class default
+      call fatal('mpmice scene: given the parameters of another scene')
+    end select
+  end subroutine mpmice_init
+
+  !> `mpmice_init` with the scene's own parameters.
+  subroutine mpmice_setup(self, par, dom, grid, timers)
+    class(mpmice_scene_t), intent(inout) :: self  !< scene
+    type(mpmice_scene_params_t), intent(in) :: par  !< the scene's groups
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
     type(timer_set_t), intent(inout) :: timers    !< stage timers
     integer :: s, m, ns, its, failed, face, d
     type(boundary_params_t) :: b
-    if (cfg%nfluids < 1 .or. cfg%nsolids < 1) call fatal('mpmice scene: needs at least one ' // &
-      '&fluid and one &solid group')
+    if (par%ice%nfluids < 1 .or. par%mpm%nsolids < 1) call fatal('mpmice scene: needs at ' // &
+      'least one &fluid and one &solid group')
     if (any(grid%active .and. grid%ng < 2)) call fatal('mpmice scene: &grid ghost_width must ' // &
       'be >= 2')
-    call self%fl%init(cfg, dom, grid, timers)
-    call self%so%init(cfg, dom, grid, timers)
+    call self%fl%init(par%ice, dom, grid, timers)
+    call self%so%init(par%mpm, dom, grid, timers)
     self%t_cells = timer_register(timers, 'MPMICE solid cells')
     self%t_nodes = timer_register(timers, 'MPMICE faces to nodes')
-    ns = cfg%nsolids
-    self%max_fraction = cfg%coupling%max_solid_fraction
-    self%relaxation = cfg%coupling%solid_fraction_relaxation
+    ns = par%mpm%nsolids
+    self%max_fraction = par%coupling%max_solid_fraction
+    self%relaxation = par%coupling%solid_fraction_relaxation
     allocate(self%coupling(ns), self%loads(ns))
     do s = 1, ns
-      associate (c => cfg%solids(s))
+      associate (c => par%mpm%solids(s))
         self%coupling(s)%drag_law = drag_law_from_name(c%drag_law)
         self%coupling(s)%grain_size = c%grain_size
         self%coupling(s)%drag_coefficient = c%drag_coefficient
@@ -172,7 +188,7 @@ contains
     ! frictional contact with rigid bodies: they keep their own velocity (docs/mpmice.md)
     self%fl%state%solid%sliding = self%so%bc%friction_contact .and. &
       any(self%so%mats(:)%model == model_rigid)
-    self%fl%state%solid%explicit_drag = trim(cfg%coupling%drag_scheme) == 'explicit'
+    self%fl%state%solid%explicit_drag = trim(par%coupling%drag_scheme) == 'explicit'
     ! a wall where the skeleton carries a surface load is a loading platen: impermeable, moving
     ! with the skeleton; the load beyond the face's `pressure` is shared with the pore fluid
     do face = 1, 6
@@ -180,11 +196,11 @@ contains
       if (.not. grid%active(d) .or. grid%periodic(d)) cycle
       if (self%so%bc%kind(face) /= bc_traction) cycle
       if (self%fl%bc%fluid(face) /= bc_wall .and. self%fl%bc%fluid(face) /= bc_free_slip) cycle
-      b = boundary_for_face(cfg, face)
+      b = par%mpm%faces(face)
       self%fl%state%solid%platen(face) = .true.
       self%fl%state%p_boundary(face) = b%pressure
     end do
-    self%fl%state%solid%h_exchange = cfg%coupling%heat_exchange_coefficient
+    self%fl%state%solid%h_exchange = par%coupling%heat_exchange_coefficient
     allocate(self%dep(deposit_size(ns), grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
     if (any(self%so%static)) allocate(self%static_dep, mold=self%dep)
@@ -196,12 +212,12 @@ contains
     self%contact_acc = 0.0_wp
     self%contact_f = 0.0_wp
     if (self%fl%state%solid%sliding) call contact_force_init(self%forces, self%so, grid, &
-      io_join_path(trim(cfg%run%output_dir), trim(cfg%run%name) // '_contact_force.csv'))
+      io_join_path(trim(par%mpm%run%output_dir), trim(par%mpm%run%name) // '_contact_force.csv'))
     allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
     call halo_init(self%halo, dom, grid, deposit_size(ns))
     allocate(self%uprev(3, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
-      grid%lbc(3):grid%ubc(3), cfg%nfluids), source=0.0_wp)
+      grid%lbc(3):grid%ubc(3), par%ice%nfluids), source=0.0_wp)
     allocate(self%nbuf(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
       grid%lbn(3):grid%ubn(3)), source=0.0_wp)
     allocate(self%temp_old, self%dtemp, mold=self%phi_p)
@@ -230,15 +246,15 @@ contains
     ! geostatic stress: the skeleton carries the grains' submerged weight (a restart has it)
     if (.not. self%so%restored) then
       do s = 1, ns
-        if (cfg%solids(s)%geostatic .and. .not. self%coupling(s)%rigid) then
+        if (par%mpm%solids(s)%geostatic .and. .not. self%coupling(s)%rigid) then
           call buoyant_geostatic_stress(self%so%parts(s), self%fl%state, grid, &
-          cfg%solids(s)%density)
+          par%mpm%solids(s)%density)
         end if
       end do
     end if
-    call log_info('mpmice: ' // int_text(ns) // ' solids, ' // int_text(cfg%nfluids) // &
-      ' fluids, drag ' // trim(cfg%coupling%drag_scheme))
-  end subroutine mpmice_init
+    call log_info('mpmice: ' // int_text(ns) // ' solids, ' // int_text(par%ice%nfluids) // &
+      ' fluids, drag ' // trim(par%coupling%drag_scheme))
+  end subroutine mpmice_setup
 
   !> Deposit every solid's particles into the cells, sum the halo, and set the cell fields of the
   !! solid phase; `phi_p` gets the particles' solid fraction.

@@ -3,7 +3,8 @@
 !!
 !! The loop owns the clock, output and checkpoint scheduling, failure detection, the wall-time stop,
 !! progress and timers; a scene owns its state and physics. Contract:
-!! * `init` allocates everything (no allocation inside the time loop afterwards) and sets the
+!! * `init` receives only its own parameter bundle (`scene_params`: the groups it reads; another
+!!   scene's bundle is a fatal error), allocates everything (no allocation inside the time loop afterwards) and sets the
 !!   initial state; `restore` replaces the state by the one stored in a checkpoint;
 !! * `stable_dt` returns the scene's stability limit [s] for the Courant number `cfl` the clock
 !!   owns (the same on every rank; `huge` if none);
@@ -19,7 +20,7 @@
 module scene_interface
   use mpmice_kinds, only: wp, i8, name_len
   use mpmice_timers, only: timer_set_t
-  use config_types, only: config_t
+  use scene_params, only: scene_params_t
   use parallel_domain, only: domain_t
   use grid_layout, only: grid_t
   use io_hdf5, only: h5_file_t
@@ -55,10 +56,10 @@ module scene_interface
 
   abstract interface
     !> Allocate the state and set the initial conditions; register timer stages in `timers`.
-    subroutine scene_init_i(self, cfg, dom, grid, timers)
-      import :: scene_t, config_t, domain_t, grid_t, timer_set_t
-      class(scene_t), intent(inout) :: self        !< scene
-      type(config_t), intent(in) :: cfg            !< validated configuration
+    subroutine scene_init_i(self, params, dom, grid, timers)
+      import :: scene_t, scene_params_t, domain_t, grid_t, timer_set_t
+      class(scene_t), intent(inout) :: self            !< scene
+      class(scene_params_t), intent(in) :: params      !< the scene's own parameter bundle
       type(domain_t), intent(in) :: dom            !< decomposition
       type(grid_t), intent(in) :: grid             !< block geometry
       type(timer_set_t), intent(inout) :: timers   !< stage timers of the run
