@@ -204,9 +204,7 @@ contains
     integer, intent(in) :: d           !< dimension
     real(wp), intent(in) :: b          !< bound [m]
     real(wp) :: h, s
-    h = (cfg%grid%upper(d) - cfg%grid%lower(d)) / real(cfg%grid%ncells(d), wp)
-    s = (b - cfg%grid%lower(d)) / h + 0.5_wp
-    s = min(max(s, 0.0_wp), real(cfg%grid%ncells(d) + 1, wp))
+    call cell_coordinate(cfg, d, b, h, s)
     first_cell_at_or_above = max(1, ceiling(s))
     if (first_cell_at_or_above > 1) then
       if (cfg%grid%lower(d) + (real(first_cell_at_or_above - 1, wp) - 0.5_wp) * h >= b) then
@@ -221,9 +219,7 @@ contains
     integer, intent(in) :: d           !< dimension
     real(wp), intent(in) :: b          !< bound [m]
     real(wp) :: h, s
-    h = (cfg%grid%upper(d) - cfg%grid%lower(d)) / real(cfg%grid%ncells(d), wp)
-    s = (b - cfg%grid%lower(d)) / h + 0.5_wp
-    s = min(max(s, 0.0_wp), real(cfg%grid%ncells(d) + 1, wp))
+    call cell_coordinate(cfg, d, b, h, s)
     last_cell_at_or_below = min(cfg%grid%ncells(d), floor(s))
     if (last_cell_at_or_below < cfg%grid%ncells(d)) then
       if (cfg%grid%lower(d) + (real(last_cell_at_or_below + 1, wp) - 0.5_wp) * h <= b) then
@@ -231,4 +227,17 @@ contains
       end if
     end if
   end function last_cell_at_or_below
+
+  !> Cell width `h` of dimension `d` and the position of bound `b` in cells, `s` = (b - lower)/h
+  !! + 1/2 (cell i has its centre at s = i), clamped to [0, ncells + 1].
+  pure subroutine cell_coordinate(cfg, d, b, h, s)
+    type(config_t), intent(in) :: cfg  !< configuration
+    integer, intent(in) :: d           !< dimension
+    real(wp), intent(in) :: b          !< bound [m]
+    real(wp), intent(out) :: h         !< cell width [m]
+    real(wp), intent(out) :: s         !< bound in cell units
+    h = (cfg%grid%upper(d) - cfg%grid%lower(d)) / real(cfg%grid%ncells(d), wp)
+    s = (b - cfg%grid%lower(d)) / h + 0.5_wp
+    s = min(max(s, 0.0_wp), real(cfg%grid%ncells(d) + 1, wp))
+  end subroutine cell_coordinate
 end module config_validate_extent

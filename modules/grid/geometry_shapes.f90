@@ -127,15 +127,29 @@ contains
         if (.not. covered) return
       end if
     end if
-    if (shape%thickness > 0.0_wp) then   ! a layer of that thickness on the one profile
+    inside = in_band(shape%thickness, has_upper, top, bottom, py)
+  end function profile_band_contains
+
+  !> `z` between `bottom` and `top`; with `thickness` > 0 the band is a layer of that thickness on
+  !! the one surface given (below the upper one when `has_upper`, else above the lower one).
+  pure logical function in_band(thickness, has_upper, top, bottom, z) result(inside)
+    real(wp), intent(in) :: thickness  !< layer thickness (<= 0: the band between both) [m]
+    logical, intent(in) :: has_upper   !< an upper surface is given
+    real(wp), intent(in) :: top        !< upper surface height [m]
+    real(wp), intent(in) :: bottom     !< lower surface height [m]
+    real(wp), intent(in) :: z          !< point height [m]
+    real(wp) :: upper, lower
+    upper = top
+    lower = bottom
+    if (thickness > 0.0_wp) then
       if (has_upper) then
-        bottom = top - shape%thickness
+        lower = top - thickness
       else
-        top = bottom + shape%thickness
+        upper = bottom + thickness
       end if
     end if
-    inside = py <= top .and. py >= bottom
-  end function profile_band_contains
+    inside = z <= upper .and. z >= lower
+  end function in_band
 
   !> Height of `map` at (px, py) by bilinear interpolation; `covered` false (h = 0) outside
   !! its x-y rectangle.
@@ -202,14 +216,7 @@ contains
       call map_height(shape%lower_map, p(1), p(2), bottom, covered)
       if (.not. covered) return
     end if
-    if (shape%thickness > 0.0_wp) then
-      if (has_upper) then
-        bottom = top - shape%thickness
-      else
-        top = bottom + shape%thickness
-      end if
-    end if
-    inside = p(3) <= top .and. p(3) >= bottom
+    inside = in_band(shape%thickness, has_upper, top, bottom, p(3))
   end function map_band_contains
 
   !> Signed area of the closed polygon (x, y) [m^2] (> 0: counter-clockwise).

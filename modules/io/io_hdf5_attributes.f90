@@ -12,6 +12,7 @@ module io_hdf5_attributes
     h5sget_simple_extent_npoints_f, h5screate_f, h5screate_simple_f, h5sclose_f, h5tcopy_f, &
     h5tset_size_f, h5tset_strpad_f, h5tget_size_f, h5tclose_f, h5tis_variable_str_f, &
     h5kind_to_type, H5S_SCALAR_F, H5_REAL_KIND, H5_INTEGER_KIND, H5T_FORTRAN_S1, H5T_STR_NULLPAD_F
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc
   use mpmice_kinds, only: wp, i8
   use mpmice_errors, only: fatal
   use io_hdf5_file, only: h5_file_t, h5_check, h5_clean_path, h5_exists, h5_make_groups, &
@@ -41,13 +42,9 @@ contains
     character(len=*), intent(in) :: name               !< attribute name
     real(wp), intent(in) :: value                      !< value [any unit]
     character(len=*), intent(in), optional :: object   !< object path (default root)
-    integer(hid_t) :: obj_id, attr_id, type_id
-    integer :: hdferr
-    type_id = h5kind_to_type(wp, H5_REAL_KIND)
-    call create_attribute(file, name, object, type_id, -1, obj_id, attr_id)
-    call h5awrite_f(attr_id, type_id, value, [1_hsize_t], hdferr)
-    call h5_check(hdferr, 'h5awrite_f', file, where(name, object))
-    call close_attribute(file, name, object, obj_id, attr_id)
+    real(wp), target :: buffer(1)
+    buffer(1) = value
+    call write_values(file, name, object, h5kind_to_type(wp, H5_REAL_KIND), -1, c_loc(buffer))
   end subroutine write_real
 
   !> Real 1-D array attribute.
@@ -56,15 +53,10 @@ contains
     character(len=*), intent(in) :: name               !< attribute name
     real(wp), intent(in) :: values(:)                  !< values [any unit]
     character(len=*), intent(in), optional :: object   !< object path (default root)
-    integer(hid_t) :: obj_id, attr_id, type_id
-    integer :: hdferr
-    real(wp) :: buffer(size(values))
-    type_id = h5kind_to_type(wp, H5_REAL_KIND)
+    real(wp), target :: buffer(size(values))
     buffer = values
-    call create_attribute(file, name, object, type_id, size(values), obj_id, attr_id)
-    call h5awrite_f(attr_id, type_id, buffer, [int(size(values), hsize_t)], hdferr)
-    call h5_check(hdferr, 'h5awrite_f', file, where(name, object))
-    call close_attribute(file, name, object, obj_id, attr_id)
+    call write_values(file, name, object, h5kind_to_type(wp, H5_REAL_KIND), size(values), &
+      c_loc(buffer))
   end subroutine write_real_array
 
   !> Integer scalar attribute.
@@ -73,13 +65,10 @@ contains
     character(len=*), intent(in) :: name               !< attribute name
     integer, intent(in) :: value                       !< value
     character(len=*), intent(in), optional :: object   !< object path (default root)
-    integer(hid_t) :: obj_id, attr_id, type_id
-    integer :: hdferr
-    type_id = h5kind_to_type(kind(value), H5_INTEGER_KIND)
-    call create_attribute(file, name, object, type_id, -1, obj_id, attr_id)
-    call h5awrite_f(attr_id, type_id, value, [1_hsize_t], hdferr)
-    call h5_check(hdferr, 'h5awrite_f', file, where(name, object))
-    call close_attribute(file, name, object, obj_id, attr_id)
+    integer, target :: buffer(1)
+    buffer(1) = value
+    call write_values(file, name, object, h5kind_to_type(kind(value), H5_INTEGER_KIND), -1, &
+      c_loc(buffer))
   end subroutine write_int
 
   !> Integer 1-D array attribute.
@@ -88,15 +77,10 @@ contains
     character(len=*), intent(in) :: name               !< attribute name
     integer, intent(in) :: values(:)                   !< values
     character(len=*), intent(in), optional :: object   !< object path (default root)
-    integer(hid_t) :: obj_id, attr_id, type_id
-    integer :: hdferr
-    integer :: buffer(size(values))
-    type_id = h5kind_to_type(kind(values), H5_INTEGER_KIND)
+    integer, target :: buffer(size(values))
     buffer = values
-    call create_attribute(file, name, object, type_id, size(values), obj_id, attr_id)
-    call h5awrite_f(attr_id, type_id, buffer, [int(size(values), hsize_t)], hdferr)
-    call h5_check(hdferr, 'h5awrite_f', file, where(name, object))
-    call close_attribute(file, name, object, obj_id, attr_id)
+    call write_values(file, name, object, h5kind_to_type(kind(values), H5_INTEGER_KIND), &
+      size(values), c_loc(buffer))
   end subroutine write_int_array
 
   !> 64-bit integer scalar attribute (global counts, ids).
@@ -105,14 +89,27 @@ contains
     character(len=*), intent(in) :: name               !< attribute name
     integer(i8), intent(in) :: value                   !< value
     character(len=*), intent(in), optional :: object   !< object path (default root)
-    integer(hid_t) :: obj_id, attr_id, type_id
+    integer(i8), target :: buffer(1)
+    buffer(1) = value
+    call write_values(file, name, object, h5kind_to_type(i8, H5_INTEGER_KIND), -1, c_loc(buffer))
+  end subroutine write_i8
+
+  !> Create attribute `name` with a scalar (`n` < 0) or 1-D (`n` values) dataspace and write the
+  !! memory at `buffer` (of type `type_id`) into it: the one write path of every numeric kind.
+  subroutine write_values(file, name, object, type_id, n, buffer)
+    type(h5_file_t), intent(in) :: file                !< file open for writing
+    character(len=*), intent(in) :: name               !< attribute name
+    character(len=*), intent(in), optional :: object   !< object path (default root)
+    integer(hid_t), intent(in) :: type_id              !< memory and file data type
+    integer, intent(in) :: n                           !< values (< 0: scalar, one value)
+    type(c_ptr), intent(in) :: buffer                  !< address of the values
+    integer(hid_t) :: obj_id, attr_id
     integer :: hdferr
-    type_id = h5kind_to_type(i8, H5_INTEGER_KIND)
-    call create_attribute(file, name, object, type_id, -1, obj_id, attr_id)
-    call h5awrite_f(attr_id, type_id, value, [1_hsize_t], hdferr)
+    call create_attribute(file, name, object, type_id, n, obj_id, attr_id)
+    call h5awrite_f(attr_id, type_id, buffer, hdferr)
     call h5_check(hdferr, 'h5awrite_f', file, where(name, object))
     call close_attribute(file, name, object, obj_id, attr_id)
-  end subroutine write_i8
+  end subroutine write_values
 
   !> String attribute (stored exactly, trailing blanks included; pass `trim(text)` to drop them).
   subroutine write_string(file, name, value, object)
@@ -149,13 +146,9 @@ contains
     character(len=*), intent(in) :: name               !< attribute name
     real(wp), intent(out) :: value                     !< value read
     character(len=*), intent(in), optional :: object   !< object path (default root)
-    integer(hid_t) :: obj_id, attr_id, type_id
-    integer :: hdferr
-    type_id = h5kind_to_type(wp, H5_REAL_KIND)
-    call open_attribute(file, name, object, 1, obj_id, attr_id)
-    call h5aread_f(attr_id, type_id, value, [1_hsize_t], hdferr)
-    call h5_check(hdferr, 'h5aread_f', file, where(name, object))
-    call close_attribute(file, name, object, obj_id, attr_id)
+    real(wp), target :: buffer(1)
+    call read_values(file, name, object, h5kind_to_type(wp, H5_REAL_KIND), 1, c_loc(buffer))
+    value = buffer(1)
   end subroutine read_real
 
   !> Real 1-D array attribute; `values` must have the stored length.
@@ -164,15 +157,10 @@ contains
     character(len=*), intent(in) :: name               !< attribute name
     real(wp), intent(out) :: values(:)                 !< values read
     character(len=*), intent(in), optional :: object   !< object path (default root)
-    integer(hid_t) :: obj_id, attr_id, type_id
-    integer :: hdferr
-    real(wp) :: buffer(size(values))
-    type_id = h5kind_to_type(wp, H5_REAL_KIND)
-    call open_attribute(file, name, object, size(values), obj_id, attr_id)
-    call h5aread_f(attr_id, type_id, buffer, [int(size(values), hsize_t)], hdferr)
-    call h5_check(hdferr, 'h5aread_f', file, where(name, object))
+    real(wp), target :: buffer(size(values))
+    call read_values(file, name, object, h5kind_to_type(wp, H5_REAL_KIND), size(values), &
+      c_loc(buffer))
     values = buffer
-    call close_attribute(file, name, object, obj_id, attr_id)
   end subroutine read_real_array
 
   !> Integer scalar attribute.
@@ -181,13 +169,10 @@ contains
     character(len=*), intent(in) :: name               !< attribute name
     integer, intent(out) :: value                      !< value read
     character(len=*), intent(in), optional :: object   !< object path (default root)
-    integer(hid_t) :: obj_id, attr_id, type_id
-    integer :: hdferr
-    type_id = h5kind_to_type(kind(value), H5_INTEGER_KIND)
-    call open_attribute(file, name, object, 1, obj_id, attr_id)
-    call h5aread_f(attr_id, type_id, value, [1_hsize_t], hdferr)
-    call h5_check(hdferr, 'h5aread_f', file, where(name, object))
-    call close_attribute(file, name, object, obj_id, attr_id)
+    integer, target :: buffer(1)
+    call read_values(file, name, object, h5kind_to_type(kind(value), H5_INTEGER_KIND), 1, &
+      c_loc(buffer))
+    value = buffer(1)
   end subroutine read_int
 
   !> Integer 1-D array attribute; `values` must have the stored length.
@@ -196,15 +181,10 @@ contains
     character(len=*), intent(in) :: name               !< attribute name
     integer, intent(out) :: values(:)                  !< values read
     character(len=*), intent(in), optional :: object   !< object path (default root)
-    integer(hid_t) :: obj_id, attr_id, type_id
-    integer :: hdferr
-    integer :: buffer(size(values))
-    type_id = h5kind_to_type(kind(values), H5_INTEGER_KIND)
-    call open_attribute(file, name, object, size(values), obj_id, attr_id)
-    call h5aread_f(attr_id, type_id, buffer, [int(size(values), hsize_t)], hdferr)
-    call h5_check(hdferr, 'h5aread_f', file, where(name, object))
+    integer, target :: buffer(size(values))
+    call read_values(file, name, object, h5kind_to_type(kind(values), H5_INTEGER_KIND), &
+      size(values), c_loc(buffer))
     values = buffer
-    call close_attribute(file, name, object, obj_id, attr_id)
   end subroutine read_int_array
 
   !> 64-bit integer scalar attribute.
@@ -213,14 +193,27 @@ contains
     character(len=*), intent(in) :: name               !< attribute name
     integer(i8), intent(out) :: value                  !< value read
     character(len=*), intent(in), optional :: object   !< object path (default root)
-    integer(hid_t) :: obj_id, attr_id, type_id
+    integer(i8), target :: buffer(1)
+    call read_values(file, name, object, h5kind_to_type(i8, H5_INTEGER_KIND), 1, c_loc(buffer))
+    value = buffer(1)
+  end subroutine read_i8
+
+  !> Read the `n` values of attribute `name` (stop if it holds another number) as `type_id` into
+  !! the memory at `buffer`: the one read path of every numeric kind.
+  subroutine read_values(file, name, object, type_id, n, buffer)
+    type(h5_file_t), intent(in) :: file                !< open file
+    character(len=*), intent(in) :: name               !< attribute name
+    character(len=*), intent(in), optional :: object   !< object path (default root)
+    integer(hid_t), intent(in) :: type_id              !< memory data type
+    integer, intent(in) :: n                           !< values expected
+    type(c_ptr), value :: buffer                       !< address of room for `n` values
+    integer(hid_t) :: obj_id, attr_id
     integer :: hdferr
-    type_id = h5kind_to_type(i8, H5_INTEGER_KIND)
-    call open_attribute(file, name, object, 1, obj_id, attr_id)
-    call h5aread_f(attr_id, type_id, value, [1_hsize_t], hdferr)
+    call open_attribute(file, name, object, n, obj_id, attr_id)
+    call h5aread_f(attr_id, type_id, buffer, hdferr)
     call h5_check(hdferr, 'h5aread_f', file, where(name, object))
     call close_attribute(file, name, object, obj_id, attr_id)
-  end subroutine read_i8
+  end subroutine read_values
 
   !> Fixed-length string attribute; trailing NULs are removed.
   subroutine read_string(file, name, value, object)

@@ -18,6 +18,7 @@ module io_hdf5_particles
   use hdf5, only: hid_t, hsize_t, h5dwrite_f, h5dread_f, h5dclose_f, h5dget_space_f, &
     h5screate_simple_f, h5sselect_hyperslab_f, h5sselect_none_f, h5sclose_f, h5pclose_f, &
     h5kind_to_type, H5S_SELECT_SET_F, H5_REAL_KIND, H5_INTEGER_KIND
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_loc
   use mpmice_kinds, only: wp, i8
   use mpmice_errors, only: fatal
   use io_hdf5_file, only: h5_file_t, h5_check, h5_clean_path, h5_parent_path, h5_exists, &
@@ -50,6 +51,8 @@ module io_hdf5_particles
     integer :: n = 0                         !< this rank's particles
     integer(i8) :: total = 0_i8              !< particles of all ranks
     integer :: ncomp = 1                     !< components per particle
+    integer(hid_t) :: type_id = -1_hid_t     !< memory data type (the file's when writing)
+    type(c_ptr) :: buffer = c_null_ptr       !< this rank's values (set when `n` > 0)
   end type transfer_t
 
 contains
@@ -58,131 +61,107 @@ contains
   subroutine write_real(file, path, values)
     type(h5_file_t), intent(in) :: file   !< file open for writing
     character(len=*), intent(in) :: path  !< dataset path, e.g. `particles/sand/mass`
-    real(wp), intent(in) :: values(:)     !< this rank's values [any unit]
+    real(wp), intent(in), target, contiguous :: values(:)  !< this rank's values [any unit]
     type(transfer_t) :: t
-    real(wp) :: empty(1)
-    integer :: hdferr
     call begin_write(file, path, h5kind_to_type(wp, H5_REAL_KIND), 0, size(values), t)
-    if (t%total == 0_i8) then
-      ! Nothing to write: an empty dataset has no storage that a transfer could address.
-      hdferr = 0
-    else if (t%n > 0) then
-      call h5dwrite_f(t%dset, h5kind_to_type(wp, H5_REAL_KIND), values, t%mem_dims(1:1), hdferr, &
-        mem_space_id=t%mem_space, file_space_id=t%file_space, xfer_prp=t%xfer)
-    else
-      empty = 0.0_wp
-      call h5dwrite_f(t%dset, h5kind_to_type(wp, H5_REAL_KIND), empty, t%mem_dims(1:1), hdferr, &
-        mem_space_id=t%mem_space, file_space_id=t%file_space, xfer_prp=t%xfer)
-    end if
-    call h5_check(hdferr, 'h5dwrite_f (collective)', file, path)
-    call end_transfer(file, path, t)
+    if (t%n > 0) t%buffer = c_loc(values)
+    call move_chunk(file, path, .true., t)
   end subroutine write_real
 
   !> 64-bit integer 1-D particle array (ids).
   subroutine write_int8(file, path, values)
     type(h5_file_t), intent(in) :: file   !< file open for writing
     character(len=*), intent(in) :: path  !< dataset path, e.g. `particles/sand/id`
-    integer(i8), intent(in) :: values(:)  !< this rank's values
+    integer(i8), intent(in), target, contiguous :: values(:)  !< this rank's values
     type(transfer_t) :: t
-    integer(i8) :: empty(1)
-    integer :: hdferr
     call begin_write(file, path, h5kind_to_type(i8, H5_INTEGER_KIND), 0, size(values), t)
-    if (t%total == 0_i8) then
-      ! Nothing to write: an empty dataset has no storage that a transfer could address.
-      hdferr = 0
-    else if (t%n > 0) then
-      call h5dwrite_f(t%dset, h5kind_to_type(i8, H5_INTEGER_KIND), values, t%mem_dims(1:1), &
-        hdferr, mem_space_id=t%mem_space, file_space_id=t%file_space, xfer_prp=t%xfer)
-    else
-      empty = 0_i8
-      call h5dwrite_f(t%dset, h5kind_to_type(i8, H5_INTEGER_KIND), empty, t%mem_dims(1:1), &
-        hdferr, mem_space_id=t%mem_space, file_space_id=t%file_space, xfer_prp=t%xfer)
-    end if
-    call h5_check(hdferr, 'h5dwrite_f (collective)', file, path)
-    call end_transfer(file, path, t)
+    if (t%n > 0) t%buffer = c_loc(values)
+    call move_chunk(file, path, .true., t)
   end subroutine write_int8
 
   !> Real 2-D particle array `(ncomp, n)`.
   subroutine write_real_2d(file, path, values)
     type(h5_file_t), intent(in) :: file    !< file open for writing
     character(len=*), intent(in) :: path   !< dataset path, e.g. `checkpoint/particles/sand/F`
-    real(wp), intent(in) :: values(:, :)   !< this rank's values (ncomp, n) [any unit]
+    real(wp), intent(in), target, contiguous :: values(:, :) !< this rank's values (ncomp, n)
     type(transfer_t) :: t
-    real(wp), allocatable :: empty(:, :)
-    integer :: hdferr
     call begin_write(file, path, h5kind_to_type(wp, H5_REAL_KIND), size(values, 1), &
       size(values, 2), t)
-    if (t%total == 0_i8) then
-      ! Nothing to write: an empty dataset has no storage that a transfer could address.
-      hdferr = 0
-    else if (t%n > 0) then
-      call h5dwrite_f(t%dset, h5kind_to_type(wp, H5_REAL_KIND), values, t%mem_dims, hdferr, &
-        mem_space_id=t%mem_space, file_space_id=t%file_space, xfer_prp=t%xfer)
-    else
-      allocate(empty(t%mem_dims(1), 1))
-      empty = 0.0_wp
-      call h5dwrite_f(t%dset, h5kind_to_type(wp, H5_REAL_KIND), empty, t%mem_dims, hdferr, &
-        mem_space_id=t%mem_space, file_space_id=t%file_space, xfer_prp=t%xfer)
-    end if
-    call h5_check(hdferr, 'h5dwrite_f (collective)', file, path)
-    call end_transfer(file, path, t)
+    if (t%n > 0) t%buffer = c_loc(values)
+    call move_chunk(file, path, .true., t)
   end subroutine write_real_2d
 
   !> Real 1-D particle array: this rank's chunk.
   subroutine read_real(file, path, values)
     type(h5_file_t), intent(in) :: file                 !< open file
     character(len=*), intent(in) :: path                !< dataset path
-    real(wp), allocatable, intent(out) :: values(:)     !< this rank's values
+    real(wp), allocatable, target, intent(out) :: values(:)  !< this rank's values
     type(transfer_t) :: t
-    integer :: hdferr
-    call begin_read(file, path, 1, t)
-    allocate(values(t%mem_dims(1)))
-    hdferr = 0
-    if (t%total > 0_i8) call h5dread_f(t%dset, h5kind_to_type(wp, H5_REAL_KIND), values, &
-      t%mem_dims(1:1), hdferr, mem_space_id=t%mem_space, file_space_id=t%file_space, &
-      xfer_prp=t%xfer)
-    call h5_check(hdferr, 'h5dread_f (collective)', file, path)
-    if (t%n == 0) deallocate(values)
-    if (t%n == 0) allocate(values(0))
-    call end_transfer(file, path, t)
+    call begin_read(file, path, 1, h5kind_to_type(wp, H5_REAL_KIND), t)
+    allocate(values(t%n))
+    if (t%n > 0) t%buffer = c_loc(values)
+    call move_chunk(file, path, .false., t)
   end subroutine read_real
 
   !> 64-bit integer 1-D particle array: this rank's chunk.
   subroutine read_int8(file, path, values)
     type(h5_file_t), intent(in) :: file                 !< open file
     character(len=*), intent(in) :: path                !< dataset path
-    integer(i8), allocatable, intent(out) :: values(:)  !< this rank's values
+    integer(i8), allocatable, target, intent(out) :: values(:)  !< this rank's values
     type(transfer_t) :: t
-    integer :: hdferr
-    call begin_read(file, path, 1, t)
-    allocate(values(t%mem_dims(1)))
-    hdferr = 0
-    if (t%total > 0_i8) call h5dread_f(t%dset, h5kind_to_type(i8, H5_INTEGER_KIND), values, &
-      t%mem_dims(1:1), hdferr, mem_space_id=t%mem_space, file_space_id=t%file_space, &
-      xfer_prp=t%xfer)
-    call h5_check(hdferr, 'h5dread_f (collective)', file, path)
-    if (t%n == 0) deallocate(values)
-    if (t%n == 0) allocate(values(0))
-    call end_transfer(file, path, t)
+    call begin_read(file, path, 1, h5kind_to_type(i8, H5_INTEGER_KIND), t)
+    allocate(values(t%n))
+    if (t%n > 0) t%buffer = c_loc(values)
+    call move_chunk(file, path, .false., t)
   end subroutine read_int8
 
   !> Real 2-D particle array `(ncomp, n)`: this rank's chunk.
   subroutine read_real_2d(file, path, values)
     type(h5_file_t), intent(in) :: file                 !< open file
     character(len=*), intent(in) :: path                !< dataset path
-    real(wp), allocatable, intent(out) :: values(:, :)  !< this rank's values (ncomp, n)
+    real(wp), allocatable, target, intent(out) :: values(:, :)  !< this rank's values (ncomp, n)
     type(transfer_t) :: t
-    integer :: hdferr
-    call begin_read(file, path, 2, t)
-    allocate(values(t%mem_dims(1), t%mem_dims(2)))
-    hdferr = 0
-    if (t%total > 0_i8) call h5dread_f(t%dset, h5kind_to_type(wp, H5_REAL_KIND), values, &
-      t%mem_dims, hdferr, mem_space_id=t%mem_space, file_space_id=t%file_space, xfer_prp=t%xfer)
-    call h5_check(hdferr, 'h5dread_f (collective)', file, path)
-    if (t%n == 0) deallocate(values)
-    if (t%n == 0) allocate(values(t%ncomp, 0))
-    call end_transfer(file, path, t)
+    call begin_read(file, path, 2, h5kind_to_type(wp, H5_REAL_KIND), t)
+    allocate(values(t%ncomp, t%n))
+    if (t%n > 0) t%buffer = c_loc(values)
+    call move_chunk(file, path, .false., t)
   end subroutine read_real_2d
+
+  !> The collective transfer of this rank's chunk between `t%buffer` and the file, then close
+  !! it: the one transfer of every particle array. An empty dataset has no storage that a
+  !! transfer could address (nothing moves); a rank without particles joins the collective call
+  !! with a zeroed placeholder of the memory extent (its selection is empty).
+  subroutine move_chunk(file, path, write, t)
+    type(h5_file_t), intent(in) :: file    !< open file
+    character(len=*), intent(in) :: path   !< dataset path
+    logical, intent(in) :: write           !< write (else read)
+    type(transfer_t), intent(inout) :: t   !< transfer state, closed on return
+    real(wp), allocatable, target :: empty(:)
+    type(c_ptr) :: buffer
+    integer :: hdferr
+    hdferr = 0
+    if (t%total > 0_i8) then
+      buffer = t%buffer
+      if (t%n == 0) then
+        allocate(empty(product(t%mem_dims)))
+        empty = 0.0_wp
+        buffer = c_loc(empty)
+      end if
+      if (write) then
+        call h5dwrite_f(t%dset, t%type_id, buffer, hdferr, mem_space_id=t%mem_space, &
+          file_space_id=t%file_space, xfer_prp=t%xfer)
+      else
+        call h5dread_f(t%dset, t%type_id, buffer, hdferr, mem_space_id=t%mem_space, &
+          file_space_id=t%file_space, xfer_prp=t%xfer)
+      end if
+    end if
+    if (write) then
+      call h5_check(hdferr, 'h5dwrite_f (collective)', file, path)
+    else
+      call h5_check(hdferr, 'h5dread_f (collective)', file, path)
+    end if
+    call end_transfer(file, path, t)
+  end subroutine move_chunk
 
   !> Number of particles of dataset `path` that `h5_read_particles` gives this rank. Collective.
   function h5_particle_count(file, path) result(n)
@@ -233,6 +212,7 @@ contains
 
     t%n = n
     t%total = total
+    t%type_id = type_id
     t%ncomp = max(ncomp, 1)
     nd = 1
     if (ncomp > 0) nd = 2
@@ -246,10 +226,11 @@ contains
   end subroutine begin_write
 
   !> Open the dataset and select this rank's chunk for reading.
-  subroutine begin_read(file, path, nd, t)
+  subroutine begin_read(file, path, nd, type_id, t)
     type(h5_file_t), intent(in) :: file    !< open file
     character(len=*), intent(in) :: path   !< dataset path
     integer, intent(in) :: nd              !< expected rank of the dataset (1 or 2)
+    integer(hid_t), intent(in) :: type_id  !< memory data type
     type(transfer_t), intent(out) :: t     !< transfer state
     integer(hsize_t), allocatable :: dims(:)
     integer(i8) :: offset
@@ -258,6 +239,7 @@ contains
       call fatal('HDF5: particle dataset ' // trim(file%path) // ':/' // h5_clean_path(path) &
         // ' has a different rank than the array it is read into')
     end if
+    t%type_id = type_id
     t%ncomp = 1
     if (nd == 2) t%ncomp = int(dims(1))
     t%total = int(dims(nd), i8)

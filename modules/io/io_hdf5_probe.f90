@@ -16,6 +16,7 @@ module io_hdf5_probe
     H5T_STRING_F, h5pcreate_f, h5pclose_f, h5pset_fclose_degree_f, H5P_FILE_ACCESS_F, &
     H5F_CLOSE_STRONG_F, h5gn_members_f, h5gget_obj_info_idx_f, h5dopen_f, h5dclose_f, &
     h5dget_space_f, H5G_GROUP_F, H5G_DATASET_F
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc
   use mpmice_kinds, only: wp
   implicit none
   private
@@ -151,17 +152,10 @@ contains
     character(len=:), allocatable, intent(inout) :: reason !< set on failure
     integer, intent(out), optional :: scalar               !< value when n = 1
     integer, intent(out), optional :: values(n)            !< values when n > 1
-    integer(hid_t) :: attr_id
-    integer :: buffer(n), hdferr, ignored
-    call open_attribute(file_id, name, n, attr_id, reason)
+    integer, target :: buffer(n)
+    call read_numbers(file_id, name, n, h5kind_to_type(kind(buffer), H5_INTEGER_KIND), &
+      c_loc(buffer), reason)
     if (len(reason) > 0) return
-    call h5aread_f(attr_id, h5kind_to_type(kind(buffer), H5_INTEGER_KIND), buffer, &
-      [int(n, hsize_t)], hdferr)
-    call h5aclose_f(attr_id, ignored)
-    if (hdferr < 0) then
-      reason = 'attribute ' // name // ' unreadable (corrupt checkpoint)'
-      return
-    end if
     if (present(scalar)) scalar = buffer(1)
     if (present(values)) values = buffer
   end subroutine read_ints
@@ -174,20 +168,30 @@ contains
     character(len=:), allocatable, intent(inout) :: reason !< set on failure
     real(wp), intent(out), optional :: scalar              !< value when n = 1
     real(wp), intent(out), optional :: values(n)           !< values when n > 1
-    integer(hid_t) :: attr_id
-    integer :: hdferr, ignored
-    real(wp) :: buffer(n)
-    call open_attribute(file_id, name, n, attr_id, reason)
+    real(wp), target :: buffer(n)
+    call read_numbers(file_id, name, n, h5kind_to_type(wp, H5_REAL_KIND), c_loc(buffer), reason)
     if (len(reason) > 0) return
-    call h5aread_f(attr_id, h5kind_to_type(wp, H5_REAL_KIND), buffer, [int(n, hsize_t)], hdferr)
-    call h5aclose_f(attr_id, ignored)
-    if (hdferr < 0) then
-      reason = 'attribute ' // name // ' unreadable (corrupt checkpoint)'
-      return
-    end if
     if (present(scalar)) scalar = buffer(1)
     if (present(values)) values = buffer
   end subroutine read_reals
+
+  !> Read the `n` values of root attribute `name` as `type_id` into the memory at `buffer`: the
+  !! one read path of every numeric kind. `reason` is set on failure.
+  subroutine read_numbers(file_id, name, n, type_id, buffer, reason)
+    integer(hid_t), intent(in) :: file_id                  !< open file
+    character(len=*), intent(in) :: name                   !< attribute of the root
+    integer, intent(in) :: n                               !< values expected
+    integer(hid_t), intent(in) :: type_id                  !< memory data type
+    type(c_ptr), value :: buffer                           !< address of room for `n` values
+    character(len=:), allocatable, intent(inout) :: reason !< set on failure
+    integer(hid_t) :: attr_id
+    integer :: hdferr, ignored
+    call open_attribute(file_id, name, n, attr_id, reason)
+    if (len(reason) > 0) return
+    call h5aread_f(attr_id, type_id, buffer, hdferr)
+    call h5aclose_f(attr_id, ignored)
+    if (hdferr < 0) reason = 'attribute ' // name // ' unreadable (corrupt checkpoint)'
+  end subroutine read_numbers
 
   !> Fixed-length string attribute `name` (trailing NULs removed).
   subroutine read_text(file_id, name, text, reason)

@@ -19,6 +19,11 @@ module mpm_output
   character(len=2), parameter :: sym_names(6) = ['xx', 'yy', 'zz', 'xy', 'yz', 'xz']  !< stress
   character(len=1), parameter :: axis(3) = ['x', 'y', 'z']                          !< components
 
+  !> Read a checkpoint's particle dataset into this rank's particle arrays.
+  interface read_into
+    module procedure read_rows_into, read_column_into
+  end interface read_into
+
 contains
 
   !> Dump datasets of one solid under `particles/<name>/` (collective).
@@ -104,7 +109,6 @@ contains
     character(len=*), intent(in) :: name     !< solid name
     type(particles_t), intent(inout) :: p    !< particles
     character(len=:), allocatable :: g
-    real(wp), allocatable :: a2(:, :), a1(:)
     integer(i8), allocatable :: ids(:)
     integer :: n
     g = 'checkpoint/particles/' // trim(name) // '/'
@@ -114,31 +118,39 @@ contains
     call particles_resize(p, max(n, 16))
     p%np = n
     p%id(1:n) = ids
-    call h5_read_particles(file, g // 'x', a2)
-    p%x(:, 1:n) = a2
-    call h5_read_particles(file, g // 'v', a2)
-    p%v(:, 1:n) = a2
-    call h5_read_particles(file, g // 'f', a2)
-    p%f(:, 1:n) = a2
-    call h5_read_particles(file, g // 'stress', a2)
-    p%stress(:, 1:n) = a2
-    call h5_read_particles(file, g // 'stress_unrot', a2)
-    p%stress_unrot(:, 1:n) = a2
-    call h5_read_particles(file, g // 'mass', a1)
-    p%mass(1:n) = a1
-    call h5_read_particles(file, g // 'volume', a1)
-    p%volume(1:n) = a1
-    call h5_read_particles(file, g // 'volume0', a1)
-    p%volume0(1:n) = a1
-    call h5_read_particles(file, g // 'plastic_strain', a1)
-    p%plastic_strain(1:n) = a1
-    call h5_read_particles(file, g // 'hardening', a1)
-    p%hardening(1:n) = a1
-    call h5_read_particles(file, g // 'temperature', a1)
-    p%temperature(1:n) = a1
-    call h5_read_particles(file, g // 'pore_pressure', a1)
-    p%pore_pressure(1:n) = a1
+    call read_into(file, g // 'x', p%x(:, 1:n))
+    call read_into(file, g // 'v', p%v(:, 1:n))
+    call read_into(file, g // 'f', p%f(:, 1:n))
+    call read_into(file, g // 'stress', p%stress(:, 1:n))
+    call read_into(file, g // 'stress_unrot', p%stress_unrot(:, 1:n))
+    call read_into(file, g // 'mass', p%mass(1:n))
+    call read_into(file, g // 'volume', p%volume(1:n))
+    call read_into(file, g // 'volume0', p%volume0(1:n))
+    call read_into(file, g // 'plastic_strain', p%plastic_strain(1:n))
+    call read_into(file, g // 'hardening', p%hardening(1:n))
+    call read_into(file, g // 'temperature', p%temperature(1:n))
+    call read_into(file, g // 'pore_pressure', p%pore_pressure(1:n))
   end subroutine read_particle_checkpoint
+
+  !> Read this rank's chunk of the 2-D particle dataset `path` into `dest` (same extent).
+  subroutine read_rows_into(file, path, dest)
+    type(h5_file_t), intent(in) :: file     !< open checkpoint
+    character(len=*), intent(in) :: path    !< dataset path
+    real(wp), intent(inout) :: dest(:, :)   !< this rank's particles' values (ncomp, n)
+    real(wp), allocatable :: values(:, :)
+    call h5_read_particles(file, path, values)
+    dest = values
+  end subroutine read_rows_into
+
+  !> Read this rank's chunk of the 1-D particle dataset `path` into `dest` (same length).
+  subroutine read_column_into(file, path, dest)
+    type(h5_file_t), intent(in) :: file     !< open checkpoint
+    character(len=*), intent(in) :: path    !< dataset path
+    real(wp), intent(inout) :: dest(:)      !< this rank's particles' values (n)
+    real(wp), allocatable :: values(:)
+    call h5_read_particles(file, path, values)
+    dest = values
+  end subroutine read_column_into
 
   !> Cell dataset paths written by `write_cell_dump` for solid `name`.
   function cell_dump_paths(name) result(paths)
