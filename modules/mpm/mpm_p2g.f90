@@ -9,7 +9,8 @@ module mpm_p2g
   use parallel_halo, only: halo_t, halo_reverse_node
   use particles_store, only: particles_t
   use mpm_shape, only: particle_stencil, max_stencil
-  use mpm_nodes, only: mpm_nodes_t
+  use mpm_nodes, only: mpm_nodes_t, node_mass, node_momentum, node_force, node_rigid_mass, &
+    node_rigid_momentum, node_rigid_gradient
   implicit none
   private
 
@@ -65,22 +66,25 @@ contains
             g(1) = dw(a, 1) * wjk
             g(2) = w(a, 1) * gjk(2)
             g(3) = w(a, 1) * gjk(3)
-            q(1, i, j, k) = q(1, i, j, k) + s * m
-            q(2, i, j, k) = q(2, i, j, k) + s * mv(1)
-            q(3, i, j, k) = q(3, i, j, k) + s * mv(2)
-            q(4, i, j, k) = q(4, i, j, k) + s * mv(3)
+            q(node_mass, i, j, k) = q(node_mass, i, j, k) + s * m
+            q(node_momentum, i, j, k) = q(node_momentum, i, j, k) + s * mv(1)
+            q(node_momentum + 1, i, j, k) = q(node_momentum + 1, i, j, k) + s * mv(2)
+            q(node_momentum + 2, i, j, k) = q(node_momentum + 2, i, j, k) + s * mv(3)
             ! eq. 27: f = -sigma . grad S V (sigma symmetric: xx, yy, zz, xy, yz, xz)
-            q(5, i, j, k) = q(5, i, j, k) - (sv(1) * g(1) + sv(4) * g(2) + sv(6) * g(3))
-            q(6, i, j, k) = q(6, i, j, k) - (sv(4) * g(1) + sv(2) * g(2) + sv(5) * g(3))
-            q(7, i, j, k) = q(7, i, j, k) - (sv(6) * g(1) + sv(5) * g(2) + sv(3) * g(3))
+            q(node_force, i, j, k) = q(node_force, i, j, k) &
+              - (sv(1) * g(1) + sv(4) * g(2) + sv(6) * g(3))
+            q(node_force + 1, i, j, k) = q(node_force + 1, i, j, k) &
+              - (sv(4) * g(1) + sv(2) * g(2) + sv(5) * g(3))
+            q(node_force + 2, i, j, k) = q(node_force + 2, i, j, k) &
+              - (sv(6) * g(1) + sv(5) * g(2) + sv(3) * g(3))
           end do
         end do
       end do
     end do
   end subroutine p2g_accumulate
 
-  !> Add the mass, momentum and mass gradient of the rigid particles `p` to components 8-14 of
-  !! `q`.
+  !> Add the mass, momentum and mass gradient of the rigid particles `p` to the rigid components
+  !! of `q` (`node_rigid_mass`, `node_rigid_momentum`, `node_rigid_gradient`).
   subroutine p2g_accumulate_rigid(p, q, kind, grid)
     type(particles_t), intent(in) :: p           !< rigid particles (velocity set)
     type(grid_t), intent(in) :: grid             !< block geometry
@@ -98,12 +102,16 @@ contains
           do a = 1, nn(1)
             i = first(1) + a - 1
             s = w(a, 1) * w(b, 2) * w(c, 3) * m
-            q(8, i, j, k) = q(8, i, j, k) + s
-            q(9:11, i, j, k) = q(9:11, i, j, k) + s * p%v(:, ip)
+            q(node_rigid_mass, i, j, k) = q(node_rigid_mass, i, j, k) + s
+            q(node_rigid_momentum:node_rigid_momentum + 2, i, j, k) = &
+              q(node_rigid_momentum:node_rigid_momentum + 2, i, j, k) + s * p%v(:, ip)
             ! mass gradient: the body's outward normal at the node is grad m / |grad m|
-            q(12, i, j, k) = q(12, i, j, k) + m * dw(a, 1) * w(b, 2) * w(c, 3)
-            q(13, i, j, k) = q(13, i, j, k) + m * w(a, 1) * dw(b, 2) * w(c, 3)
-            q(14, i, j, k) = q(14, i, j, k) + m * w(a, 1) * w(b, 2) * dw(c, 3)
+            q(node_rigid_gradient, i, j, k) = q(node_rigid_gradient, i, j, k) &
+              + m * dw(a, 1) * w(b, 2) * w(c, 3)
+            q(node_rigid_gradient + 1, i, j, k) = q(node_rigid_gradient + 1, i, j, k) &
+              + m * w(a, 1) * dw(b, 2) * w(c, 3)
+            q(node_rigid_gradient + 2, i, j, k) = q(node_rigid_gradient + 2, i, j, k) &
+              + m * w(a, 1) * w(b, 2) * dw(c, 3)
           end do
         end do
       end do
