@@ -2,6 +2,7 @@
 miss"): what carries the front, and which particles change volume.
 
 Usage:  python -m postproc.mpmice_rondon_diagnose DIR [DIR ...] [--times 1 2 3]
+            [--plot PNG --plot-times T1 T2 ...]
 
 Per run and per dump (or at the dumps nearest to ``--times``) it prints:
 
@@ -20,10 +21,15 @@ Per run and per dump (or at the dumps nearest to ``--times``) it prints:
   negative one expels it; ``near probe``: the same total and its suspended part for the
   particles within ``NEAR`` of the wall at the previous dump (the mass over the probe);
 * ``base p``: the base excess pore pressure at the probe (as postproc.mpmice_rondon).
+
+``--plot PNG`` draws the beads of each run (one row per run) at ``--plot-times`` (one column
+each, the nearest dump), coloured by their solid fraction, the suspended ones (no effective
+stress) as crosses.
 """
 from __future__ import annotations
 
 import argparse
+import os
 
 import numpy as np
 
@@ -106,14 +112,49 @@ def report(folder: str, times=None) -> list[dict]:
     return rows
 
 
+def plot(folders: list[str], times: list[float], path: str) -> str:
+    """The beads of each run at the dumps nearest to `times`, by solid fraction; suspended
+    particles as crosses."""
+    from postproc.figures import pyplot, save_figure
+    plt = pyplot()
+    fig, axes = plt.subplots(len(folders), len(times), figsize=(4.2 * len(times),
+                                                                 1.5 * len(folders) + 0.8),
+                             squeeze=False)
+    image = None
+    for i, folder in enumerate(folders):
+        dumps = read_run_dumps(folder, rondon.NAME)
+        have = np.array([d["time"] for d in dumps])
+        for j, t in enumerate(times):
+            ax = axes[i, j]
+            d = dumps[int(np.argmin(np.abs(have - t)))]
+            s = state(d)
+            contact = ~s["suspended"]
+            image = ax.scatter(s["x"][contact] * 100, s["y"][contact] * 100, c=s["phi"][contact],
+                               s=4, cmap="viridis", vmin=0.3, vmax=0.62)
+            ax.scatter(s["x"][~contact] * 100, s["y"][~contact] * 100, c=s["phi"][~contact],
+                       s=10, marker="x", cmap="viridis", vmin=0.3, vmax=0.62, linewidths=0.7)
+            ax.set_xlim(0, 18)
+            ax.set_ylim(0, 5.2)
+            ax.set_aspect("equal")
+            ax.set_title(f"{os.path.basename(folder.rstrip('/'))}, t = {d['time']:.2f} s",
+                         fontsize=8)
+            ax.tick_params(labelsize=7)
+    fig.colorbar(image, ax=axes, shrink=0.8, label="solid fraction (x: suspended)")
+    return save_figure(fig, path)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("dirs", nargs="+", help="output directories of Rondon runs")
     parser.add_argument("--times", nargs="*", type=float, default=None,
                         help="print only the dumps nearest to these times [s]")
+    parser.add_argument("--plot", default=None, help="write the particle figure here (PNG)")
+    parser.add_argument("--plot-times", nargs="+", type=float, default=[1.0, 2.0, 3.0])
     args = parser.parse_args(argv)
     for folder in args.dirs:
         report(folder, args.times)
+    if args.plot:
+        print(plot(args.dirs, args.plot_times, args.plot))
     return 0
 
 
