@@ -133,7 +133,7 @@ def plot(folders: list[str], times: list[float], path: str) -> str:
                                s=4, cmap="viridis", vmin=0.3, vmax=0.62)
             ax.scatter(s["x"][~contact] * 100, s["y"][~contact] * 100, c=s["phi"][~contact],
                        s=10, marker="x", cmap="viridis", vmin=0.3, vmax=0.62, linewidths=0.7)
-            ax.set_xlim(0, 18)
+            ax.set_xlim(0, 22)
             ax.set_ylim(0, 5.2)
             ax.set_aspect("equal")
             ax.set_title(f"{os.path.basename(folder.rstrip('/'))}, t = {d['time']:.2f} s",
