@@ -114,8 +114,14 @@ def front_check(ref: dict) -> list[tuple[float, float, float]]:
 
 
 def spacing(dump: dict) -> float:
-    """Initial particle spacing [m] along x (cell size / particles per cell)."""
-    return float(np.asarray(dump["attrs"]["dx"]).reshape(3)[0]) / PPC
+    """Initial particle spacing [m] along x (cell size / the beads' particles per cell along x,
+    from the input the dump carries; PPC when it is not given there)."""
+    try:
+        ppc = solid_group(dump).get("particles_per_cell", PPC)
+    except KeyError:
+        ppc = PPC
+    n = int(ppc[0] if isinstance(ppc, (list, tuple)) else ppc)
+    return float(np.asarray(dump["attrs"]["dx"]).reshape(3)[0]) / n
 
 
 def model_front(dump: dict) -> float:
