@@ -33,6 +33,12 @@ Accuracy charts (--only names):
                       record at WG1 over its first wave / the record's RMS; 40, 20 mm cells (and
                       10 mm for the Forchheimer curve) x drag law (Forchheimer, Kozeny-Carman) x
                       air layer (0.07, 0.11, 0.19 m); runs in $MPMICE_GRILLI_RUNS are reused.
+  rondon              Rondon et al. (2011) underwater column collapse, dense + loose pair
+                      (postproc.mpmice_rondon, critical-state sand), 10 / 5 / 2.5 / 1.25 mm
+                      cells, to 1.15 s: mean relative error of the run-out at the experiment's
+                      first front points (0.55 s dense, 0.64 s loose) and of the base excess pore
+                      pressure at its first points (1.13 s); run time of the pair; GIMP vs
+                      linear at cfl 0.4, GIMP at cfl 0.2.
 Stability maps:
   drag_map            consolidation column (50 cells, densities / 100) at a fixed dt (2^-22 ..
                       2^-14 s) x grain size (1 mm .. 10 um: drag relaxation rate beta = 9.8e4 ..
@@ -56,6 +62,13 @@ Stability maps:
                       (rho g H) (exact: the weight above the particle, valid at any strain).
                       Noisy = oscillation > 5 %; failed = exit status 3 (non-finite, a particle
                       lost, the step collapsed, as for mpm_cfl_map) or the step cap.
+  soil_cfl_map        soil column under self-weight (1 m, 25 cells, GIMP, geostatic start, 20
+                      periods), &time cfl 0.25 .. 1 x stiffness: the critical-state sand (E = 1e7
+                      .. 1e5 Pa, loose: yields from the start) and Modified Cam-Clay (kappa =
+                      0.002 .. 0.05, OCR 1: on its yield surface). unstable = stopped by &run
+                      max_energy_growth = 1.2; failed = other exit status 3 or the step cap;
+                      noisy = stress oscillation > 5 % (as crossing_map); inaccurate = max
+                      |sigma_yy - exact| > 5 % of the base's sigma'_v.
 """
 from __future__ import annotations
 
@@ -74,6 +87,7 @@ if __package__ in (None, ""):
     sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from postproc import ice_sod, mpm_bar, mpmice_darcy, mpmice_terzaghi  # noqa: E402
+from postproc import mpmice_rondon as rondon                           # noqa: E402
 from postproc import mpmice_stiff_drag as stiff                        # noqa: E402
 from postproc import mpmice_thermal_cavity as cavity                   # noqa: E402
 from postproc.figures import pyplot, save_figure                      # noqa: E402
@@ -446,6 +460,50 @@ def list_dumps_read(out: str, name: str) -> list[dict]:
     return [read_dump(p) for p in list_dumps(out, name)]
 
 
+#: The Rondon et al. (2011) pair (docs/validation/rondon2011.md): method -> (shape function,
+#: &time cfl, cells along x of the full ladder, of --quick). 30 / 60 / 120 / 240 cells: 10 /
+#: 5 / 2.5 / 1.25 mm.
+RONDON_METHODS = {
+    "GIMP, cfl 0.4": ("gimp", 0.4, (30, 60, 120, 240), (30,)),
+    "linear, cfl 0.4": ("linear", 0.4, (30, 60, 120), (30,)),
+    "GIMP, cfl 0.2": ("gimp", 0.2, (30, 60), ()),
+}
+
+
+def run_rondon_pair(work: str, cells: int, shape: str, cfl: float,
+                    t_end: float = rondon.CHART_END) -> tuple[dict, dict]:
+    """The dense and the loose Rondon scene at `cells` x cells/3 (dumps every 0.05 s, to
+    `t_end`); returns the pair as one run (run_s, wall_s, steps summed; failed if either failed)
+    and rondon.chart_error of the pair (empty when a run failed)."""
+    runs, dirs = [], {}
+    for case in rondon.CASES:
+        out = os.path.join(work, f"rondon_{case}_{shape}_{cfl:g}_{cells}")
+        runs.append(timed_run([os.path.join(ROOT, "namelists", f"mpmice_rondon_{case}_2d.nml"),
+                               "--set", f"&grid ncells = {cells}, {cells // 3}, 1 /",
+                               "--set", f"&numerics shape_function = '{shape}' /",
+                               "--set", f"&time cfl = {cfl!r} /",
+                               "--set", f"&run output_dir = '{out}', end_time = {t_end!r}, "
+                                        f"output_interval = 0.05 /"],
+                              out, rondon.NAME, 1, work, timeout=4 * 3600))
+        dirs[case] = out
+    failed = next((r for r in runs if r["exit_code"] != 0), None)
+    pair = dict(failed or runs[0])
+    for key in ("run_s", "wall_s", "steps"):
+        pair[key] = sum(r[key] for r in runs)
+    return pair, ({} if failed else rondon.chart_error(dirs, t_end=t_end))
+
+
+def chart_rondon(work: str, quick: bool) -> list[dict]:
+    rows = []
+    for method, (shape, cfl, ladder, quick_ladder) in RONDON_METHODS.items():
+        for n in (quick_ladder if quick else ladder):
+            run, err = run_rondon_pair(work, n, shape, cfl)
+            rows.append(row_of("rondon", method, n, 1, run, err.get("error", math.nan),
+                               dx_mm=300.0 / n,
+                               **{k: v for k, v in err.items() if k != "error"}))
+    return rows
+
+
 ACCURACY = {
     "sod": (chart_sod, "Sod shock tube (ICE), t = 0.2", "relative L1 density error"),
     "terzaghi": (chart_terzaghi, "Consolidation column (MPMICE), paper's densities",
@@ -463,6 +521,9 @@ ACCURACY = {
     "grilli": (chart_grilli, f"Grilli et al. (2017) test 17 (MPMICE), WG1, model t <= "
                              f"{GRILLI_END} s",
                "RMS(model - record) / RMS(record) at WG1"),
+    "rondon": (chart_rondon, f"Rondon et al. (2011) dense + loose pair (MPMICE, critical-state "
+                             f"sand), to {rondon.CHART_END} s",
+               "mean rel. error: run-out at 0.55 / 0.64 s, base pressure at 1.13 s"),
 }
 
 
@@ -614,7 +675,113 @@ def map_crossing(work: str, quick: bool) -> list[dict]:
     return rows
 
 
-STABILITY = {"drag_map": map_drag, "mpm_cfl_map": map_mpm_cfl, "crossing_map": map_crossing}
+#: Soil column of the soil_cfl_map: H = 1 m, 25 cells, grains 2650 kg/m^3 at porosity n,
+#: geostatic start (K0 = nu / (1 - nu)), full gravity, local damping 0.1, 20 periods of the
+#: first mode at the base's wave speed. Stiffness ladders: the sand's E [Pa], the clay's kappa.
+SOIL_CELLS = 25
+SOIL_RHO_S, SOIL_NU, SOIL_H = 2650.0, 0.3, 1.0
+SOIL_CFLS = (0.25, 0.5, 0.75, 0.9, 1.0)
+SOIL_STIFFNESS = {"critical_state_sand": (1.0e7, 1.0e6, 1.0e5),
+                  "cam_clay": (0.002, 0.01, 0.05)}
+SOIL_POROSITY = {"critical_state_sand": 0.45, "cam_clay": 0.5}
+#: energy stop of the soil map: kinetic + strain energy > SOIL_ENERGY_FACTOR x (E(0) + W)
+SOIL_ENERGY_FACTOR = 1.2
+SOIL_ERROR_LIMIT = 0.05
+
+
+def soil_base_modulus(model: str, stiffness: float) -> float:
+    """Constrained modulus [Pa] at the column's base at t = 0: the sand's from E and nu; the
+    clay's K + 4G/3 with K = v p' / kappa, p' = (1 + 2 K0) / 3 sigma'_v (docs/soil_models.md)."""
+    if model == "critical_state_sand":
+        return constrained_modulus(stiffness, SOIL_NU)
+    n = SOIL_POROSITY[model]
+    k0 = SOIL_NU / (1.0 - SOIL_NU)
+    p = (1.0 + 2.0 * k0) / 3.0 * (1.0 - n) * SOIL_RHO_S * 9.81 * SOIL_H
+    bulk = p / (1.0 - n) / stiffness
+    return bulk * (1.0 + 4.0 / 3.0 * 1.5 * (1.0 - 2.0 * SOIL_NU) / (1.0 + SOIL_NU))
+
+
+def soil_solid(model: str, stiffness: float) -> str:
+    """The &solid group of the map's column."""
+    common = (f"name = 'soil', model = '{model}', density = {SOIL_RHO_S!r}, "
+              f"porosity = {SOIL_POROSITY[model]!r}, poisson_ratio = {SOIL_NU!r}, "
+              f"geostatic = .true.")
+    if model == "critical_state_sand":   # loose (phi 0.55 < phi_m): yields at K0 and contracts
+        return (f"&solid {common}, youngs_modulus = {stiffness!r}, friction_mu1 = 0.577, "
+                f"critical_solid_fraction = 0.585, dilatancy_constant = 4.09 /")
+    return (f"&solid {common}, critical_state_ratio = 1.0, compression_index = 0.2, "
+            f"swelling_index = {stiffness!r}, ocr = 1.0 /")
+
+
+def run_soil_column(work: str, model: str, stiffness: float, cfl: float) -> dict:
+    """The geostatic soil column at `cfl`; returns the run, the stress error max |sigma_yy -
+    exact| / sigma'_v,base (exact: -(1 - n) rho_s g (H - Y0), the weight above the particle at
+    any strain in 1D), the stress oscillation (as map_crossing) and the energy peak."""
+    n = SOIL_POROSITY[model]
+    rho = (1.0 - n) * SOIL_RHO_S
+    c = math.sqrt(soil_base_modulus(model, stiffness) / rho)
+    period = 4.0 * SOIL_H / c
+    dx = SOIL_H / SOIL_CELLS
+    planned = 20.0 * period / (cfl * dx / c)
+    out = os.path.join(work, f"soil_{model}_{stiffness:g}_{cfl:g}")
+    run = timed_run([os.path.join(ROOT, "namelists", "mpm_column_1d.nml"),
+                     "--set", f"&grid ncells = 1, {int(round(1.25 * SOIL_CELLS))}, 1 /",
+                     "--set", soil_solid(model, stiffness),
+                     "--set", "&mpm gravity_ramp_time = 0.0 /",
+                     "--set", f"&time cfl = {cfl!r}, dt_max = {period!r} /",
+                     "--set", f"&run output_dir = '{out}', end_time = {20 * period!r}, "
+                              f"output_interval = 0.0, "
+                              f"max_steps = {int(STEP_CAP * planned) + 100} /",
+                     "--set", MAP_STOPS,
+                     "--set", f"&run max_energy_growth = {SOIL_ENERGY_FACTOR!r} /"],
+                    out, "column1d", 1, work)
+    res = {"run": run, "stress_error": math.nan, "oscillation": math.nan,
+           "base_modulus": soil_base_modulus(model, stiffness), "period": period}
+    paths = list_dumps(out, "column1d")
+    _, p0 = particles(paths[0], "soil")
+    _, p1 = particles(paths[-1], "soil")
+    res["particles_lost"] = lost_particles(run, p0, p1)
+    if not run_failed(run, res["particles_lost"]):
+        order = np.argsort(p0["y"])
+        s = p1["stress_yy"][order]
+        scale = rho * 9.81 * SOIL_H
+        res["stress_error"] = float(np.max(np.abs(s + rho * 9.81 * (SOIL_H - p0["y"][order])))
+                                    / scale)
+        res["oscillation"] = float(np.max(np.abs(s[1:-1] - 0.5 * (s[:-2] + s[2:]))) / scale)
+        res["settlement_cells"] = float((np.max(p0["y"]) - np.max(p1["y"])) / dx)
+    return res
+
+
+def map_soil_cfl(work: str, quick: bool) -> list[dict]:
+    cfls = (0.5, 1.0) if quick else SOIL_CFLS
+    rows = []
+    for model, ladder in SOIL_STIFFNESS.items():
+        for stiffness in (ladder[::2] if quick else ladder):
+            for cfl in cfls:
+                r = run_soil_column(work, model, stiffness, cfl)
+                if stop_kind(r["run"]) == "energy growth":
+                    verdict = "unstable"
+                elif run_failed(r["run"], r["particles_lost"]) or \
+                        not math.isfinite(r["stress_error"]):
+                    verdict = "failed"
+                elif r["oscillation"] > NOISE_LIMIT:
+                    verdict = "noisy"
+                elif r["stress_error"] > SOIL_ERROR_LIMIT:
+                    verdict = "inaccurate"
+                else:
+                    verdict = "ok"
+                rows.append({"model": model, "stiffness": stiffness,
+                             "base_modulus": r["base_modulus"], "cfl": cfl, "verdict": verdict,
+                             "stress_error": r["stress_error"], "oscillation": r["oscillation"],
+                             "settlement_cells": r.get("settlement_cells", math.nan),
+                             "particles_lost": r["particles_lost"], "stop": stop_kind(r["run"]),
+                             "steps": r["run"]["steps"], "run_s": r["run"]["run_s"],
+                             "reason": r["run"]["reason"][:90]})
+    return rows
+
+
+STABILITY = {"drag_map": map_drag, "mpm_cfl_map": map_mpm_cfl, "crossing_map": map_crossing,
+             "soil_cfl_map": map_soil_cfl}
 
 
 # --------------------------------------------------------------------------- output
@@ -778,8 +945,31 @@ def plot_crossing(rows: list[dict], path: str) -> None:
     save_figure(fig, path)
 
 
+def plot_soil_cfl(rows: list[dict], path: str) -> None:
+    plt = pyplot()
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5))
+    labels = {"critical_state_sand": "critical-state sand (E = 1e7 .. 1e5 Pa)",
+              "cam_clay": "Modified Cam-Clay (kappa = 0.002 .. 0.05)"}
+    for ax, model in zip(axes, SOIL_STIFFNESS):
+        _verdict_points(ax, [r for r in rows if r["model"] == model], "cfl", "base_modulus",
+                        ax.semilogy, lambda r: f"{r['stress_error']:.1e}"
+                        if math.isfinite(r["stress_error"]) else None, (5, -10))
+        ax.set_xlabel("&time cfl (dt = cfl dx / (c + |v|); validation caps it at 1)")
+        ax.set_title(f"model = '{model}': {labels[model]}", fontsize=9)
+        ax.set_xlim(0.15, 1.15)
+        _legend_verdicts(ax, rows)
+    axes[0].set_ylabel("constrained modulus at the base, t = 0 [Pa]")
+    fig.suptitle(f"Soil column under self-weight (1D MPM, GIMP, {SOIL_CELLS} cells, geostatic "
+                 f"start, 20 periods). unstable: stopped by &run max_energy_growth = "
+                 f"{SOIL_ENERGY_FACTOR:g}; failed: other exit status 3\nnoisy: stress oscillation "
+                 f"> {NOISE_LIMIT:.0%}; inaccurate: max |sigma_yy - exact| > "
+                 f"{SOIL_ERROR_LIMIT:.0%} of sigma'_v,base (labels)", fontsize=9)
+    fig.tight_layout()
+    save_figure(fig, path)
+
+
 STABILITY_PLOTS = {"drag_map": plot_drag, "mpm_cfl_map": plot_mpm_cfl,
-                   "crossing_map": plot_crossing}
+                   "crossing_map": plot_crossing, "soil_cfl_map": plot_soil_cfl}
 
 
 #: Errors equal to this relative tolerance count as equal on the Pareto front.

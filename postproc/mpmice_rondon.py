@@ -114,8 +114,14 @@ def front_check(ref: dict) -> list[tuple[float, float, float]]:
 
 
 def spacing(dump: dict) -> float:
-    """Initial particle spacing [m] along x (cell size / particles per cell)."""
-    return float(np.asarray(dump["attrs"]["dx"]).reshape(3)[0]) / PPC
+    """Initial particle spacing [m] along x (cell size / the beads' particles per cell along x,
+    from the input the dump carries; PPC when it is not given there)."""
+    try:
+        ppc = solid_group(dump).get("particles_per_cell", PPC)
+    except KeyError:
+        ppc = PPC
+    n = int(ppc[0] if isinstance(ppc, (list, tuple)) else ppc)
+    return float(np.asarray(dump["attrs"]["dx"]).reshape(3)[0]) / n
 
 
 def model_front(dump: dict) -> float:
@@ -190,6 +196,62 @@ def summary(t: np.ndarray, front: np.ndarray, p_t: np.ndarray, p: np.ndarray) ->
             "peak_time_s": float(p_t[k]) if k is not None else float("nan"),
             "final_runout_m": final, "final_time_s": float(t[-1]),
             "t90_s": float(t[reached[0]]) if len(reached) else float("nan")}
+
+
+#: Window of the speed-against-accuracy chart (bench/accuracy_charts.py ``rondon``) [s]: it
+#: holds the first front point of each packing (0.55 s dense, 0.64 s loose) and the first base
+#: pressure point of each (1.13 s); the experiment has no pressure data before 1.1 s.
+CHART_END = 1.15
+
+
+def data_errors(series: dict, ref: dict, t_end: float) -> dict:
+    """Relative errors of one run against the experiment at the data's times up to ``t_end``:
+    ``runout`` (model run-out front - L0 against the shifted front file's, each point |m - e| /
+    e; the file's first point, which fixes the shift, is left out) and ``pressure`` (base
+    excess pore pressure, |m - e| / |e|); the model's series is
+    interpolated linearly in time between its dumps. Returns {"runout": [(t, model, exp,
+    error)], "pressure": [...]} (run-out in m, pressure in Pa)."""
+    out = {"runout": [], "pressure": []}
+    t_f, x_f = ref["front"]
+    t_p, p = ref["pressure"]
+    for t, x in zip(t_f[1:], x_f[1:]):      # the first point is the shift's origin (L0)
+        if t <= t_end and t <= series["t"][-1]:
+            e = x - ref["front_offset"] - L0
+            m = float(np.interp(t, series["t"], series["front"])) - L0
+            out["runout"].append((float(t), m, float(e), abs(m - e) / abs(e)))
+    for t, v in zip(t_p, p):
+        if t <= t_end and t <= series["t"][-1]:
+            m = float(np.interp(t, series["t"], series["pressure"]))
+            out["pressure"].append((float(t), m, float(v), abs(m - v) / abs(v)))
+    return out
+
+
+def chart_error(runs: dict, reference: str = DEFAULT_REFERENCE,
+                t_end: float = CHART_END) -> dict:
+    """The speed-against-accuracy chart's error of a dense/loose pair ``runs`` {case: output
+    dir}: the mean of the relative errors of every data point up to ``t_end`` of both packings
+    (:func:`data_errors`: run-out and base pressure); also each point's error as
+    ``<case>_<quantity>_<t>``, the model's value there as ``..._model`` (m, Pa), the mean per
+    quantity, and per case the peak base pressure and the run-out at the window's end."""
+    points, model = {}, {}
+    for case, folder in runs.items():
+        series = model_series(read_run_dumps(folder, NAME))
+        errs = data_errors(series, read_reference(reference, case), t_end)
+        for quantity, rows in errs.items():
+            for t, m, _, e in rows:
+                points[f"{case}_{quantity}_{t:.3g}s"] = e
+                model[f"{case}_{quantity}_{t:.3g}s_model"] = m
+        model[f"{case}_peak_pressure_Pa"] = float(series["pressure"][np.argmax(np.abs(
+            series["pressure"]))])
+        model[f"{case}_runout_end_m"] = float(series["front"][-1] - L0)
+    values = list(points.values())
+    out = {"error": float(np.mean(values)) if values else float("nan")}
+    for quantity in ("runout", "pressure"):
+        mine = [v for k, v in points.items() if f"_{quantity}_" in k]
+        out[f"{quantity}_error"] = float(np.mean(mine)) if mine else float("nan")
+    out.update(points)
+    out.update(model)
+    return out
 
 
 def _parser() -> argparse.ArgumentParser:
