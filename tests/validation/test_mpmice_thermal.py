@@ -102,7 +102,7 @@ def test_porous_medium_at_rest_under_gravity(run_mpmice, tmp_path):
     assert np.max(np.abs(c["skeleton/temperature"] - 283.15)) < 5e-12
 
 
-def _cavity(tmp_path, label, n, nranks=1, ra=None, thermal_times=0.3, dumps=3):
+def _cavity(run_mpmice, tmp_path, label, n, nranks=1, ra=None, thermal_times=0.3, dumps=3):
     grain = cavity.grain_for(ra) if ra else cavity.PAPER_GRAIN
     end = thermal_times * cavity.THERMAL_TIME
     return _run(run_mpmice, tmp_path, cavity.NAMELIST, label, cavity.NAME,
@@ -126,31 +126,32 @@ def _check_darcy_rayleigh(dumps, ra, tolerance, steady):
     assert v[0, n // 2] > 0.0 > v[-1, n // 2]
 
 
-def test_thermal_cavity_ra10(tmp_path):
+def test_thermal_cavity_ra10(run_mpmice, tmp_path):
     """Ra = 10 on 16 x 16 cells to 0.5 thermal times (~2 s): the mean hot-wall Nusselt number
     within 0.5 % of the benchmark 1.08 (measured 1.0784, -0.15 %; published values 1.065-1.079),
     steady to 2e-4 (measured 5e-5 over the last 0.1 thermal times), hot = cold wall to 1e-5."""
-    _check_darcy_rayleigh(_cavity(tmp_path, "ra10", 16, ra=10.0, thermal_times=0.5, dumps=5),
-                          10.0, 0.005, 2e-4)
+    dumps = _cavity(run_mpmice, tmp_path, "ra10", 16, ra=10.0, thermal_times=0.5, dumps=5)
+    _check_darcy_rayleigh(dumps, 10.0, 0.005, 2e-4)
 
 
-def test_thermal_cavity_ra100(tmp_path):
+def test_thermal_cavity_ra100(run_mpmice, tmp_path):
     """Ra = 100, where convection carries two thirds of the heat, on 20 x 20 cells to 0.3
     thermal times (~5 s): within 3 % of the benchmark 3.1 (measured 3.0239, -2.45 %; 40 x 40:
     see docs/validation/mpmice_thermal.md), steady to 5e-5 (measured 7e-6), hot = cold wall to
     1e-5."""
-    _check_darcy_rayleigh(_cavity(tmp_path, "ra100", 20, ra=100.0), 100.0, 0.03, 5e-5)
+    dumps = _cavity(run_mpmice, tmp_path, "ra100", 20, ra=100.0)
+    _check_darcy_rayleigh(dumps, 100.0, 0.03, 5e-5)
 
 
 @pytest.mark.mpi
 @pytest.mark.parametrize("nranks", [2, 4])
-def test_thermal_cavity_rank_invariance(tmp_path, nranks):
+def test_thermal_cavity_rank_invariance(run_mpmice, tmp_path, nranks):
     """The paper's cavity (Ra 15.2) on 12 x 12 cells gives the same temperatures and velocities
     on 2 and 4 ranks as on 1: 1e-8 K (of dT = 1 K) and 1e-7 of the largest speed (the Darcy
     velocity is the pressure gradient times K / mu: the pressure solve's tolerance, 1e-12 of
     ~1e5 Pa, shows up as ~1e-8 of a 1e-6 m/s flow, and moves the temperatures by ~1e-9 K)."""
-    one = _cavity(tmp_path, "c1", 12)[-1]["cell"]
-    many = _cavity(tmp_path, f"c{nranks}", 12, nranks=nranks)[-1]["cell"]
+    one = _cavity(run_mpmice, tmp_path, "c1", 12)[-1]["cell"]
+    many = _cavity(run_mpmice, tmp_path, f"c{nranks}", 12, nranks=nranks)[-1]["cell"]
     for key in ("water/temperature", "skeleton/temperature"):
         assert np.max(np.abs(one[key] - many[key])) < 1e-8
     scale = np.max(np.abs(one["water/velocity_y"]))
