@@ -25,7 +25,10 @@ centroid, speed) in --out and prints, per run, the values at the shapes' times a
 acceleration of a least-squares fit s = a t^2 / 2 of the centroid's path along the slope over
 the dumps up to --fit-end (default 0.4 s model time: the slide still on the slope, before the
 fastest runs' fronts reach the toe x = 1.08 m); the same fit of the digitised centroids whose
-model time (record - --shape-shift) lies in that window.
+model time (record - --shape-shift) lies in that window; and, where the run wrote
+<dir>/grilli_contact_force.csv, the bed's effective friction mu_eff (`bed_friction`: the time
+averages over model t = 0.1 to 0.4 s of the contact force on the bed along the slope over the
+one into it).
 """
 from __future__ import annotations
 
@@ -45,6 +48,7 @@ ALONG = np.array([math.cos(SLOPE), -math.sin(SLOPE)])
 G = 9.81                                # m/s^2
 RHO_S, RHO_W, POROSITY = 2500.0, 999.8, 0.39
 FIT_END = 0.4                           # s: model time, before the fastest fronts reach the toe
+MU_WINDOW = (0.1, 0.4)                  # s: model time of the bed friction's averages
 
 
 def block_acceleration(mu: float, submerged: bool) -> float:
@@ -77,6 +81,24 @@ def fitted_acceleration(tr: dict[str, np.ndarray], t_end: float = FIT_END) -> fl
     s = (tr["centroid"][sel] - tr["centroid"][0]) / math.cos(SLOPE)
     h = 0.5 * tr["time"][sel] ** 2
     return float(np.sum(h * s) / np.sum(h * h))
+
+
+def bed_friction(folder: str, t0: float = MU_WINDOW[0], t1: float = MU_WINDOW[1]) -> float | None:
+    """The bed's effective friction: the time averages over t0 <= t <= t1 of the contact force on
+    the bed along the slope (down-slope) over the one into it, from
+    <folder>/grilli_contact_force.csv (None without the file or samples in the window)."""
+    path = os.path.join(folder, f"{grilli.NAME}_contact_force.csv")
+    if not os.path.isfile(path):
+        return None
+    data = np.genfromtxt(path, delimiter=",", names=True)
+    sel = (data["time"] >= t0) & (data["time"] <= t1)
+    if np.count_nonzero(sel) < 2:
+        return None
+    t, fx, fy = data["time"][sel], data["bed_fx"][sel], data["bed_fy"][sel]
+    into = -np.array([math.sin(SLOPE), math.cos(SLOPE)])   # into the bed
+    tangential = np.trapezoid(ALONG[0] * fx + ALONG[1] * fy, t)
+    normal = np.trapezoid(into[0] * fx + into[1] * fy, t)
+    return float(tangential / normal) if normal > 0.0 else None
 
 
 def record_track(shapes) -> dict[str, np.ndarray]:
@@ -175,7 +197,9 @@ def main(argv=None) -> int:
         print(f"{label}: front/centroid [m]/speed [m/s] at t = "
               + ", ".join(f"{t:g}" for t in grilli.SHAPE_TIMES) + ": " + "  ".join(cells)
               + f"; centroid fit a = {fitted_acceleration(tr, args.fit_end):.3f} m/s^2, peak speed "
-              f"{np.max(tr['speed']):.3f} m/s at {tr['time'][int(np.argmax(tr['speed']))]:.2f} s")
+              f"{np.max(tr['speed']):.3f} m/s at {tr['time'][int(np.argmax(tr['speed']))]:.2f} s"
+              + ("" if (mu_eff := bed_friction(folder)) is None else
+                 f"; bed mu_eff = {mu_eff:.3f} (t = {MU_WINDOW[0]:g} to {MU_WINDOW[1]:g} s)"))
         for n in range(tr["time"].size):
             table.append({"run": label, **{k: float(v[n]) for k, v in tr.items()}})
     plot(tracks, rec, args.shape_shift, mus, os.path.join(out, f"{args.name}.png"),
