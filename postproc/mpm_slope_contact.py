@@ -206,7 +206,8 @@ def acceleration(dumps: list[dict], angle: float, t0: float = 0.05) -> float:
         k = d["particles"]["block"]
         m = k["mass"]
         ts.append(d["time"])
-        vs.append(float(np.sum(m * (along[0] * k["velocity_x"] + along[1] * k["velocity_y"])) / m.sum()))
+        v = along[0] * k["velocity_x"] + along[1] * k["velocity_y"]
+        vs.append(float(np.sum(m * v) / m.sum()))
     return float(np.polyfit(ts, vs, 1)[0])
 
 
