@@ -85,6 +85,7 @@ def namelist(h: float, mu: float, angle: float, end: float, out: str) -> str:
   flip_fraction = 1.0
   rigid_contact = 'friction'
   contact_friction = {mu}
+  contact_normal = 'smoothed'
 /
 &solid
   name = 'block'

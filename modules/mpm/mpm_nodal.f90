@@ -12,8 +12,8 @@
 !! conditions (`&mpm rigid_contact = 'no_slip'`), or, with 'friction', keep the deformable material's velocity
 !! except where it approaches the rigid body: then the normal relative velocity is removed and the
 !! tangential one reduced by Coulomb friction mu |dv_n| (stick when smaller), the normal the rigid
-!! body's grad m / |grad m| smoothed over the neighbouring nodes (`contact_normal`,
-!! `rigid_contact_velocity`).
+!! body's grad m / |grad m|, with `&mpm contact_normal = 'smoothed'` smoothed over the
+!! neighbouring nodes (`contact_normal`, `rigid_contact_velocity`).
 !! Local (Cundall) damping: f <- f - alpha |f| sign(v) per component. Every allocated node is
 !! solved (ghost copies hold global values after the reverse halo), so no exchange follows.
 module mpm_nodal
@@ -48,6 +48,8 @@ module mpm_nodal
     logical :: friction_contact = .false.      !< frictional contact with rigid bodies (else
                                                !! no-slip)
     real(wp) :: friction = 0.0_wp              !< Coulomb coefficient mu of that contact [-]
+    logical :: smoothed_normal = .false.       !< the contact's normal smoothed over the
+                                               !! neighbouring nodes (`contact_normal`)
   end type nodal_bc_t
 
 contains
@@ -166,7 +168,8 @@ contains
               vt = vl
               vl = rigid_contact_velocity(vl + f, nodes%q(node_rigid_momentum: &
                 node_rigid_momentum + 2, i, j, k) / nodes%q(node_rigid_mass, i, j, k) * on, &
-                contact_normal(nodes%q, grid, [i, j, k]) * on, mu) - f
+                contact_normal(nodes%q, grid, [i, j, k], bc%smoothed_normal) * on, &
+                mu) - f
               if (present(contact_dv)) contact_dv(:, i, j, k) = vt - vl
             else
               vl = nodes%q(node_rigid_momentum:node_rigid_momentum + 2, i, j, k) / &
@@ -215,7 +218,8 @@ contains
             vt = (nodes%vel_l(:, i, j, k) + contact_dv(:, i, j, k)) * on
             vl = rigid_contact_velocity(vt, nodes%q(node_rigid_momentum: &
               node_rigid_momentum + 2, i, j, k) / nodes%q(node_rigid_mass, i, j, k) * on, &
-              contact_normal(nodes%q, grid, [i, j, k]) * on, bc%friction)
+              contact_normal(nodes%q, grid, [i, j, k], bc%smoothed_normal) * on, &
+              bc%friction)
             if (present(contact_force)) contact_force(:, i, j, k) = nodes%q(node_mass, i, j, k) * &
               (vt - vl) / dt
           else
@@ -280,7 +284,8 @@ contains
   end function face_load
 
   !> Contact normal direction [kg/m] (not normalised) at node `idx`: the rigid mass gradient
-  !! grad m_i = sum_p m_p grad S_i(x_p) smoothed over the node's neighbours with the weights
+  !! grad m_i = sum_p m_p grad S_i(x_p), with `smoothed` (`&mpm contact_normal = 'smoothed'`)
+  !! smoothed over the node's neighbours with the weights
   !! (1, 2, 1) per active dimension, n_i = sum_{|d| <= 1} w_d grad m_{i+d} (the 3 x 3 nodes in 2D),
   !! neighbours outside a non-periodic domain left out. A rigid body seeded as particles on a
   !! surface not aligned with the grid has a staircase of particles along it, and the nodal
@@ -288,13 +293,18 @@ contains
   !! ~2 deg (docs/validation/mpm_friction.md, postproc/mpm_slope_contact.py). On a surface along
   !! the grid the neighbours' gradients are parallel and the direction is the node's own. Every
   !! node a particle reads has its neighbours within the ghost layers (ng >= 1 linear, 2 GIMP).
-  pure function contact_normal(q, grid, idx) result(n)
+  pure function contact_normal(q, grid, idx, smoothed) result(n)
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: q(:, grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< node fields
     integer, intent(in) :: idx(3)              !< node index
+    logical, intent(in) :: smoothed            !< smooth (else the node's own grad m)
     real(wp) :: n(3)
     real(wp), parameter :: weight(-1:1) = [1.0_wp, 2.0_wp, 1.0_wp]
     integer :: lo(3), hi(3), d, i, j, k
+    if (.not. smoothed) then
+      n = q(node_rigid_gradient:node_rigid_gradient + 2, idx(1), idx(2), idx(3))
+      return
+    end if
     do d = 1, 3
       lo(d) = idx(d)
       hi(d) = idx(d)

@@ -162,6 +162,7 @@ contains
     end do
     self%bc%friction_contact = trim(par%mpm%rigid_contact) == 'friction'
     self%bc%friction = par%mpm%contact_friction
+    self%bc%smoothed_normal = trim(par%mpm%contact_normal) == 'smoothed'
     call nodes_init(self%nodes, grid)
     call keep_static_share(self, grid)
     call halo_init(self%halo, dom, grid, nq)
