@@ -90,7 +90,7 @@ from postproc import ice_sod, mpm_bar, mpmice_darcy, mpmice_terzaghi  # noqa: E4
 from postproc import mpmice_rondon as rondon                           # noqa: E402
 from postproc import mpmice_stiff_drag as stiff                        # noqa: E402
 from postproc import mpmice_thermal_cavity as cavity                   # noqa: E402
-from postproc.figures import pyplot, save_figure                      # noqa: E402
+from postproc.figures import pyplot, save_figure, write_table  # noqa: E402
 from postproc.mpm_common import constrained_modulus, particles, series  # noqa: E402
 from postproc.mpmice_io import list_dumps, read_dump                   # noqa: E402
 from postproc.run_case import ROOT, run_mpmice                         # noqa: E402
@@ -787,14 +787,7 @@ STABILITY = {"drag_map": map_drag, "mpm_cfl_map": map_mpm_cfl, "crossing_map": m
 # --------------------------------------------------------------------------- output
 
 def write_csv(rows: list[dict], path: str) -> None:
-    keys: list[str] = []
-    for r in rows:
-        keys += [k for k in r if k not in keys]
-    with open(path, "w", newline="", encoding="utf-8") as f:
-        w = csv.DictWriter(f, fieldnames=keys)
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
+    write_table(path, rows)
 
 
 def read_csv(path: str) -> list[dict]:

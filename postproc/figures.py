@@ -15,6 +15,7 @@ these helpers stay importable without it::
 from __future__ import annotations
 
 import argparse
+import csv
 import os
 
 from postproc.run_case import ROOT
@@ -54,4 +55,20 @@ def save_figure(fig, path: str, dpi: int = 110) -> str:
     memory) and return ``path``."""
     fig.savefig(path, dpi=dpi)
     pyplot().close(fig)
+    return path
+
+
+def write_table(path: str, rows: list[dict], fields: list[str] | None = None) -> str:
+    """A study's result table as CSV: one row per dict, the columns `fields` (default: every key
+    in the order of first appearance; a row without a column leaves it empty), floats as %.6g."""
+    if fields is None:
+        fields = []
+        for row in rows:
+            fields += [k for k in row if k not in fields]
+    with open(path, "w", newline="", encoding="utf-8") as f:
+        writer = csv.DictWriter(f, fieldnames=fields)
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v)
+                             for k, v in row.items()})
     return path

@@ -51,13 +51,12 @@ default grilli2017) in --out (default: the first run's folder); prints the same 
 from __future__ import annotations
 
 import argparse
-import csv
 import os
 
 import numpy as np
 
 from postproc import measures
-from postproc.figures import pyplot, save_figure
+from postproc.figures import pyplot, save_figure, write_table
 from postproc.mpmice_io import read_run_dumps
 from postproc.reference import experiment_folder
 
@@ -330,12 +329,7 @@ def main(argv=None) -> int:
     plot_shapes(shapes, dumps_by_run, args.shape_shift,
                 os.path.join(out, f"{args.stem}_shapes.png"))
     fields = sorted({k for row in table for k in row}, key=lambda k: (k not in ("run", "kind"), k))
-    with open(os.path.join(out, f"{args.stem}.csv"), "w", newline="", encoding="utf-8") as f:
-        writer = csv.DictWriter(f, fieldnames=fields)
-        writer.writeheader()
-        for row in table:
-            writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v)
-                             for k, v in row.items()})
+    write_table(os.path.join(out, f"{args.stem}.csv"), table, fields)
     print(f"written: {out}/{args.stem}_gauges.png, {args.stem}_shapes.png, {args.stem}.csv")
     return 0
 

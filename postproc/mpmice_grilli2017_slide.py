@@ -33,14 +33,13 @@ one into it).
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 import os
 
 import numpy as np
 
 from postproc import mpmice_grilli2017 as grilli
-from postproc.figures import pyplot, save_figure
+from postproc.figures import pyplot, save_figure, write_table
 from postproc.mpmice_io import read_run_dumps
 
 SLOPE = math.atan(0.7)                  # rad: the scene's slope y = 0.756 - 0.7 x (35.0 deg)
@@ -204,12 +203,8 @@ def main(argv=None) -> int:
             table.append({"run": label, **{k: float(v[n]) for k, v in tr.items()}})
     plot(tracks, rec, args.shape_shift, mus, os.path.join(out, f"{args.name}.png"),
          args.alt_shift)
-    with open(os.path.join(out, f"{args.name}.csv"), "w", newline="", encoding="utf-8") as f:
-        writer = csv.DictWriter(f, fieldnames=["run", "time", "front", "centroid", "speed"])
-        writer.writeheader()
-        for row in table:
-            writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v)
-                             for k, v in row.items()})
+    write_table(os.path.join(out, f"{args.name}.csv"), table,
+                ["run", "time", "front", "centroid", "speed"])
     print(f"written: {out}/{args.name}.png, {args.name}.csv")
     return 0
 
