@@ -39,7 +39,6 @@ contains
     real(wp), intent(in) :: k_exchange         !< K [kg/m^3/s]
     integer :: d, m, i, j, k, o(3), r(2, 3), nf, nm, side
     real(wp) :: beta(max_n, max_n), rhs(max_n, 2), phi(max_n), v(max_n), w(max_n), c(max_n)
-    real(wp) :: b12, b21, det
     logical :: with_solid, rigid, pair
 
     nf = state%nfluids
@@ -76,15 +75,10 @@ contains
               if (pair .and. side == 0) then
                 if (state%solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
                   state%solid%vfrac(i, j, k) <= 0.0_wp) then
-                  b12 = dt * v(1) * phi(2) * k_exchange
-                  b21 = dt * v(2) * phi(1) * k_exchange
-                  det = 1.0_wp + b12 + b21
-                  state%fluid(1)%uface(i, j, k, d) = ((1.0_wp + b21) * rhs(1, 1) + b12 * rhs(2, 1)) &
-                    / det
-                  state%fluid(2)%uface(i, j, k, d) = (b21 * rhs(1, 1) + (1.0_wp + b12) * rhs(2, 1)) &
-                    / det
-                  state%fluid(1)%vface(i, j, k, d) = ((1.0_wp + b21) * v(1) + b12 * v(2)) / det
-                  state%fluid(2)%vface(i, j, k, d) = (b21 * v(1) + (1.0_wp + b12) * v(2)) / det
+                  call pair_face_exchange(dt * v(1) * phi(2) * k_exchange, &
+                    dt * v(2) * phi(1) * k_exchange, state%fluid(1)%uface(i, j, k, d), &
+                    state%fluid(2)%uface(i, j, k, d), state%fluid(1)%vface(i, j, k, d), &
+                    state%fluid(2)%vface(i, j, k, d))
                   state%solid%vface(i, j, k, d) = 0.0_wp
                   cycle
                 end if
@@ -150,7 +144,7 @@ contains
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: k_exchange         !< K [kg/m^3/s]
     integer :: d, i, j, k, o(3), r(2, 3)
-    real(wp) :: phi1, phi2, v1, v2, b12, b21, det, x1, x2
+    real(wp) :: phi1, phi2
 
     do d = 1, 3
       if (.not. grid%active(d)) cycle
@@ -167,23 +161,33 @@ contains
             do i = r(1, 1), r(2, 1)
               phi1 = 0.5_wp * (f1%vfrac(i - o(1), j - o(2), k - o(3)) + f1%vfrac(i, j, k))
               phi2 = 0.5_wp * (f2%vfrac(i - o(1), j - o(2), k - o(3)) + f2%vfrac(i, j, k))
-              v1 = f1%vface(i, j, k, d)
-              v2 = f2%vface(i, j, k, d)
-              b12 = dt * v1 * phi2 * k_exchange
-              b21 = dt * v2 * phi1 * k_exchange
-              det = 1.0_wp + b12 + b21
-              x1 = f1%uface(i, j, k, d)
-              x2 = f2%uface(i, j, k, d)
-              f1%uface(i, j, k, d) = ((1.0_wp + b21) * x1 + b12 * x2) / det
-              f2%uface(i, j, k, d) = (b21 * x1 + (1.0_wp + b12) * x2) / det
-              f1%vface(i, j, k, d) = ((1.0_wp + b21) * v1 + b12 * v2) / det
-              f2%vface(i, j, k, d) = (b21 * v1 + (1.0_wp + b12) * v2) / det
+              call pair_face_exchange(dt * f1%vface(i, j, k, d) * phi2 * k_exchange, &
+                dt * f2%vface(i, j, k, d) * phi1 * k_exchange, f1%uface(i, j, k, d), &
+                f2%uface(i, j, k, d), f1%vface(i, j, k, d), f2%vface(i, j, k, d))
             end do
           end do
         end do
       end associate
     end do
   end subroutine exchange_faces_two
+
+  !> The closed-form 2 x 2 face exchange of `exchange_solve` (A = [1 + b12, -b12; -b21, 1 + b21])
+  !! applied to the face velocities u and the face specific volumes v of two fluids, in place.
+  pure subroutine pair_face_exchange(b12, b21, u1, u2, v1, v2)
+    real(wp), intent(in) :: b12, b21          !< beta_12, beta_21
+    real(wp), intent(inout) :: u1, u2         !< face velocities [m/s]
+    real(wp), intent(inout) :: v1, v2         !< face specific volumes [m^3/kg]
+    real(wp) :: det, x1, x2
+    det = 1.0_wp + b12 + b21
+    x1 = u1
+    x2 = u2
+    u1 = ((1.0_wp + b21) * x1 + b12 * x2) / det
+    u2 = (b21 * x1 + (1.0_wp + b12) * x2) / det
+    x1 = v1
+    x2 = v2
+    v1 = ((1.0_wp + b21) * x1 + b12 * x2) / det
+    v2 = (b21 * x1 + (1.0_wp + b12) * x2) / det
+  end subroutine pair_face_exchange
 
   !> `ice_exchange_cells` for two fluids, no solid and no heat exchange: the closed-form 2 x 2
   !! velocity exchange of `exchange_solve` and the dissipated kinetic energy to the fluids by
