@@ -9,7 +9,7 @@
 !! every rank the vertices.
 module config_geometry_files
   use, intrinsic :: iso_c_binding, only: c_char, c_size_t, c_ptr, c_associated, c_null_char
-  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Bcast, MPI_INTEGER, MPI_DOUBLE_PRECISION
+  use parallel_comm, only: MPI_Comm, comm_rank, bcast
   use mpmice_kinds, only: wp, path_len
   use config_types, only: config_t
   use config_materials, only: solid_params_t, region_params_t
@@ -398,7 +398,7 @@ contains
     type(MPI_Comm), intent(in) :: comm
     integer :: rank, n(4)
     real(wp) :: levels(2)
-    call MPI_Comm_rank(comm, rank)
+    rank = comm_rank(comm)
     n = 0
     if (rank == 0) then
       n(1) = geo%kind
@@ -407,9 +407,9 @@ contains
       n(4) = merge(1, 0, geo%is_map)
       levels = [geo%thickness, geo%lower_level]
     end if
-    call MPI_Bcast(n, 4, MPI_INTEGER, 0, comm)
+    call bcast(comm, n, 0)
     if (n(1) == shape_kind_none) return
-    call MPI_Bcast(levels, 2, MPI_DOUBLE_PRECISION, 0, comm)
+    call bcast(comm, levels, 0)
     if (rank /= 0) then
       geo = file_shape_t()
       geo%kind = n(1)
@@ -423,12 +423,12 @@ contains
       call bcast_map(geo%lower_map, rank, comm)
     end if
     if (n(2) > 0) then
-      call MPI_Bcast(geo%x, n(2), MPI_DOUBLE_PRECISION, 0, comm)
-      call MPI_Bcast(geo%y, n(2), MPI_DOUBLE_PRECISION, 0, comm)
+      call bcast(comm, geo%x, 0)
+      call bcast(comm, geo%y, 0)
     end if
     if (n(3) > 0) then
-      call MPI_Bcast(geo%lower_x, n(3), MPI_DOUBLE_PRECISION, 0, comm)
-      call MPI_Bcast(geo%lower_y, n(3), MPI_DOUBLE_PRECISION, 0, comm)
+      call bcast(comm, geo%lower_x, 0)
+      call bcast(comm, geo%lower_y, 0)
     end if
   end subroutine bcast_shape
 
@@ -440,12 +440,12 @@ contains
     integer :: n(2)
     n = 0
     if (rank == 0 .and. allocated(map%z)) n = shape(map%z)
-    call MPI_Bcast(n, 2, MPI_INTEGER, 0, comm)
+    call bcast(comm, n, 0)
     if (n(1) == 0) return
     if (rank /= 0) allocate(map%x(n(1)), map%y(n(2)), map%z(n(1), n(2)))
-    call MPI_Bcast(map%x, n(1), MPI_DOUBLE_PRECISION, 0, comm)
-    call MPI_Bcast(map%y, n(2), MPI_DOUBLE_PRECISION, 0, comm)
-    call MPI_Bcast(map%z, n(1) * n(2), MPI_DOUBLE_PRECISION, 0, comm)
+    call bcast(comm, map%x, 0)
+    call bcast(comm, map%y, 0)
+    call bcast(comm, map%z, 0)
   end subroutine bcast_map
 
 end module config_geometry_files

@@ -7,7 +7,8 @@ module driver_loop
   use mpmice_kinds, only: wp, path_len
   use mpmice_errors, only: int_text, real_short_text
   use mpmice_log, only: log_info, log_warning, log_warning_summary
-  use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop, timer_summary
+  use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
+  use parallel_timers, only: timer_summary
   use mpmice_progress, only: progress_t, progress_init, progress_update, progress_elapsed
   use config_types, only: config_t
   use parallel_domain, only: domain_t
