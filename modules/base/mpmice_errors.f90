@@ -14,13 +14,18 @@
 module mpmice_errors
   use, intrinsic :: iso_c_binding, only: c_int
   use, intrinsic :: iso_fortran_env, only: error_unit
-  use mpmice_kinds, only: msg_len
+  use mpmice_kinds, only: wp, i8, msg_len
   implicit none
   private
 
   public :: fatal, fatal_handler_t, set_fatal_handler, reset_fatal_handler
   public :: abort_hook_t, finalize_hook_t, set_exit_hooks
   public :: input_error_text, exit_cleanly, real_text, real_short_text, int_text, logical_text
+
+  !> `int_text(n)`: an integer (default or 64-bit) as text.
+  interface int_text
+    module procedure int_text_default, int_text_i8
+  end interface int_text
 
   abstract interface
     !> Signature of a fatal-error handler.
@@ -127,32 +132,43 @@ contains
 
   !> A real as compact text (for messages).
   pure function real_text(x) result(text)
-    use mpmice_kinds, only: wp
     real(wp), intent(in) :: x  !< value
     character(len=:), allocatable :: text
-    character(len=32) :: buffer
-    write(buffer, '(g0)') x
-    text = trim(adjustl(buffer))
+    text = formatted_real(x, '(g0)')
   end function real_text
 
   !> A real with 6 significant digits (for log lines; `real_text` keeps every digit).
   pure function real_short_text(x) result(text)
-    use mpmice_kinds, only: wp
     real(wp), intent(in) :: x  !< value
     character(len=:), allocatable :: text
-    character(len=32) :: buffer
-    write(buffer, '(1pg13.6)') x
-    text = trim(adjustl(buffer))
+    text = formatted_real(x, '(1pg13.6)')
   end function real_short_text
 
+  !> A real written with the edit descriptor `form`, without the blanks around it.
+  pure function formatted_real(x, form) result(text)
+    real(wp), intent(in) :: x             !< value
+    character(len=*), intent(in) :: form  !< format, e.g. '(g0)'
+    character(len=:), allocatable :: text
+    character(len=32) :: buffer
+    write(buffer, form) x
+    text = trim(adjustl(buffer))
+  end function formatted_real
+
   !> An integer as text (for messages).
-  pure function int_text(n) result(text)
+  pure function int_text_default(n) result(text)
     integer, intent(in) :: n  !< value
     character(len=:), allocatable :: text
-    character(len=16) :: buffer
+    text = int_text_i8(int(n, i8))
+  end function int_text_default
+
+  !> A 64-bit integer as text (for messages).
+  pure function int_text_i8(n) result(text)
+    integer(i8), intent(in) :: n  !< value
+    character(len=:), allocatable :: text
+    character(len=24) :: buffer
     write(buffer, '(i0)') n
     text = trim(buffer)
-  end function int_text
+  end function int_text_i8
 
   !> A logical as namelist text.
   pure function logical_text(flag) result(text)

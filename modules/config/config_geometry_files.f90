@@ -11,6 +11,7 @@ module config_geometry_files
   use, intrinsic :: iso_c_binding, only: c_char, c_size_t, c_ptr, c_associated, c_null_char
   use parallel_comm, only: MPI_Comm, comm_rank, bcast
   use mpmice_kinds, only: wp, path_len
+  use mpmice_errors, only: int_text
   use config_types, only: config_t
   use config_materials, only: solid_params_t, region_params_t
   use config_text, only: real_repr, quoted
@@ -18,7 +19,7 @@ module config_geometry_files
   use geometry_shapes, only: file_shape_t, shape_kind_none, shape_kind_polygon, &
     shape_kind_profile, level_unset, height_map_t
   use config_geometry_csv, only: read_xy_file, check_polygon_vertices, check_profile_points, &
-    file_error, int_str, height_map_from_points
+    file_error, height_map_from_points
   implicit none
   private
 
@@ -119,7 +120,7 @@ contains
       associate (s => cfg%solids(k))
         if (trim(s%shape) == 'polygon' .and. len_trim(s%polygon_file) > 0 .and. &
           s%npoints /= 0) then
-          call set_error(err, occurrence_label('solid', k), 'npoints', int_str(s%npoints), &
+          call set_error(err, occurrence_label('solid', k), 'npoints', int_text(s%npoints), &
             '0 with polygon_file (the vertices come either inline or from the file)')
           return
         end if
