@@ -12,7 +12,7 @@ module config_geometry_files
   use parallel_comm, only: MPI_Comm, comm_rank, bcast
   use mpmice_kinds, only: wp, path_len
   use mpmice_errors, only: int_text
-  use config_types, only: config_t
+  use config_types, only: config_t, grid_params_t
   use config_materials, only: solid_params_t, region_params_t
   use config_text, only: real_repr, quoted
   use config_check_tools, only: config_error_t, set_error, occurrence_label
@@ -194,21 +194,17 @@ contains
     errmsg = ''
     do k = 1, cfg%nsolids
       associate (s => cfg%solids(k))
-        call load_shape(s%geometry, '&' // occurrence_label('solid', k), s%shape, &
+        call load_shape(s%geometry, cfg%grid, '&' // occurrence_label('solid', k), s%shape, &
           s%polygon_file, s%profile_file, s%profile_lower_file, s%layer_thickness, &
           s%profile_lower_level, stat, errmsg)
-        if (stat == 0) call check_overlap(cfg, s%geometry, s%polygon_file, s%profile_file, &
-          s%profile_lower_file, '&' // occurrence_label('solid', k), stat, errmsg)
       end associate
       if (stat /= 0) return
     end do
     do k = 1, cfg%nregions
       associate (r => cfg%regions(k))
-        call load_shape(r%geometry, '&' // occurrence_label('region', k), r%shape, &
+        call load_shape(r%geometry, cfg%grid, '&' // occurrence_label('region', k), r%shape, &
           r%polygon_file, r%profile_file, r%profile_lower_file, r%layer_thickness, &
           r%profile_lower_level, stat, errmsg)
-        if (stat == 0) call check_overlap(cfg, r%geometry, r%polygon_file, r%profile_file, &
-          r%profile_lower_file, '&' // occurrence_label('region', k), stat, errmsg)
       end associate
       if (stat /= 0) return
     end do
@@ -216,8 +212,8 @@ contains
 
   !> A file shape must reach into the domain: the polygon's bounding box overlaps it along x
   !! and y (active dimensions), a profile's x range overlaps it along x.
-  subroutine check_overlap(cfg, geo, polygon_file, profile_file, lower_file, g, stat, errmsg)
-    type(config_t), intent(in) :: cfg
+  subroutine check_overlap(grid, geo, polygon_file, profile_file, lower_file, g, stat, errmsg)
+    type(grid_params_t), intent(in) :: grid
     type(file_shape_t), intent(in) :: geo
     character(len=*), intent(in) :: polygon_file, profile_file, lower_file, g
     integer, intent(out) :: stat
@@ -226,9 +222,9 @@ contains
     real(wp) :: lo(2), hi(2)
     character(len=:), allocatable :: domain
     stat = 0
-    active = cfg%grid%ncells(1:2) > 1
-    lo = cfg%grid%lower(1:2)
-    hi = cfg%grid%upper(1:2)
+    active = grid%ncells(1:2) > 1
+    lo = grid%lower(1:2)
+    hi = grid%upper(1:2)
     domain = ' lies outside the domain &grid lower = ' // real_repr(lo(1)) // ', ' // &
       real_repr(lo(2)) // ', upper = ' // real_repr(hi(1)) // ', ' // real_repr(hi(2)) // ' [m]'
     select case (geo%kind)
@@ -242,7 +238,7 @@ contains
       end if
     case (shape_kind_profile)
       if (geo%is_map) then
-        call check_map_overlap(cfg, geo, profile_file, lower_file, g, stat, errmsg)
+        call check_map_overlap(grid, geo, profile_file, lower_file, g, stat, errmsg)
         return
       end if
       if (active(1) .and. size(geo%x) > 0) then
@@ -267,8 +263,8 @@ contains
   end subroutine check_overlap
 
   !> A height map needs an active z and must overlap the domain in x and y.
-  subroutine check_map_overlap(cfg, geo, profile_file, lower_file, g, stat, errmsg)
-    type(config_t), intent(in) :: cfg
+  subroutine check_map_overlap(grid, geo, profile_file, lower_file, g, stat, errmsg)
+    type(grid_params_t), intent(in) :: grid
     type(file_shape_t), intent(in) :: geo
     character(len=*), intent(in) :: profile_file, lower_file, g
     integer, intent(out) :: stat
@@ -287,30 +283,32 @@ contains
       logical :: active(2)
       path = trim(file)
       variable = g // ' ' // name
-      if (cfg%grid%ncells(3) <= 1) then
+      if (grid%ncells(3) <= 1) then
         stat = 1
         errmsg = file_error(path, 0, 'a height map "x, y, z" needs a 3D grid (&grid ' // &
           'ncells(3) > 1); a 2D bed is a profile "x, y"', variable)
         return
       end if
-      active = cfg%grid%ncells(1:2) > 1
+      active = grid%ncells(1:2) > 1
       if (any(active .and. ([map%x(size(map%x)), map%y(size(map%y))] <= &
-        cfg%grid%lower(1:2) .or. [map%x(1), map%y(1)] >= cfg%grid%upper(1:2)))) then
+        grid%lower(1:2) .or. [map%x(1), map%y(1)] >= grid%upper(1:2)))) then
         stat = 1
         errmsg = file_error(path, 0, 'the height map (x ' // real_repr(map%x(1)) // '..' // &
           real_repr(map%x(size(map%x))) // ', y ' // real_repr(map%y(1)) // '..' // &
           real_repr(map%y(size(map%y))) // ') lies outside the domain &grid lower = ' // &
-          real_repr(cfg%grid%lower(1)) // ', ' // real_repr(cfg%grid%lower(2)) // &
-          ', upper = ' // real_repr(cfg%grid%upper(1)) // ', ' // &
-          real_repr(cfg%grid%upper(2)) // ' [m]', variable)
+          real_repr(grid%lower(1)) // ', ' // real_repr(grid%lower(2)) // &
+          ', upper = ' // real_repr(grid%upper(1)) // ', ' // &
+          real_repr(grid%upper(2)) // ' [m]', variable)
       end if
     end subroutine one
   end subroutine check_map_overlap
 
-  !> Read the files of one shape into `geo`.
-  subroutine load_shape(geo, g, shape, polygon_file, profile_file, lower_file, thickness, &
+  !> Read the files of one shape into `geo` and check that it reaches into the domain of `grid`
+  !! (`check_overlap`).
+  subroutine load_shape(geo, grid, g, shape, polygon_file, profile_file, lower_file, thickness, &
     lower_level, stat, errmsg)
     type(file_shape_t), intent(inout) :: geo
+    type(grid_params_t), intent(in) :: grid
     character(len=*), intent(in) :: g, shape, polygon_file, profile_file, lower_file
     real(wp), intent(in) :: thickness, lower_level
     integer, intent(out) :: stat
@@ -353,6 +351,7 @@ contains
       geo%lower_level = lower_level
       geo%kind = shape_kind_profile
     end if
+    call check_overlap(grid, geo, polygon_file, profile_file, lower_file, g, stat, errmsg)
   end subroutine load_shape
 
   !> Read a profile "x, y" (into x, y; `has_map` false) or a height map "x, y, z" (into

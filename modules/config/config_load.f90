@@ -15,7 +15,7 @@ module config_load
   private
 
   public :: config_load_file, config_read_text_file, config_resolve, config_load_run
-  public :: config_bcast
+  public :: config_bcast, open_stream
 
 contains
 
@@ -28,22 +28,12 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg   !< error line
     character(len=msg_len) :: iomsg
     integer :: unit, ios, nbytes
-    logical :: exists
 
     stat = 1
     text = ''
     errmsg = ''
-    inquire(file=path, exist=exists)
-    if (.not. exists) then
-      errmsg = group_error_text(path, '', 'cannot read the file: no such file')
-      return
-    end if
-    open(newunit=unit, file=path, status='old', action='read', access='stream', &
-      form='unformatted', iostat=ios, iomsg=iomsg)
-    if (ios /= 0) then
-      errmsg = group_error_text(path, '', 'cannot read the file: ' // trim(iomsg))
-      return
-    end if
+    call open_stream(path, 'file', unit, errmsg)
+    if (len(errmsg) > 0) return
     inquire(unit=unit, size=nbytes)
     if (nbytes < 0) then
       close(unit)
@@ -60,6 +50,29 @@ contains
     end if
     stat = 0
   end subroutine config_read_text_file
+
+  !> Open the existing file `path` for reading as a byte stream on a new `unit`; otherwise
+  !! `errmsg` is the input-error line `cannot read the <what>: <reason>` (else empty).
+  subroutine open_stream(path, what, unit, errmsg)
+    character(len=*), intent(in) :: path                    !< file to open
+    character(len=*), intent(in) :: what                    !< what it is, for the message
+    integer, intent(out) :: unit                            !< the open unit
+    character(len=:), allocatable, intent(inout) :: errmsg  !< error line, '' when open
+    character(len=msg_len) :: iomsg
+    integer :: ios
+    logical :: exists
+    errmsg = ''
+    unit = -1
+    inquire(file=path, exist=exists)
+    if (.not. exists) then
+      errmsg = group_error_text(path, '', 'cannot read the ' // what // ': no such file')
+      return
+    end if
+    open(newunit=unit, file=path, status='old', action='read', access='stream', &
+      form='unformatted', iostat=ios, iomsg=iomsg)
+    if (ios /= 0) errmsg = group_error_text(path, '', 'cannot read the ' // what // ': ' // &
+      trim(iomsg))
+  end subroutine open_stream
 
   !> Apply the namelist file `path` to `cfg` (variables it does not set keep their values).
   subroutine config_load_file(cfg, path, stat, errmsg, origin)

@@ -19,7 +19,7 @@ module driver_restart
   use mpmice_errors, only: input_error_text, int_text
   use config_types, only: config_t
   use config_parse, only: group_error_text
-  use config_load, only: config_load_run, config_resolve
+  use config_load, only: config_load_run, config_resolve, open_stream
   use config_echo, only: config_to_text
   use io_files, only: io_dirname
   use io_hdf5_probe, only: checkpoint_probe_t, h5_probe_checkpoint
@@ -188,19 +188,11 @@ contains
     character(len=8) :: head
     character(len=msg_len) :: iomsg
     integer :: unit, ios
-    logical :: exists
     stat = 1
-    inquire(file=path, exist=exists)
-    if (.not. exists) then
-      errmsg = group_error_text(path, '', 'cannot read the checkpoint: no such file')
-      return
-    end if
-    open(newunit=unit, file=path, status='old', action='read', access='stream', &
-      form='unformatted', iostat=ios, iomsg=iomsg)
-    if (ios == 0) then
-      read(unit, iostat=ios, iomsg=iomsg) head
-      close(unit)
-    end if
+    call open_stream(path, 'checkpoint', unit, errmsg)
+    if (len(errmsg) > 0) return
+    read(unit, iostat=ios, iomsg=iomsg) head
+    close(unit)
     if (ios /= 0) then
       errmsg = group_error_text(path, '', 'cannot read the checkpoint: ' // trim(iomsg))
     else if (head /= hdf5_signature) then
