@@ -16,46 +16,42 @@ contains
   subroutine scene_params_from_config(cfg, params)
     type(config_t), intent(in) :: cfg                          !< validated configuration
     class(scene_params_t), allocatable, intent(out) :: params  !< the scene's groups
+    type(ice_scene_params_t) :: fluids
+    type(mpm_scene_params_t) :: solids
     select case (trim(cfg%run%scene))
     case ('heat_conduction')
       params = heat_scene_params_t(numerics=cfg%numerics, solver=cfg%solver, heat=cfg%heat)
     case ('ice')
-      params = ice_bundle(cfg)
+      call phase_groups(cfg, fluids, solids)
+      params = fluids
     case ('mpm')
-      params = mpm_bundle(cfg)
+      call phase_groups(cfg, fluids, solids)
+      params = solids
     case ('mpmice')
-      params = mpmice_scene_params_t(ice=ice_bundle(cfg), mpm=mpm_bundle(cfg), &
-        coupling=cfg%coupling)
+      call phase_groups(cfg, fluids, solids)
+      params = mpmice_scene_params_t(ice=fluids, mpm=solids, coupling=cfg%coupling)
     case default
       ! the configuration accepts only scenes listed in config_types%scene_names
       call fatal('scene ''' // trim(cfg%run%scene) // ''' is not available in this build')
     end select
   end subroutine scene_params_from_config
 
-  !> The fluids' groups (the ICE scene, and the fluids of the coupled one).
-  function ice_bundle(cfg) result(p)
-    type(config_t), intent(in) :: cfg  !< validated configuration
-    type(ice_scene_params_t) :: p
-    p = ice_scene_params_t(numerics=cfg%numerics, solver=cfg%solver, physics=cfg%physics, &
-      ice=cfg%ice, nfluids=cfg%nfluids, nregions=cfg%nregions, fluids=cfg%fluids, &
-      regions=cfg%regions, faces=faces_of(cfg))
-  end function ice_bundle
-
-  !> The solids' groups (the MPM scene, and the solids of the coupled one).
-  function mpm_bundle(cfg) result(p)
-    type(config_t), intent(in) :: cfg  !< validated configuration
-    type(mpm_scene_params_t) :: p
-    p = mpm_scene_params_t(run=cfg%run, numerics=cfg%numerics, physics=cfg%physics, &
-      mpm=cfg%mpm, nsolids=cfg%nsolids, solids=cfg%solids, faces=faces_of(cfg))
-  end function mpm_bundle
-
-  !> The `&boundary` conditions of the six faces (x-, x+, y-, y+, z-, z+).
-  function faces_of(cfg) result(faces)
-    type(config_t), intent(in) :: cfg  !< validated configuration
+  !> The fluids' groups (the ICE scene, and the fluids of the coupled one) and the solids'
+  !! groups (the MPM scene, and the solids of the coupled one); both get the conditions of the
+  !! six faces.
+  subroutine phase_groups(cfg, fluids, solids)
+    type(config_t), intent(in) :: cfg                   !< validated configuration
+    type(ice_scene_params_t), intent(out) :: fluids     !< the fluids' bundle
+    type(mpm_scene_params_t), intent(out) :: solids     !< the solids' bundle
     type(boundary_params_t) :: faces(6)
     integer :: face
     do face = 1, 6
       faces(face) = boundary_for_face(cfg, face)
     end do
-  end function faces_of
+    fluids = ice_scene_params_t(numerics=cfg%numerics, solver=cfg%solver, physics=cfg%physics, &
+      ice=cfg%ice, nfluids=cfg%nfluids, nregions=cfg%nregions, fluids=cfg%fluids, &
+      regions=cfg%regions, faces=faces)
+    solids = mpm_scene_params_t(run=cfg%run, numerics=cfg%numerics, physics=cfg%physics, &
+      mpm=cfg%mpm, nsolids=cfg%nsolids, solids=cfg%solids, faces=faces)
+  end subroutine phase_groups
 end module driver_scene_params

@@ -116,7 +116,7 @@ contains
     do d = 1, 3
       if (.not. grid%active(d)) cycle
       call plan_sweep(grid, d, stage_cell, w, sbox, rbox)
-      call sweep_3(halo, dom, d, grid%lbc, field, sbox, rbox, .false.)
+      call sweep(halo, dom, d, 1, grid%lbc, grid%ubc, field, sbox, rbox, .false.)
     end do
   end subroutine halo_exchange_cell_scalar
 
@@ -134,7 +134,7 @@ contains
     do d = 1, 3
       if (.not. grid%active(d)) cycle
       call plan_sweep(grid, d, stage_cell, w, sbox, rbox)
-      call sweep_4(halo, dom, d, grid%lbc, field, sbox, rbox, .false.)
+      call sweep(halo, dom, d, size(field, 1), grid%lbc, grid%ubc, field, sbox, rbox, .false.)
     end do
   end subroutine halo_exchange_cell_vec
 
@@ -151,7 +151,7 @@ contains
       if (.not. grid%active(d)) cycle
       call plan_sweep(grid, d, stage_node, grid%ng, sbox, rbox)
       do pass = 1, node_passes(dom, d)
-        call sweep_3(halo, dom, d, grid%lbn, field, sbox, rbox, .false.)
+        call sweep(halo, dom, d, 1, grid%lbn, grid%ubn, field, sbox, rbox, .false.)
       end do
     end do
   end subroutine halo_exchange_node_scalar
@@ -169,7 +169,7 @@ contains
       if (.not. grid%active(d)) cycle
       call plan_sweep(grid, d, stage_node, grid%ng, sbox, rbox)
       do pass = 1, node_passes(dom, d)
-        call sweep_4(halo, dom, d, grid%lbn, field, sbox, rbox, .false.)
+        call sweep(halo, dom, d, size(field, 1), grid%lbn, grid%ubn, field, sbox, rbox, .false.)
       end do
     end do
   end subroutine halo_exchange_node_vec
@@ -189,7 +189,7 @@ contains
       if (.not. grid%active(d)) cycle
       call plan_sweep(grid, d, stage_reverse, grid%ng, sbox, rbox)
       do pass = 1, node_passes(dom, d)
-        call sweep_3(halo, dom, d, grid%lbn, field, sbox, rbox, .true.)
+        call sweep(halo, dom, d, 1, grid%lbn, grid%ubn, field, sbox, rbox, .true.)
       end do
     end do
     if (want_refresh(refresh)) call halo_exchange_node_scalar(halo, dom, grid, field)
@@ -209,7 +209,7 @@ contains
       if (.not. grid%active(d)) cycle
       call plan_sweep(grid, d, stage_reverse, grid%ng, sbox, rbox)
       do pass = 1, node_passes(dom, d)
-        call sweep_4(halo, dom, d, grid%lbn, field, sbox, rbox, .true.)
+        call sweep(halo, dom, d, size(field, 1), grid%lbn, grid%ubn, field, sbox, rbox, .true.)
       end do
     end do
     if (want_refresh(refresh)) call halo_exchange_node_vec(halo, dom, grid, field)
@@ -234,7 +234,7 @@ contains
     do d = 1, 3
       if (.not. grid%active(d)) cycle
       call plan_sweep(grid, d, stage_reverse_cell, w, sbox, rbox)
-      call sweep_4(halo, dom, d, grid%lbc, field, sbox, rbox, .true.)
+      call sweep(halo, dom, d, size(field, 1), grid%lbc, grid%ubc, field, sbox, rbox, .true.)
     end do
     ! refresh every ghost layer: the summed values feed fields used across the full width
     call halo_exchange_cell_vec(halo, dom, grid, field)
@@ -392,49 +392,22 @@ contains
       message_tag(d, s), dom%comm, req(2 + s))
   end subroutine start_send
 
-  !> One sweep along `d` for a rank-3 field: pack, exchange, unpack (copy, or add when `reverse`,
-  !! in which case the sent boxes are zeroed).
-  subroutine sweep_3(halo, dom, d, lb, field, sbox, rbox, reverse)
-    type(halo_t), intent(inout), asynchronous :: halo         !< message buffers
-    type(domain_t), intent(in) :: dom                         !< decomposition
-    integer, intent(in) :: d                                  !< dimension
-    integer, intent(in) :: lb(3)                              !< lower bounds of `field`
-    real(wp), intent(inout) :: field(lb(1):, lb(2):, lb(3):)  !< field
-    integer, intent(in) :: sbox(2, 3, 2)                      !< boxes to send
-    integer, intent(in) :: rbox(2, 3, 2)                      !< boxes to receive
-    logical, intent(in) :: reverse                            !< reverse halo
+  !> One sweep along `d`: pack, exchange, unpack (copy, or add when `reverse`, in which case the
+  !! sent boxes are zeroed). `field` is `(component, i, j, k)` with `ncomp` components; a
+  !! scalar field `(i, j, k)` comes in by sequence association with `ncomp` = 1.
+  subroutine sweep(halo, dom, d, ncomp, lb, ub, field, sbox, rbox, reverse)
+    type(halo_t), intent(inout), asynchronous :: halo  !< message buffers
+    type(domain_t), intent(in) :: dom                  !< decomposition
+    integer, intent(in) :: d                           !< dimension
+    integer, intent(in) :: ncomp                       !< components per point
+    integer, intent(in) :: lb(3)                       !< lower bounds of the points
+    integer, intent(in) :: ub(3)                       !< upper bounds of the points
+    real(wp), intent(inout) :: field(ncomp, lb(1):ub(1), lb(2):ub(2), lb(3):ub(3))  !< field
+    integer, intent(in) :: sbox(2, 3, 2)               !< boxes to send
+    integer, intent(in) :: rbox(2, 3, 2)               !< boxes to receive
+    logical, intent(in) :: reverse                     !< reverse halo
     type(MPI_Request) :: req(4)
     integer :: s, nsend(2), nrecv(2)
-    do s = 1, 2
-      nsend(s) = box_size(sbox(:, :, s))
-      nrecv(s) = box_size(rbox(:, :, s))
-    end do
-    call post_receives(halo, dom, d, nrecv, req)
-    do s = 1, 2
-      if (dom%neighbour(s, d) == MPI_PROC_NULL .or. nsend(s) == 0) cycle
-      call pack_box(field, lb, sbox(:, :, s), halo%send_buf(:, s), reverse)
-      call start_send(halo, dom, d, s, nsend(s), req)
-    end do
-    call MPI_Waitall(4, req, MPI_STATUSES_IGNORE)
-    do s = 1, 2
-      if (dom%neighbour(s, d) == MPI_PROC_NULL .or. nrecv(s) == 0) cycle
-      call unpack_box(field, lb, rbox(:, :, s), halo%recv_buf(:, s), reverse)
-    end do
-  end subroutine sweep_3
-
-  !> One sweep along `d` for a rank-4 field `(component, i, j, k)`; see `sweep_3`.
-  subroutine sweep_4(halo, dom, d, lb, field, sbox, rbox, reverse)
-    type(halo_t), intent(inout), asynchronous :: halo            !< message buffers
-    type(domain_t), intent(in) :: dom                            !< decomposition
-    integer, intent(in) :: d                                     !< dimension
-    integer, intent(in) :: lb(3)                                 !< lower bounds of dims 2..4
-    real(wp), intent(inout) :: field(:, lb(1):, lb(2):, lb(3):)  !< field
-    integer, intent(in) :: sbox(2, 3, 2)                         !< boxes to send
-    integer, intent(in) :: rbox(2, 3, 2)                         !< boxes to receive
-    logical, intent(in) :: reverse                               !< reverse halo
-    type(MPI_Request) :: req(4)
-    integer :: s, nsend(2), nrecv(2), ncomp
-    ncomp = size(field, 1)
     do s = 1, 2
       nsend(s) = ncomp * box_size(sbox(:, :, s))
       nrecv(s) = ncomp * box_size(rbox(:, :, s))
@@ -450,5 +423,5 @@ contains
       if (dom%neighbour(s, d) == MPI_PROC_NULL .or. nrecv(s) == 0) cycle
       call unpack_box(field, lb, rbox(:, :, s), halo%recv_buf(:, s), reverse)
     end do
-  end subroutine sweep_4
+  end subroutine sweep
 end module parallel_halo
