@@ -23,8 +23,8 @@ module parallel_comm
 
   public :: MPI_Comm, MPI_COMM_NULL, MPI_INFO_NULL
   public :: mpi_start, mpi_stop, comm_dup_world, comm_free, comm_rank, comm_size, barrier, &
-    bcast, bcast_text, sum_in_place, node_sum, max_location, all_and, all_or, exscan_sum, alltoall_counts, &
-    alltoallv_real, cart_rank, mpi_library_version, world_ranks, abort_world
+    bcast, bcast_text, sum_in_place, node_sum, max_location, all_and, all_or, exscan_sum, &
+    alltoall_counts, alltoallv_real, cart_rank, mpi_library_version, world_ranks, abort_world
 
   !> `bcast(comm, values, root)`: MPI_Bcast from rank `root` of one integer or logical, or of an
   !! integer vector or a real vector or matrix.
