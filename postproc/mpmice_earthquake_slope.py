@@ -371,10 +371,10 @@ def cycles_figure(runs: dict[str, list[dict]], out: str) -> str:
     keys = list(RU_MONITORS)[1:] + list(RU_MONITORS)[:1]
     fig, axes = plt.subplots(len(keys) + 1, 1, figsize=(8.0, 10.0), sharex=True)
     t_end = max(r["time"] for rows in runs.values() for r in rows)
-    tt = np.linspace(0.0, t_end, 1000)
     for n, (label, rows) in enumerate(runs.items()):
-        shaking = rows[0]["shaking"]
-        axes[0].plot(tt, base_acceleration(tt, shaking) / G, "-", color=f"C{n}", lw=1, label=label)
+        tt = np.linspace(0.0, rows[-1]["time"], 1000)   # each run's own span
+        axes[0].plot(tt, base_acceleration(tt, rows[0]["shaking"]) / G, "-", color=f"C{n}",
+                     lw=1, label=label)
         t = np.array([r["time"] for r in rows])
         for ax, key in zip(axes[1:], keys):
             ax.plot(t, [r["ru"][key] for r in rows], "-", color=f"C{n}", marker="o", ms=2.5,
