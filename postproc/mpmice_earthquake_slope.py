@@ -22,8 +22,11 @@ above y = 2.3 m) and the pore-pressure ratio r_u = excess pore pressure / initia
 effective stress (means over the particles within 0.25 m of four points: the bank's core and
 the basal layer under the crest and both flanks), with 1 - sigma'_v / sigma'_v0 of the same
 particles beside it; then the noise's p99 averaged over the dumps 0.2-0.85 s and its largest
-value there. --compare draws r_u and the crest displacement of several runs into
-earthquake_slope_ru.png.
+value there. A third table gives r_u per shaking cycle (at the cycle's end and its largest value
+within it). The base's shaking (amplitude, frequency, duration) is read from the run's echo
+quake.used.nml. --compare draws r_u and the crest displacement of several runs into
+earthquake_slope_ru.png, and the base acceleration over r_u at each monitor into
+earthquake_slope_ru_cycles.png.
 The dumps open in ParaView through <name>.xmf.
 """
 from __future__ import annotations
@@ -68,6 +71,57 @@ def prescribed_displacement(t: float, a: float = AMPLITUDE, f: float = FREQUENCY
     w = 2.0 * math.pi * f
     ts = min(t, duration) if duration > 0.0 else t
     return a / w * (ts - math.sin(w * ts) / w) + a * (1.0 - math.cos(w * ts)) / w * (t - ts)
+
+
+def base_shaking(run_dir: str) -> tuple[float, float, float]:
+    """The base's shaking (amplitude a [m/s^2] along x, frequency [Hz], duration [s]) as the
+    run's echo ``<run_dir>/quake.used.nml`` gives it; the shipped scene's 1 g, 2 Hz, 1 s when
+    the echo is missing."""
+    from postproc.namelist import parse_namelist_groups
+    path = os.path.join(run_dir, f"{NAME}.used.nml")
+    if not os.path.exists(path):
+        return AMPLITUDE, FREQUENCY, DURATION
+    with open(path, encoding="utf-8") as handle:
+        groups = parse_namelist_groups(handle.read())
+    for group, values in groups:
+        if group == "solid" and str(values.get("name", "")).strip("'\"") == BASE:
+            amp = values.get("acceleration_amplitude", [AMPLITUDE])
+            amp = amp[0] if isinstance(amp, list) else amp
+            return (float(amp), float(values.get("acceleration_frequency", FREQUENCY)),
+                    float(values.get("acceleration_duration", DURATION)))
+    return AMPLITUDE, FREQUENCY, DURATION
+
+
+def base_acceleration(t: np.ndarray, shaking: tuple[float, float, float]) -> np.ndarray:
+    """a(t) [m/s^2] of the base: a sin(2 pi f t) while t <= duration, then 0."""
+    a, f, duration = shaking
+    t = np.asarray(t, dtype=float)
+    return np.where(t <= duration, a * np.sin(2.0 * math.pi * f * t), 0.0)
+
+
+def cycle_table(rows: list[dict], shaking: tuple[float, float, float]) -> list[dict]:
+    """Per shaking cycle n (t in ((n-1)/f, n/f]): r_u at each monitor at the cycle's end (the
+    dump nearest n/f) and its largest value within the cycle."""
+    _, f, duration = shaking
+    t = np.array([r["time"] for r in rows])
+    table = []
+    for n in range(1, int(round(duration * f)) + 1):
+        t0, t1 = (n - 1) / f, n / f
+        if t[-1] < t1 - 1e-9:
+            break
+        inside = [r for r in rows if t0 < r["time"] <= t1 + 1e-9]
+        end = rows[int(np.argmin(np.abs(t - t1)))]
+        table.append({"cycle": n, "time": end["time"], "end": dict(end["ru"]),
+                      "max": {k: max(r["ru"][k] for r in inside) for k in RU_MONITORS}})
+    return table
+
+
+def print_cycle_table(table: list[dict]) -> None:
+    """r_u per cycle (:func:`cycle_table`)."""
+    print("cycle  t [s]  r_u at the cycle's end (largest in the cycle): " + " / ".join(RU_MONITORS))
+    for c in table:
+        cells = " / ".join(f"{c['end'][k]:5.2f} ({c['max'][k]:5.2f})" for k in RU_MONITORS)
+        print(f"{c['cycle']:5d} {c['time']:6.2f}  {cells}")
 
 
 def domain_length(dump: dict) -> float:
@@ -144,8 +198,10 @@ def effective_stress_ratio(sigma_v: np.ndarray, sigma_v0: np.ndarray) -> float:
     return float(1.0 - np.mean(sigma_v) / np.mean(sigma_v0))
 
 
-def analyse(dumps: list[dict]) -> list[dict]:
-    """One row of measured quantities per dump (see the module header)."""
+def analyse(dumps: list[dict], shaking: tuple[float, float, float] | None = None) -> list[dict]:
+    """One row of measured quantities per dump (see the module header); `shaking` (a, f,
+    duration: :func:`base_shaking`) sets the prescribed base motion (default: the shipped 1 g)."""
+    a_base, f_base, d_base = shaking or (AMPLITUDE, FREQUENCY, DURATION)
     length = domain_length(dumps[0])
     s0, b0 = by_id(dumps[0]["particles"][SEDIMENT]), by_id(dumps[0]["particles"][BASE])
     monitors = {k: np.flatnonzero((s0["x"] - px) ** 2 + (s0["y"] - py) ** 2 < MONITOR_RADIUS**2)
@@ -169,8 +225,8 @@ def analyse(dumps: list[dict]) -> list[dict]:
         m = masses(d)
         rough = pore_pressure_roughness(d)
         rows.append({
-            "time": float(d["time"]), "base_dx": base_dx,
-            "base_dx_prescribed": prescribed_displacement(float(d["time"])),
+            "time": float(d["time"]), "base_dx": base_dx, "shaking": (a_base, f_base, d_base),
+            "base_dx_prescribed": prescribed_displacement(float(d["time"]), a_base, f_base, d_base),
             "rel_disp_max": float(np.max(rel)), "ux": ux, "uy": uy, "rel": rel,
             "plastic_max": float(np.max(s["plastic_strain"])), "plastic": s["plastic_strain"],
             "pex": pex, "pex_min": float(np.min(pex)), "pex_max": float(np.max(pex)),
@@ -222,7 +278,8 @@ def plot(dumps: list[dict], rows: list[dict], out: str) -> list[str]:
     fig, (a1, a2, a3) = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
     a1.plot(t, [r["base_dx"] for r in rows], "o", label="base (particles)")
     tt = np.linspace(0.0, t[-1], 200)
-    a1.plot(tt, [prescribed_displacement(v) for v in tt], "k-", lw=1, label="prescribed")
+    a1.plot(tt, [prescribed_displacement(v, *rows[0]["shaking"]) for v in tt], "k-", lw=1,
+            label="prescribed")
     a1.plot(t, [r["rel_disp_max"] for r in rows], "s-", label="sediment: max |u - u_base|")
     a1.set_ylabel("displacement [m]")
     a1.legend(fontsize=8)
@@ -287,7 +344,7 @@ def compare(runs: dict[str, list[dict]], out: str) -> str:
                     label=label)
     for ax, key in zip(axes, RU_MONITORS):
         ax.axhline(1.0, color="k", lw=0.8)
-        ax.axvspan(0.0, DURATION, color="0.9", zorder=0)
+        ax.axvspan(0.0, rows[0]["shaking"][2], color="0.9", zorder=0)
         ax.set_title(f"r_u, {key}", fontsize=9)
         ax.set_xlabel("t [s]")
     axes[0].set_ylabel("excess pore pressure / initial sigma'_v")
@@ -306,6 +363,39 @@ def compare(runs: dict[str, list[dict]], out: str) -> str:
     return path
 
 
+def cycles_figure(runs: dict[str, list[dict]], out: str) -> str:
+    """Figure of several runs (label -> rows of :func:`analyse`): the base acceleration a(t)/g
+    over r_u against time at the three basal-layer monitors and the bank's core, to see the
+    build-up cycle by cycle; returns its path."""
+    plt = pyplot()
+    keys = list(RU_MONITORS)[1:] + list(RU_MONITORS)[:1]
+    fig, axes = plt.subplots(len(keys) + 1, 1, figsize=(8.0, 10.0), sharex=True)
+    t_end = max(r["time"] for rows in runs.values() for r in rows)
+    for n, (label, rows) in enumerate(runs.items()):
+        tt = np.linspace(0.0, rows[-1]["time"], 1000)   # each run's own span
+        axes[0].plot(tt, base_acceleration(tt, rows[0]["shaking"]) / G, "-", color=f"C{n}",
+                     lw=1, label=label)
+        t = np.array([r["time"] for r in rows])
+        for ax, key in zip(axes[1:], keys):
+            ax.plot(t, [r["ru"][key] for r in rows], "-", color=f"C{n}", marker="o", ms=2.5,
+                    label=label)
+    axes[0].set_ylabel("base a / g")
+    axes[0].legend(fontsize=8, loc="upper right")
+    for ax, key in zip(axes[1:], keys):
+        ax.axhline(1.0, color="k", lw=0.8)
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        ax.set_ylabel(f"r_u, {key}", fontsize=8)
+    for ax in axes:
+        f = next(iter(runs.values()))[0]["shaking"][1]
+        for c in np.arange(1.0 / f, t_end + 1e-9, 1.0 / f):
+            ax.axvline(c, color="0.85", lw=0.6, zorder=0)
+    axes[-1].set_xlabel("t [s] (grey lines: the end of each shaking cycle)")
+    fig.tight_layout()
+    path = os.path.join(out, "earthquake_slope_ru_cycles.png")
+    save_figure(fig, path, dpi=100)
+    return path
+
+
 def compare_main(argv) -> int:
     """``--compare LABEL=DIR [LABEL=DIR ...] --out DIR``: the r_u / displacement figure."""
     import argparse
@@ -318,13 +408,15 @@ def compare_main(argv) -> int:
     for item in args.compare:
         label, _, path = item.partition("=")
         try:
-            runs[label] = analyse(read_run_dumps(path, NAME))
+            runs[label] = analyse(read_run_dumps(path, NAME), base_shaking(path))
         except RuntimeError as error:
             raise SystemExit(str(error)) from None
         print(f"== {label}: {path}")
         print_table(runs[label])
+        print_cycle_table(cycle_table(runs[label], runs[label][0]["shaking"]))
     os.makedirs(args.out, exist_ok=True)
     print(f"plot: {compare(runs, args.out)}")
+    print(f"plot: {cycles_figure(runs, args.out)}")
     return 0
 
 
@@ -334,8 +426,9 @@ def main(argv=None) -> int:
     if "--compare" in argv:
         return compare_main(argv)
     args, dumps = parse_run_dir(__doc__.splitlines()[0], NAME, argv)
-    rows = analyse(dumps)
+    rows = analyse(dumps, base_shaking(args.dir))
     print_table(rows)
+    print_cycle_table(cycle_table(rows, rows[0]["shaking"]))
     for path in plot(dumps, rows, args.out or args.dir):
         print(f"plot: {path}")
     return 0

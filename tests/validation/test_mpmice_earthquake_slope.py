@@ -121,3 +121,26 @@ def test_loose_sand_liquefies_dense_sand_sucks(tmp_path):
         for r in dense[2:]:
             assert r["ru"][key] <= -0.3, (key, r["time"], r["ru"][key])
             assert r["ru_effective"][key] < 0.0, (key, r["time"], r["ru_effective"][key])
+
+
+def test_base_shaking_and_cycle_table(tmp_path):
+    """The shaking read back from a run's echo (the base's amplitude, frequency and duration;
+    the shipped 1 g, 2 Hz, 1 s without an echo), a(t) zero after the shaking, and the r_u per
+    cycle on synthetic rows: at each cycle's end and the largest within it."""
+    assert quake.base_shaking(str(tmp_path)) == (quake.AMPLITUDE, quake.FREQUENCY, quake.DURATION)
+    (tmp_path / "quake.used.nml").write_text(
+        "&solid\n  name = 'sediment'\n  acceleration_amplitude = 0.0, 0.0, 0.0\n/\n"
+        "&solid\n  name = 'base'\n  acceleration_amplitude = 1.4715, 0.0, 0.0\n"
+        "  acceleration_frequency = 2.0\n  acceleration_duration = 2.5\n/\n")
+    shaking = quake.base_shaking(str(tmp_path))
+    assert shaking == pytest.approx((1.4715, 2.0, 2.5))
+    acc = quake.base_acceleration(np.array([0.125, 2.625]), shaking)
+    assert acc[0] == pytest.approx(1.4715) and acc[1] == 0.0
+    times = np.arange(0.0, 1.0 + 1e-9, 0.05)
+    rows = [{"time": float(t), "ru": {k: float(t) for k in quake.RU_MONITORS}} for t in times]
+    rows[3]["ru"] = {k: 0.9 for k in quake.RU_MONITORS}        # a peak inside cycle 1
+    table = quake.cycle_table(rows, shaking)
+    assert [c["cycle"] for c in table] == [1, 2]                # rows end at 1.0 s
+    key = "layer, crest"
+    assert table[0]["end"][key] == pytest.approx(0.5) and table[0]["max"][key] == pytest.approx(0.9)
+    assert table[1]["end"][key] == pytest.approx(1.0) and table[1]["max"][key] == pytest.approx(1.0)
