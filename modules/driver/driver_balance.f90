@@ -1,0 +1,132 @@
+!> Block boundaries of the run: `&grid block_cells_x/y/z` where given, otherwise the even split
+!! (`&grid balance = 'cells'`) or the cut from the cost per slab (`balance = 'cost'`).
+!!
+!! With 'cost' the particles are counted where `particles_seeding%seed_solid` would put them:
+!! the centres of the equal sub-cells of every cell that lie inside a solid's shape, the same
+!! arithmetic and shape test. The count does not need the decomposition, so the blocks are fixed
+!! before anything is allocated: each rank counts every `nranks`-th cell, the per-slab counts are
+!! summed over the ranks (integers held exactly in reals: the same sums on every rank), and
+!! `parallel_balance%balanced_blocks` cuts each split dimension where cells + w x particles
+!! divides evenly. Rigid solids that `&mpm cache_static_rigid` keeps on the grid cost nothing
+!! per step and count 0. A restart counts the same seeding, so it gets the same blocks.
+module driver_balance
+  use mpmice_kinds, only: wp, i8
+  use parallel_comm, only: MPI_Comm, comm_rank, comm_size, sum_in_place
+  use parallel_domain, only: choose_dims, blocks_given
+  use parallel_balance, only: balanced_blocks
+  use config_types, only: config_t, solid_params_t, particles_per_cell_used, max_blocks_per_dim
+  use particles_seeding, only: inside_shape
+  use mpm_rigid, only: rigid_motion_t, rigid_is_static
+  implicit none
+  private
+
+  public :: run_block_cells, slab_particles
+
+contains
+
+  !> Collective over `comm`: the cells of each block along x, y, z for `domain_init` (the
+  !! `block_cells` layout: leading positive entries, all zero for an even split).
+  function run_block_cells(cfg, comm) result(block_cells)
+    type(config_t), intent(in) :: cfg     !< validated configuration
+    type(MPI_Comm), intent(in) :: comm    !< communicator of the run
+    integer :: block_cells(max_blocks_per_dim, 3)
+    integer :: d, dims(3), request(3), offset
+    logical :: active(3), split(3)
+    real(wp), allocatable :: counts(:)
+    real(wp) :: cells_per_slab
+
+    block_cells = cfg%grid%block_cells
+    if (trim(cfg%grid%balance) /= 'cost') return
+    active = cfg%grid%ncells > 1
+    request = cfg%grid%dims
+    do d = 1, 3
+      if (blocks_given(block_cells(:, d)) > 0) request(d) = blocks_given(block_cells(:, d))
+    end do
+    dims = choose_dims(comm_size(comm), active, request)
+    do d = 1, 3
+      split(d) = dims(d) > 1 .and. blocks_given(block_cells(:, d)) == 0
+    end do
+    if (.not. any(split)) return
+
+    call slab_particles(cfg, comm, counts)
+    offset = 0
+    do d = 1, 3
+      if (split(d)) then
+        cells_per_slab = product(real(cfg%grid%ncells, wp)) / real(cfg%grid%ncells(d), wp)
+        call balanced_blocks(cells_per_slab + cfg%grid%particle_weight * &
+          counts(offset + 1:offset + cfg%grid%ncells(d)), dims(d), &
+          max(cfg%grid%ghost_width, 1), block_cells(:, d))
+      end if
+      offset = offset + cfg%grid%ncells(d)
+    end do
+  end function run_block_cells
+
+  !> Collective over `comm`: `counts` holds, for x, then y, then z, the particles the solids of
+  !! `cfg` seed into each slab (the cells with one index along that dimension), every rank the
+  !! same values; rigid solids kept on the grid (`&mpm cache_static_rigid`) are left out, and
+  !! scenes without particles give zeros.
+  subroutine slab_particles(cfg, comm, counts)
+    type(config_t), intent(in) :: cfg                  !< validated configuration
+    type(MPI_Comm), intent(in) :: comm                 !< communicator of the run
+    real(wp), allocatable, intent(out) :: counts(:)    !< particles per slab, x then y then z
+    integer :: s, rank, nranks, i, j, k, n(3), a, b, c, ppc(3), hits
+    integer(i8) :: cell
+    logical :: active(3)
+    real(wp) :: lower(3), dx(3), xp(3)
+
+    n = cfg%grid%ncells
+    allocate(counts(sum(n)), source=0.0_wp)
+    rank = comm_rank(comm)
+    nranks = comm_size(comm)
+    active = n > 1
+    lower = cfg%grid%lower
+    dx = (cfg%grid%upper - cfg%grid%lower) / real(n, wp)
+    if (trim(cfg%run%scene) == 'mpm' .or. trim(cfg%run%scene) == 'mpmice') then
+      do s = 1, cfg%nsolids
+        associate (sp => cfg%solids(s))
+          if (kept_on_grid(cfg, sp)) cycle
+          ppc = particles_per_cell_used(sp, n)
+          cell = 0
+          do k = 1, n(3)
+            do j = 1, n(2)
+              do i = 1, n(1)
+                cell = cell + 1
+                if (mod(cell, int(nranks, i8)) /= rank) cycle
+                hits = 0
+                do c = 1, ppc(3)
+                  do b = 1, ppc(2)
+                    do a = 1, ppc(1)
+                      ! the same arithmetic as seed_solid
+                      xp(1) = lower(1) + (real(i - 1, wp) + (real(a, wp) - 0.5_wp) / ppc(1)) &
+                        * dx(1)
+                      xp(2) = lower(2) + (real(j - 1, wp) + (real(b, wp) - 0.5_wp) / ppc(2)) &
+                        * dx(2)
+                      xp(3) = lower(3) + (real(k - 1, wp) + (real(c, wp) - 0.5_wp) / ppc(3)) &
+                        * dx(3)
+                      if (inside_shape(sp, active, xp)) hits = hits + 1
+                    end do
+                  end do
+                end do
+                if (hits == 0) cycle
+                counts(i) = counts(i) + real(hits, wp)
+                counts(n(1) + j) = counts(n(1) + j) + real(hits, wp)
+                counts(n(1) + n(2) + k) = counts(n(1) + n(2) + k) + real(hits, wp)
+              end do
+            end do
+          end do
+        end associate
+      end do
+    end if
+    call sum_in_place(comm, counts)
+  end subroutine slab_particles
+
+  !> True for a rigid solid that `&mpm cache_static_rigid` keeps on the grid (no prescribed
+  !! velocity, no shaking): the same test as `mpm_scene`.
+  logical function kept_on_grid(cfg, s)
+    type(config_t), intent(in) :: cfg          !< configuration
+    type(solid_params_t), intent(in) :: s      !< the solid
+    kept_on_grid = cfg%mpm%cache_static_rigid .and. trim(s%model) == 'rigid'
+    if (kept_on_grid) kept_on_grid = rigid_is_static(rigid_motion_t(s%prescribed_velocity, &
+      s%acceleration_amplitude, s%acceleration_frequency, s%acceleration_duration))
+  end function kept_on_grid
+end module driver_balance

@@ -1,0 +1,113 @@
+"""Blocks cut from the cost per slab (`&grid balance = 'cost'`): the submerged sand block, whose
+particles sit in the left fifth of the tank, on 2 ranks with the cut moved left equals the 1-rank
+run to the rank-invariance tolerances; a restart computes the same blocks and continues bitwise;
+an unknown value is one input-error line."""
+import os
+import re
+
+import h5py
+import numpy as np
+import pytest
+
+from postproc.dump_compare import assert_dumps_identical
+from postproc.mpmice_io import list_dumps
+from postproc.run_case import ROOT, run_mpmice
+
+BLOCK = os.path.join(ROOT, "namelists", "mpmice_submerged_block_2d.nml")
+#: 40 x 20 cells; the block (x < 0.2 m, 2 x 2 particles per cell) fills 8 columns of 8 cells:
+#: column cost 20 + 0.5 x 32 = 36 there, 20 elsewhere; the cost halves (464 of 928) after 16.8
+#: columns, so the cut is at 17
+COST = "&grid balance = 'cost', particle_weight = 0.5 /"
+SETS = ("&run end_time = 0.04, output_interval = 0.02 /",)
+
+
+@pytest.fixture(autouse=True)
+def _executable(mpmice_exe, monkeypatch):
+    monkeypatch.setenv("MPMICE_EXE", str(mpmice_exe))
+
+
+def _run(tmp_path, label, nranks, *sets):
+    out = str(tmp_path / label)
+    command = [BLOCK, "--set", f"&run output_dir = '{out}' /"]
+    for text in sets:
+        command += ["--set", text]
+    return out, run_mpmice(command, nranks=nranks, cwd=str(tmp_path))
+
+
+def _blocks(stdout):
+    m = re.search(r"blocks balanced by cost: x (\d+),(\d+)", stdout)
+    assert m, stdout
+    return int(m.group(1)), int(m.group(2))
+
+
+def _fields(path):
+    with h5py.File(path) as f:
+        cells = {k: f[k][...] for k in ("cell/pressure", "cell/water/velocity_x",
+                                        "cell/water/velocity_y", "cell/solid_volume_fraction")}
+        order = np.lexsort((f["particles/sand/x"][...], f["particles/sand/y"][...]))
+        parts = {k: f[f"particles/sand/{k}"][...][order] for k in ("x", "y", "velocity_y",
+                                                                  "stress_yy")}
+    return cells, parts
+
+
+@pytest.mark.mpi
+def test_cost_blocks_equal_one_rank(tmp_path):
+    """2 ranks cut at column 17 of 40 (the quantile of cells + 0.5 x particles, against 20 for
+    the even split) equal 1 rank: pressure to 1e-9 of its range, water velocity to 1e-9 of its
+    largest value, particle positions to 1e-12 m, stress to 1e-9 of its largest value (the
+    tolerances of test_mpmice_parallel's submerged block)."""
+    one = list_dumps(_run(tmp_path, "r1", 1, *SETS)[0], "block2d")
+    out, result = _run(tmp_path, "cost2", 2, *SETS, COST)
+    assert _blocks(result.stdout) == (17, 23)
+    two = list_dumps(out, "block2d")
+    assert [os.path.basename(p) for p in one] == [os.path.basename(p) for p in two]
+    c1, p1 = _fields(one[-1])
+    c2, p2 = _fields(two[-1])
+    prange = np.ptp(c1["cell/pressure"])
+    assert prange > 100.0   # the hydrostatic column: the comparison is not of zeros
+    assert np.max(np.abs(c1["cell/pressure"] - c2["cell/pressure"])) < 1e-9 * prange
+    for key in ("cell/water/velocity_x", "cell/water/velocity_y"):
+        scale = np.max(np.abs(c1[key]))
+        assert scale > 0.0
+        assert np.max(np.abs(c1[key] - c2[key])) < 1e-9 * scale, key
+    assert np.array_equal(c1["cell/solid_volume_fraction"] > 0, c2["cell/solid_volume_fraction"] > 0)
+    assert np.max(np.abs(p1["x"] - p2["x"])) < 1e-12
+    assert np.max(np.abs(p1["y"] - p2["y"])) < 1e-12
+    stress = np.max(np.abs(p1["stress_yy"]))
+    assert stress > 0.0
+    assert np.max(np.abs(p1["stress_yy"] - p2["stress_yy"])) < 1e-9 * stress
+
+
+@pytest.mark.mpi
+def test_restart_keeps_cost_blocks(tmp_path):
+    """A 2-rank run with balance = 'cost' stopped after 10 steps and continued from its
+    checkpoint computes the same blocks (the particles are counted from the seeding, not from
+    where they moved) and ends bitwise equal to the uninterrupted run."""
+    sets = ("&run end_time = 0.02, output_interval = 0.02 /", COST)
+    full, _ = _run(tmp_path, "full", 2, *sets)
+    half, first = _run(tmp_path, "half", 2, *sets, "&run max_steps = 10 /")
+    checkpoint = os.path.join(half, "block2d_checkpoint_000010.h5")
+    assert os.path.isfile(checkpoint)
+    cont = run_mpmice(["--restart", checkpoint, "--set", "&run max_steps = 0 /"], nranks=2,
+                      cwd=str(tmp_path))
+    assert _blocks(cont.stdout) == _blocks(first.stdout) == (17, 23)
+    a = list_dumps(full, "block2d")[-1]
+    b = list_dumps(half, "block2d")[-1]
+    assert os.path.basename(a) == os.path.basename(b)
+    assert_dumps_identical(a, b)
+
+
+def test_unknown_balance_is_an_input_error(tmp_path, monkeypatch):
+    """`&grid balance = 'particles'`: one error line naming the group, variable, value and the
+    allowed values; exit status 1, nothing written."""
+    monkeypatch.setenv("OMPI_MCA_orte_execute_quiet", "1")   # no launcher report on stderr
+    out = tmp_path / "bad"
+    result = run_mpmice([BLOCK, "--set", f"&run output_dir = '{out}' /",
+                         "--set", "&grid balance = 'particles' /"], cwd=str(tmp_path),
+                        check=False)
+    lines = [line for line in result.stderr.splitlines() if line.strip()]
+    assert result.returncode == 1
+    assert len(lines) == 1, result.stderr
+    for piece in ("&grid", "balance", "particles", "cells", "cost"):
+        assert piece in lines[0], lines[0]
+    assert not out.exists()
