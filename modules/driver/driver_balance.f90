@@ -6,9 +6,9 @@
 !! arithmetic and shape test. The count does not need the decomposition, so the blocks are fixed
 !! before anything is allocated: each rank counts every `nranks`-th cell, the per-slab counts are
 !! summed over the ranks (integers held exactly in reals: the same sums on every rank), and
-!! `parallel_balance%balanced_blocks` cuts each split dimension where cells + w x particles
-!! divides evenly. Rigid solids that `&mpm cache_static_rigid` keeps on the grid cost nothing
-!! per step and count 0. A restart counts the same seeding, so it gets the same blocks.
+!! `parallel_balance%balanced_blocks` cuts each split dimension where the modelled step cost,
+!! the most cells of a block + w x the most particles of a block, is least. Rigid solids that
+!! `&mpm cache_static_rigid` keeps on the grid cost nothing per step and count 0. A restart counts the same seeding, so it gets the same blocks.
 module driver_balance
   use mpmice_kinds, only: wp, i8
   use parallel_comm, only: MPI_Comm, comm_rank, comm_size, sum_in_place
@@ -30,9 +30,9 @@ contains
     type(config_t), intent(in) :: cfg     !< validated configuration
     type(MPI_Comm), intent(in) :: comm    !< communicator of the run
     integer :: block_cells(max_blocks_per_dim, 3)
-    integer :: d, dims(3), request(3), offset
+    integer :: d, dims(3), request(3), offset, i
     logical :: active(3), split(3)
-    real(wp), allocatable :: counts(:)
+    real(wp), allocatable :: counts(:), slab_cells(:)
     real(wp) :: cells_per_slab
 
     block_cells = cfg%grid%block_cells
@@ -53,9 +53,9 @@ contains
     do d = 1, 3
       if (split(d)) then
         cells_per_slab = product(real(cfg%grid%ncells, wp)) / real(cfg%grid%ncells(d), wp)
-        call balanced_blocks(cells_per_slab + cfg%grid%particle_weight * &
-          counts(offset + 1:offset + cfg%grid%ncells(d)), dims(d), &
-          max(cfg%grid%ghost_width, 1), block_cells(:, d))
+        slab_cells = [(cells_per_slab, i = 1, cfg%grid%ncells(d))]
+        call balanced_blocks(slab_cells, counts(offset + 1:offset + cfg%grid%ncells(d)), &
+          cfg%grid%particle_weight, dims(d), max(cfg%grid%ghost_width, 1), block_cells(:, d))
       end if
       offset = offset + cfg%grid%ncells(d)
     end do

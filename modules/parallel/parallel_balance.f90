@@ -1,28 +1,104 @@
-!> Block boundaries along one dimension from a cost per slab (`&grid balance = 'cost'`).
+!> Block boundaries along one dimension from the work per slab (`&grid balance = 'cost'`).
 !!
-!! A slab is the layer of cells with one index along the dimension; its cost is the work a rank
-!! has for it per step, e.g. cells + w x particles. The blocks are contiguous runs of slabs; the
-!! k-th boundary is put where the prefix sum of the cost is nearest to k/n of the total (the
-!! quantile cut: for two blocks the cut that minimises the larger block's cost), then moved,
-!! where needed, so that every block keeps at least `min_cells` slabs. The arithmetic uses only
-!! its arguments, so every rank that passes the same costs gets the same blocks.
+!! A slab is the layer of cells with one index along the dimension. A step's stages end in halo
+!! exchanges or collectives, and the fluid stages (work per cell) and the particle stages (work
+!! per particle) are separate stages, so each waits for its own busiest rank. The modelled cost of
+!! a step on blocks b is therefore
+!!
+!!     F = max_b C_b + w max_b P_b,
+!!
+!! C_b the cells and P_b the particles of block b, w the cost of a particle in cells' worth of
+!! fluid work (docs/performance.md "Balancing the particles"). Two blocks: every cut is tried and
+!! the one of least F kept. More blocks: the cuts where the prefix sum of (1 - a) C / C_total +
+!! a P / P_total is nearest to k/p of the total, for a = 0, 1/64, ..., 1 (a = 0: the cells split
+!! evenly, a = 1: the particles), the set of least F kept. Every block keeps at least
+!! `min_cells` slabs. Ties keep the first candidate (the lower cut, the smaller a). The arithmetic
+!! uses only the arguments, so every rank that passes the same counts gets the same blocks.
 module parallel_balance
   use mpmice_kinds, only: wp
   implicit none
   private
 
-  public :: balanced_blocks
+  public :: balanced_blocks, modelled_cost, quantile_blocks
+
+  integer, parameter :: blend_steps = 64  !< blends a tried for more than two blocks
 
 contains
 
-  !> `cells(1:nblocks)`: the slabs of each block, low block first, for slab costs `cost(1:n)`
-  !! (>= 0). Requires n >= nblocks * min_cells. A total cost of zero gives the even quantiles
-  !! of the slab count.
-  pure subroutine balanced_blocks(cost, nblocks, min_cells, cells)
+  !> `blocks(1:nblocks)`: the slabs of each block, low block first, that minimise the modelled
+  !! cost F for slabs of `cells(i)` cells and `particles(i)` particles (both >= 0). Requires
+  !! size(cells) >= nblocks * min_cells.
+  pure subroutine balanced_blocks(cells, particles, weight, nblocks, min_cells, blocks)
+    real(wp), intent(in) :: cells(:)      !< cells of each slab
+    real(wp), intent(in) :: particles(:)  !< particles of each slab
+    real(wp), intent(in) :: weight        !< w: a particle's cost in cells (>= 0)
+    integer, intent(in) :: nblocks        !< number of blocks (>= 1)
+    integer, intent(in) :: min_cells      !< fewest slabs a block may hold (>= 1)
+    integer, intent(out) :: blocks(:)     !< slabs of each block (size >= nblocks)
+    real(wp) :: share(size(cells)), best, f, a, cell_total, particle_total
+    integer :: n, c, step, trial(nblocks)
+
+    n = size(cells)
+    blocks = 0
+    if (nblocks == 1) then
+      blocks(1) = n
+      return
+    end if
+    best = huge(1.0_wp)
+    if (nblocks == 2) then
+      do c = min_cells, n - min_cells
+        f = modelled_cost(cells, particles, weight, [c, n - c])
+        if (f < best) then
+          best = f
+          blocks(1:2) = [c, n - c]
+        end if
+      end do
+      return
+    end if
+    cell_total = max(sum(cells), tiny(1.0_wp))
+    particle_total = sum(particles)
+    do step = 0, blend_steps
+      if (step > 0 .and. .not. particle_total > 0.0_wp) exit
+      a = real(step, wp) / real(blend_steps, wp)
+      share = (1.0_wp - a) * cells / cell_total
+      if (step > 0) share = share + a * particles / particle_total
+      call quantile_blocks(share, nblocks, min_cells, trial)
+      f = modelled_cost(cells, particles, weight, trial)
+      if (f < best) then
+        best = f
+        blocks(1:nblocks) = trial
+      end if
+    end do
+  end subroutine balanced_blocks
+
+  !> F = max_b C_b + w max_b P_b of the blocks `blocks` (slabs of each, tiling the slabs).
+  pure real(wp) function modelled_cost(cells, particles, weight, blocks) result(f)
+    real(wp), intent(in) :: cells(:)      !< cells of each slab
+    real(wp), intent(in) :: particles(:)  !< particles of each slab
+    real(wp), intent(in) :: weight        !< w: a particle's cost in cells
+    integer, intent(in) :: blocks(:)      !< slabs of each block, low block first
+    real(wp) :: most_cells, most_particles
+    integer :: b, first, last
+    most_cells = 0.0_wp
+    most_particles = 0.0_wp
+    last = 0
+    do b = 1, size(blocks)
+      first = last + 1
+      last = last + blocks(b)
+      most_cells = max(most_cells, sum(cells(first:last)))
+      most_particles = max(most_particles, sum(particles(first:last)))
+    end do
+    f = most_cells + weight * most_particles
+  end function modelled_cost
+
+  !> `blocks(1:nblocks)`: the k-th boundary where the prefix sum of `cost` is nearest to k /
+  !! nblocks of its total (ties: the upper boundary), moved where needed so that every block keeps
+  !! `min_cells` slabs. A total of zero gives the even quantiles of the slab count.
+  pure subroutine quantile_blocks(cost, nblocks, min_cells, blocks)
     real(wp), intent(in) :: cost(:)      !< cost of each slab (>= 0)
     integer, intent(in) :: nblocks       !< number of blocks (>= 1)
     integer, intent(in) :: min_cells     !< fewest slabs a block may hold (>= 1)
-    integer, intent(out) :: cells(:)     !< slabs of each block (size >= nblocks)
+    integer, intent(out) :: blocks(:)    !< slabs of each block (size >= nblocks)
     real(wp) :: prefix(0:size(cost)), target
     integer :: n, i, k, cut(0:nblocks)
 
@@ -50,9 +126,9 @@ contains
       ! keep min_cells slabs for this block and for each block after it
       cut(k) = min(max(i, cut(k - 1) + min_cells), n - (nblocks - k) * min_cells)
     end do
-    cells = 0
+    blocks = 0
     do k = 1, nblocks
-      cells(k) = cut(k) - cut(k - 1)
+      blocks(k) = cut(k) - cut(k - 1)
     end do
-  end subroutine balanced_blocks
+  end subroutine quantile_blocks
 end module parallel_balance

@@ -1,7 +1,7 @@
-"""Blocks cut from the cost per slab (`&grid balance = 'cost'`): the submerged sand block, whose
-particles sit in the left fifth of the tank, on 2 ranks with the cut moved left equals the 1-rank
-run to the rank-invariance tolerances; a restart computes the same blocks and continues bitwise;
-an unknown value is one input-error line."""
+"""Blocks cut by the modelled cost (`&grid balance = 'cost'`): the submerged sand block, whose
+particles sit in the left fifth of the tank, on 2 ranks with the cut moved into the sand equals
+the 1-rank run to the rank-invariance tolerances; a restart computes the same blocks and
+continues bitwise; an unknown value is one input-error line."""
 import os
 import re
 
@@ -14,11 +14,13 @@ from postproc.mpmice_io import list_dumps
 from postproc.run_case import ROOT, run_mpmice
 
 BLOCK = os.path.join(ROOT, "namelists", "mpmice_submerged_block_2d.nml")
-#: 40 x 20 cells; the block (x < 0.2 m, 2 x 2 particles per cell) fills 8 columns of 8 cells:
-#: column cost 20 + 0.5 x 32 = 36 there, 20 elsewhere; the cost halves (464 of 928) after 16.8
-#: columns, so the cut is at 17
-COST = "&grid balance = 'cost', particle_weight = 0.5 /"
-SETS = ("&run end_time = 0.04, output_interval = 0.02 /",)
+#: 40 x 20 cells; the block (x < 0.2 m, 2 x 2 particles per cell) fills 8 columns of 8 cells,
+#: 32 particles per column. A cut at column c costs F = 20 (40 - c) + 4 x 32 max(c, 8 - c) for
+#: c <= 8 (least, 1232, at c = 4: the particles halved) and 20 max(c, 40 - c) + 4 x 256 beyond
+#: (least, 1424, at the even cut): with weight 4 the cut goes through the sand, at column 4
+COST = "&grid balance = 'cost', particle_weight = 4.0 /"
+BLOCKS = (4, 36)
+SETS = ("&run end_time = 0.02, output_interval = 0.01 /",)
 
 
 @pytest.fixture(autouse=True)
@@ -52,13 +54,13 @@ def _fields(path):
 
 @pytest.mark.mpi
 def test_cost_blocks_equal_one_rank(tmp_path):
-    """2 ranks cut at column 17 of 40 (the quantile of cells + 0.5 x particles, against 20 for
-    the even split) equal 1 rank: pressure to 1e-9 of its range, water velocity to 1e-9 of its
+    """2 ranks cut at column 4 of 40 (through the sand: particles cross the boundary all the
+    time) equal 1 rank: pressure to 1e-9 of its range, water velocity to 1e-9 of its
     largest value, particle positions to 1e-12 m, stress to 1e-9 of its largest value (the
     tolerances of test_mpmice_parallel's submerged block)."""
     one = list_dumps(_run(tmp_path, "r1", 1, *SETS)[0], "block2d")
     out, result = _run(tmp_path, "cost2", 2, *SETS, COST)
-    assert _blocks(result.stdout) == (17, 23)
+    assert _blocks(result.stdout) == BLOCKS
     two = list_dumps(out, "block2d")
     assert [os.path.basename(p) for p in one] == [os.path.basename(p) for p in two]
     c1, p1 = _fields(one[-1])
@@ -90,7 +92,7 @@ def test_restart_keeps_cost_blocks(tmp_path):
     assert os.path.isfile(checkpoint)
     cont = run_mpmice(["--restart", checkpoint, "--set", "&run max_steps = 0 /"], nranks=2,
                       cwd=str(tmp_path))
-    assert _blocks(cont.stdout) == _blocks(first.stdout) == (17, 23)
+    assert _blocks(cont.stdout) == _blocks(first.stdout) == BLOCKS
     a = list_dumps(full, "block2d")[-1]
     b = list_dumps(half, "block2d")[-1]
     assert os.path.basename(a) == os.path.basename(b)
