@@ -8,7 +8,8 @@
 !! summed over the ranks (integers held exactly in reals: the same sums on every rank), and
 !! `parallel_balance%balanced_blocks` cuts each split dimension where the modelled step cost,
 !! the most cells of a block + w x the most particles of a block, is least. Rigid solids that
-!! `&mpm cache_static_rigid` keeps on the grid cost nothing per step and count 0. A restart counts the same seeding, so it gets the same blocks.
+!! `&mpm cache_static_rigid` keeps on the grid cost nothing per step and count 0. A restart
+!! counts the same seeding, so it gets the same blocks.
 module driver_balance
   use mpmice_kinds, only: wp, i8
   use parallel_comm, only: MPI_Comm, comm_rank, comm_size, sum_in_place
