@@ -9,7 +9,9 @@
 !! `parallel_balance%balanced_blocks` cuts each split dimension where the modelled step cost,
 !! the most cells of a block + w x the most particles of a block, is least. Rigid solids that
 !! `&mpm cache_static_rigid` keeps on the grid cost nothing per step and count 0. A restart
-!! counts the same seeding, so it gets the same blocks.
+!! counts the particles where its checkpoint holds them instead (each rank reads a chunk of
+!! their positions): the blocks follow the particles from one link of a restart chain to the
+!! next, and stay those of the run before while the particles have not moved across a cut.
 module driver_balance
   use mpmice_kinds, only: wp, i8
   use parallel_comm, only: MPI_Comm, comm_rank, comm_size, sum_in_place
@@ -18,18 +20,21 @@ module driver_balance
   use config_types, only: config_t, solid_params_t, particles_per_cell_used, max_blocks_per_dim
   use particles_seeding, only: inside_shape
   use mpm_rigid, only: rigid_motion_t, rigid_is_static
+  use io_hdf5, only: h5_file_t, h5_open, h5_close, h5_read_particles
   implicit none
   private
 
-  public :: run_block_cells, slab_particles
+  public :: run_block_cells, slab_particles, add_to_slabs
 
 contains
 
   !> Collective over `comm`: the cells of each block along x, y, z for `domain_init` (the
-  !! `block_cells` layout: leading positive entries, all zero for an even split).
-  function run_block_cells(cfg, comm) result(block_cells)
+  !! `block_cells` layout: leading positive entries, all zero for an even split). With
+  !! `restart_file` (not '') the particles are counted in that checkpoint.
+  function run_block_cells(cfg, comm, restart_file) result(block_cells)
     type(config_t), intent(in) :: cfg     !< validated configuration
     type(MPI_Comm), intent(in) :: comm    !< communicator of the run
+    character(len=*), intent(in), optional :: restart_file  !< checkpoint continued, '' if none
     integer :: block_cells(max_blocks_per_dim, 3)
     integer :: d, dims(3), request(3), offset, i
     logical :: active(3), split(3)
@@ -49,7 +54,15 @@ contains
     end do
     if (.not. any(split)) return
 
-    call slab_particles(cfg, comm, counts)
+    if (present(restart_file)) then
+      if (len_trim(restart_file) > 0) then
+        call checkpoint_slab_particles(cfg, comm, restart_file, counts)
+      else
+        call slab_particles(cfg, comm, counts)
+      end if
+    else
+      call slab_particles(cfg, comm, counts)
+    end if
     offset = 0
     do d = 1, 3
       if (split(d)) then
@@ -120,6 +133,55 @@ contains
     end if
     call sum_in_place(comm, counts)
   end subroutine slab_particles
+
+  !> Collective over `comm`: `counts` as `slab_particles` gives them, from the particle
+  !! positions stored in the checkpoint `path` (`checkpoint/particles/<solid>/x`), every rank
+  !! reading a chunk of them.
+  subroutine checkpoint_slab_particles(cfg, comm, path, counts)
+    type(config_t), intent(in) :: cfg                  !< configuration of the restart
+    type(MPI_Comm), intent(in) :: comm                 !< communicator of the run
+    character(len=*), intent(in) :: path               !< checkpoint file
+    real(wp), allocatable, intent(out) :: counts(:)    !< particles per slab, x then y then z
+    type(h5_file_t) :: file
+    real(wp), allocatable :: x(:, :)
+    integer :: s
+
+    allocate(counts(sum(cfg%grid%ncells)), source=0.0_wp)
+    if (trim(cfg%run%scene) == 'mpm' .or. trim(cfg%run%scene) == 'mpmice') then
+      call h5_open(file, path, comm)
+      do s = 1, cfg%nsolids
+        if (kept_on_grid(cfg, cfg%solids(s))) cycle
+        call h5_read_particles(file, 'checkpoint/particles/' // trim(cfg%solids(s)%name) // &
+          '/x', x)
+        call add_to_slabs(x, cfg%grid%ncells, cfg%grid%lower, cfg%grid%upper, counts)
+      end do
+      call h5_close(file)
+    end if
+    call sum_in_place(comm, counts)
+  end subroutine checkpoint_slab_particles
+
+  !> Add the particles at `x(:, 1:n)` to the slab counts `counts` (x, then y, then z slabs of a
+  !! grid of `ncells` cells from `lower` to `upper`); a particle outside the grid counts in the
+  !! nearest slab, an inactive dimension has one slab.
+  pure subroutine add_to_slabs(x, ncells, lower, upper, counts)
+    real(wp), intent(in) :: x(:, :)            !< particle positions (3, n) [m]
+    integer, intent(in) :: ncells(3)           !< cells per dimension
+    real(wp), intent(in) :: lower(3)           !< low corner [m]
+    real(wp), intent(in) :: upper(3)           !< high corner [m]
+    real(wp), intent(inout) :: counts(:)       !< particles per slab, x then y then z
+    integer :: p, d, c, offset
+    real(wp) :: dx(3)
+    dx = (upper - lower) / real(ncells, wp)
+    do p = 1, size(x, 2)
+      offset = 0
+      do d = 1, 3
+        c = 1
+        if (ncells(d) > 1) c = min(max(floor((x(d, p) - lower(d)) / dx(d)) + 1, 1), ncells(d))
+        counts(offset + c) = counts(offset + c) + 1.0_wp
+        offset = offset + ncells(d)
+      end do
+    end do
+  end subroutine add_to_slabs
 
   !> True for a rigid solid that `&mpm cache_static_rigid` keeps on the grid (no prescribed
   !! velocity, no shaking): the same test as `mpm_scene`.

@@ -46,7 +46,7 @@ contains
     integer :: stat
 
     call domain_init(dom, comm, cfg%grid%ncells, cfg%grid%periodic, cfg%grid%ghost_width, &
-      cfg%grid%dims, run_block_cells(cfg, comm))
+      cfg%grid%dims, run_block_cells(cfg, comm, restart_file))
     call grid_init(grid, dom, cfg%grid%lower, cfg%grid%upper)
     text = config_to_text(cfg)
 
@@ -80,8 +80,14 @@ contains
       int_text(dom%dims(2)) // ' x ' // int_text(dom%dims(3)) // ', cells ' // &
       int_text(grid%ncells(1)) // ' x ' // int_text(grid%ncells(2)) // ' x ' // &
       int_text(grid%ncells(3)))
-    if (trim(cfg%grid%balance) == 'cost') call log_info('mpmice: blocks balanced by cost: ' // &
-      block_text(dom))
+    if (trim(cfg%grid%balance) == 'cost') then
+      if (len(restart_file) > 0) then
+        call log_info('mpmice: blocks balanced by cost: ' // block_text(dom) // &
+          ' (particles counted in the checkpoint)')
+      else
+        call log_info('mpmice: blocks balanced by cost: ' // block_text(dom))
+      end if
+    end if
     call log_info('mpmice: output in ' // trim(cfg%run%output_dir) // ', resolved input ' // &
       config_used_path(cfg))
     call log_info('mpmice: version ' // mpmice_version)

@@ -1,7 +1,9 @@
 """Blocks cut by the modelled cost (`&grid balance = 'cost'`): the submerged sand block, whose
 particles sit in the left fifth of the tank, on 2 ranks with the cut moved into the sand equals
-the 1-rank run to the rank-invariance tolerances; a restart computes the same blocks and
-continues bitwise; an unknown value is one input-error line."""
+the 1-rank run to the rank-invariance tolerances; a restart counts the particles in its
+checkpoint: the same blocks while they have not moved (bitwise continuation), new blocks after
+the sliding block moved right (the uninterrupted run's end to the rank-invariance tolerances);
+an unknown value is one input-error line."""
 import os
 import re
 
@@ -10,6 +12,7 @@ import numpy as np
 import pytest
 
 from postproc.dump_compare import assert_dumps_identical
+from postproc.mpm_common import particles
 from postproc.mpmice_io import list_dumps
 from postproc.run_case import ROOT, run_mpmice
 
@@ -36,9 +39,10 @@ def _run(tmp_path, label, nranks, *sets):
     return out, run_mpmice(command, nranks=nranks, cwd=str(tmp_path))
 
 
-def _blocks(stdout):
-    m = re.search(r"blocks balanced by cost: x (\d+),(\d+)", stdout)
+def _blocks(stdout, restart=False):
+    m = re.search(r"blocks balanced by cost: x (\d+),(\d+)(.*)", stdout)
     assert m, stdout
+    assert ("particles counted in the checkpoint" in m.group(3)) == restart, m.group(0)
     return int(m.group(1)), int(m.group(2))
 
 
@@ -81,10 +85,10 @@ def test_cost_blocks_equal_one_rank(tmp_path):
 
 
 @pytest.mark.mpi
-def test_restart_keeps_cost_blocks(tmp_path):
+def test_restart_keeps_blocks_while_particles_stay(tmp_path):
     """A 2-rank run with balance = 'cost' stopped after 10 steps and continued from its
-    checkpoint computes the same blocks (the particles are counted from the seeding, not from
-    where they moved) and ends bitwise equal to the uninterrupted run."""
+    checkpoint: the sand has not moved across a cut, so the particles counted in the checkpoint
+    give the same blocks, and the continuation ends bitwise equal to the uninterrupted run."""
     sets = ("&run end_time = 0.005, output_interval = 0.005 /", COST)   # ~48 steps
     full, _ = _run(tmp_path, "full", 2, *sets)
     half, first = _run(tmp_path, "half", 2, *sets, "&run max_steps = 10 /")
@@ -92,11 +96,49 @@ def test_restart_keeps_cost_blocks(tmp_path):
     assert os.path.isfile(checkpoint)
     cont = run_mpmice(["--restart", checkpoint, "--set", "&run max_steps = 0 /"], nranks=2,
                       cwd=str(tmp_path))
-    assert _blocks(cont.stdout) == _blocks(first.stdout) == BLOCKS
+    assert _blocks(cont.stdout, restart=True) == _blocks(first.stdout) == BLOCKS
     a = list_dumps(full, "block2d")[-1]
     b = list_dumps(half, "block2d")[-1]
     assert os.path.basename(a) == os.path.basename(b)
     assert_dumps_identical(a, b)
+
+
+SLIDE = os.path.join(ROOT, "namelists", "mpm_slide_2d.nml")
+
+
+@pytest.mark.mpi
+def test_restart_follows_moved_particles(tmp_path):
+    """The sliding block (mpm_slide_2d: 20 x 20 cells, 4 m/s to the right; solids alone, w =
+    20) on 2 ranks: the seeding gives the cut at column 10; after 60 steps (t = 0.025 s) the
+    block has moved 0.1 m, and the restart from that checkpoint cuts at column 11. The
+    continuation ends where the uninterrupted run on the seeding's blocks ends, to the MPM
+    rank-invariance tolerances (test_mpm_parallel: positions 1e-14 m, velocities 3e-13 m/s,
+    stresses 3e-13 of the largest)."""
+    cost = "&grid balance = 'cost', particle_weight = 20.0 /"
+    out_full = str(tmp_path / "full")
+    first = run_mpmice([SLIDE, "--set", f"&run output_dir = '{out_full}' /", "--set", cost],
+                       nranks=2, cwd=str(tmp_path))
+    assert _blocks(first.stdout) == (10, 10)
+    out_half = str(tmp_path / "half")
+    run_mpmice([SLIDE, "--set", f"&run output_dir = '{out_half}', max_steps = 60 /",
+                "--set", cost], nranks=2, cwd=str(tmp_path))
+    checkpoint = os.path.join(out_half, "slide2d_checkpoint_000060.h5")
+    cont = run_mpmice(["--restart", checkpoint, "--set", "&run max_steps = 0 /"], nranks=2,
+                      cwd=str(tmp_path))
+    assert _blocks(cont.stdout, restart=True) == (11, 9)
+    a = list_dumps(out_full, "slide2d")[-1]
+    b = list_dumps(out_half, "slide2d")[-1]
+    assert os.path.basename(a) == os.path.basename(b)
+    _, ref = particles(a, "block")
+    _, other = particles(b, "block")
+    assert np.array_equal(ref["id"], other["id"])
+    scale = max(np.max(np.abs(ref[f"stress_{c}"])) for c in ("xx", "yy", "xy"))
+    assert scale > 0.0
+    for c in ("x", "y"):
+        assert np.max(np.abs(other[c] - ref[c])) < 1e-14, c
+        assert np.max(np.abs(other[f"velocity_{c}"] - ref[f"velocity_{c}"])) < 3e-13, c
+    for c in ("xx", "yy", "zz", "xy"):
+        assert np.max(np.abs(other[f"stress_{c}"] - ref[f"stress_{c}"])) < 3e-13 * scale, c
 
 
 def test_unknown_balance_is_an_input_error(tmp_path, monkeypatch):
