@@ -8,26 +8,47 @@
 !!   finalize MPI and the program exits with status 1 before any output is written.
 !!
 !! Aborts go through a procedure pointer so that unit tests can replace them by a recorder.
+!! base/ sits below parallel/ and does not call MPI itself: `parallel_comm%mpi_start` installs
+!! the MPI ends of the abort and of the clean exit (`set_exit_hooks`); before it (and in
+!! programs that never call it) both only end the process.
 module mpmice_errors
   use, intrinsic :: iso_c_binding, only: c_int
   use, intrinsic :: iso_fortran_env, only: error_unit
-  use mpi_f08, only: MPI_Abort, MPI_COMM_WORLD, MPI_Finalize, MPI_Initialized, MPI_Finalized
-  use mpmice_kinds, only: msg_len
+  use mpmice_kinds, only: wp, i8, msg_len
   implicit none
   private
 
   public :: fatal, fatal_handler_t, set_fatal_handler, reset_fatal_handler
+  public :: abort_hook_t, finalize_hook_t, set_exit_hooks
   public :: input_error_text, exit_cleanly, real_text, real_short_text, int_text, logical_text
+
+  !> `int_text(n)`: an integer (default or 64-bit) as text.
+  interface int_text
+    module procedure int_text_default, int_text_i8
+  end interface int_text
 
   abstract interface
     !> Signature of a fatal-error handler.
     subroutine fatal_handler_t(message)
       character(len=*), intent(in) :: message  !< full error message
     end subroutine fatal_handler_t
+
+    !> Signature of the hook that aborts every rank with an exit status (`parallel_comm`).
+    subroutine abort_hook_t(code)
+      integer, intent(in) :: code  !< exit status
+    end subroutine abort_hook_t
+
+    !> Signature of the hook that finalizes MPI before a clean exit (`parallel_comm`).
+    subroutine finalize_hook_t()
+    end subroutine finalize_hook_t
   end interface
 
   !> Module state (allowed exception): the active fatal handler, replaced only by unit tests.
   procedure(fatal_handler_t), pointer :: active_handler => null()
+  !> Module state (allowed exception, like the communicator it stands for): the MPI ends of
+  !! `fatal` and `exit_cleanly`, installed once by `parallel_comm%mpi_start`.
+  procedure(abort_hook_t), pointer :: abort_hook => null()
+  procedure(finalize_hook_t), pointer :: finalize_hook => null()
 
   interface
     !> C library exit(), used to leave with a status code without a compiler STOP banner.
@@ -58,17 +79,23 @@ contains
     end if
   end subroutine fatal
 
-  !> Default handler: print and abort every rank.
+  !> Default handler: print and abort every rank (the abort hook, when installed).
   subroutine default_fatal(message)
     character(len=*), intent(in) :: message  !< full error message
-    logical :: initialized, finalized
     write(error_unit, '(a)') message
     flush(error_unit)
-    call MPI_Initialized(initialized)
-    call MPI_Finalized(finalized)
-    if (initialized .and. .not. finalized) call MPI_Abort(MPI_COMM_WORLD, 2)
+    if (associated(abort_hook)) call abort_hook(2)
     call c_exit(2_c_int)
   end subroutine default_fatal
+
+  !> Install the MPI ends of `fatal` (abort every rank) and `exit_cleanly` (finalize); each
+  !! does nothing unless MPI runs.
+  subroutine set_exit_hooks(abort, finalize)
+    procedure(abort_hook_t) :: abort        !< aborts every rank with the given status
+    procedure(finalize_hook_t) :: finalize  !< finalizes MPI
+    abort_hook => abort
+    finalize_hook => finalize
+  end subroutine set_exit_hooks
 
   !> Install a handler for fatal errors (unit tests use this to record instead of aborting).
   subroutine set_fatal_handler(handler)
@@ -94,46 +121,54 @@ contains
       // ' = ' // trim(adjustl(value)) // ': ' // trim(allowed)
   end function input_error_text
 
-  !> Finalize MPI (if running) and exit the process with `status`, printing nothing.
-  !! Collective: every rank must call it.
+  !> Finalize MPI (if running: the finalize hook) and exit the process with `status`, printing
+  !! nothing. Collective: every rank must call it.
   subroutine exit_cleanly(status)
     integer, intent(in) :: status  !< process exit status
-    logical :: initialized, finalized
     flush(error_unit)
-    call MPI_Initialized(initialized)
-    call MPI_Finalized(finalized)
-    if (initialized .and. .not. finalized) call MPI_Finalize()
+    if (associated(finalize_hook)) call finalize_hook()
     call c_exit(int(status, c_int))
   end subroutine exit_cleanly
 
   !> A real as compact text (for messages).
   pure function real_text(x) result(text)
-    use mpmice_kinds, only: wp
     real(wp), intent(in) :: x  !< value
     character(len=:), allocatable :: text
-    character(len=32) :: buffer
-    write(buffer, '(g0)') x
-    text = trim(adjustl(buffer))
+    text = formatted_real(x, '(g0)')
   end function real_text
 
   !> A real with 6 significant digits (for log lines; `real_text` keeps every digit).
   pure function real_short_text(x) result(text)
-    use mpmice_kinds, only: wp
     real(wp), intent(in) :: x  !< value
     character(len=:), allocatable :: text
-    character(len=32) :: buffer
-    write(buffer, '(1pg13.6)') x
-    text = trim(adjustl(buffer))
+    text = formatted_real(x, '(1pg13.6)')
   end function real_short_text
 
+  !> A real written with the edit descriptor `form`, without the blanks around it.
+  pure function formatted_real(x, form) result(text)
+    real(wp), intent(in) :: x             !< value
+    character(len=*), intent(in) :: form  !< format, e.g. '(g0)'
+    character(len=:), allocatable :: text
+    character(len=32) :: buffer
+    write(buffer, form) x
+    text = trim(adjustl(buffer))
+  end function formatted_real
+
   !> An integer as text (for messages).
-  pure function int_text(n) result(text)
+  pure function int_text_default(n) result(text)
     integer, intent(in) :: n  !< value
     character(len=:), allocatable :: text
-    character(len=16) :: buffer
+    text = int_text_i8(int(n, i8))
+  end function int_text_default
+
+  !> A 64-bit integer as text (for messages).
+  pure function int_text_i8(n) result(text)
+    integer(i8), intent(in) :: n  !< value
+    character(len=:), allocatable :: text
+    character(len=24) :: buffer
     write(buffer, '(i0)') n
     text = trim(buffer)
-  end function int_text
+  end function int_text_i8
 
   !> A logical as namelist text.
   pure function logical_text(flag) result(text)

@@ -94,12 +94,26 @@ contains
   !> An informational line (rank 0, verbosity >= 1).
   subroutine log_info(message)
     character(len=*), intent(in) :: message  !< text to print
-    if (is_root .and. verbosity >= 1) then
+    call log_at(1, message)
+  end subroutine log_info
+
+  !> A debug line (rank 0, verbosity >= 2).
+  subroutine log_debug(message)
+    character(len=*), intent(in) :: message  !< text to print
+    call log_at(2, message)
+  end subroutine log_debug
+
+  !> A line on standard output and in the log file from rank 0 when the verbosity is at least
+  !! `level`.
+  subroutine log_at(level, message)
+    integer, intent(in) :: level             !< least verbosity that prints it
+    character(len=*), intent(in) :: message  !< text to print
+    if (is_root .and. verbosity >= level) then
       write(output_unit, '(a)') trim(message)
       flush(output_unit)
       call to_file(trim(message))
     end if
-  end subroutine log_info
+  end subroutine log_at
 
   !> A warning line on standard error (rank 0), `log_repeated` rules.
   subroutine log_warning(message)
@@ -186,14 +200,4 @@ contains
       key(n:n) = line(k:k)
     end do
   end function number_free
-
-  !> A debug line (rank 0, verbosity >= 2).
-  subroutine log_debug(message)
-    character(len=*), intent(in) :: message  !< text to print
-    if (is_root .and. verbosity >= 2) then
-      write(output_unit, '(a)') trim(message)
-      flush(output_unit)
-      call to_file(trim(message))
-    end if
-  end subroutine log_debug
 end module mpmice_log

@@ -1,8 +1,8 @@
 !> Progress line for long runs: step, time, dt, percentage done, wall time and ETA (rank 0 prints).
 module mpmice_progress
-  use mpi_f08, only: MPI_Wtime
   use mpmice_kinds, only: wp
   use mpmice_log, only: log_info
+  use mpmice_timers, only: wall_clock_s
   implicit none
   private
 
@@ -25,7 +25,7 @@ contains
     real(wp), intent(in) :: interval_s         !< wall time between lines [s]
     real(wp), intent(in) :: start_time         !< simulated time at start [s]
     real(wp), intent(in) :: end_time           !< simulated end time [s]
-    progress%start_s = MPI_Wtime()
+    progress%start_s = wall_clock_s()
     progress%last_print_s = progress%start_s
     progress%interval_s = interval_s
     progress%start_time = start_time
@@ -36,7 +36,7 @@ contains
   function progress_elapsed(progress) result(seconds)
     type(progress_t), intent(in) :: progress  !< reporter
     real(wp) :: seconds
-    seconds = MPI_Wtime() - progress%start_s
+    seconds = wall_clock_s() - progress%start_s
   end function progress_elapsed
 
   !> Print a progress line if the interval has passed (or `force`).
@@ -48,7 +48,7 @@ contains
     logical, intent(in), optional :: force       !< print regardless of the interval
     real(wp) :: now
     logical :: print_now
-    now = MPI_Wtime()
+    now = wall_clock_s()
     print_now = now - progress%last_print_s >= progress%interval_s
     if (present(force)) print_now = print_now .or. force
     if (.not. print_now) return

@@ -4,19 +4,18 @@
 !! time of a stage includes the time the process waited for a core, its CPU time does not.
 !!
 !! Stages are registered once (`timer_register` returns an id) and timed with `timer_start` /
-!! `timer_stop`; nothing is allocated after registration. The summary reports, per stage, the number
-!! of calls and the maximum and mean total time over ranks.
+!! `timer_stop`; nothing is allocated after registration. The summary (`timer_table`, given the
+!! ranks' maxima and sums by `parallel_timers%timer_summary`) reports, per stage, the number of
+!! calls and the maximum and mean total time over ranks.
 module mpmice_timers
-  use mpi_f08, only: MPI_Comm, MPI_Wtime, MPI_Allreduce, MPI_MAX, MPI_SUM, MPI_DOUBLE_PRECISION, &
-    MPI_Comm_size
-  use mpmice_kinds, only: wp, name_len
+  use mpmice_kinds, only: wp, i8, name_len
   use mpmice_errors, only: fatal
   use mpmice_log, only: log_info
   implicit none
   private
 
   public :: timer_set_t, timer_register, timer_start, timer_stop, timer_total, timer_calls, &
-    timer_summary
+    timer_table, wall_clock_s, max_stages
 
   integer, parameter :: max_stages = 48  !< capacity of a timer set
 
@@ -75,9 +74,17 @@ contains
     if (timers%cpu) then
       call cpu_time(seconds)
     else
-      seconds = MPI_Wtime()
+      seconds = wall_clock_s()
     end if
   end function clock_s
+
+  !> Wall clock of this process [s] (monotonic, from an arbitrary origin).
+  function wall_clock_s() result(seconds)
+    real(wp) :: seconds
+    integer(i8) :: count, rate
+    call system_clock(count, rate)
+    seconds = real(count, wp) / real(rate, wp)
+  end function wall_clock_s
 
   !> Accumulated time [s] of stage `id` on this rank.
   pure function timer_total(timers, id) result(seconds)
@@ -95,20 +102,17 @@ contains
     n = timers%calls(id)
   end function timer_calls
 
-  !> Print the per-stage table (collective over `comm`; rank 0 prints). `run_s` is the wall time of the
-  !! whole run used for the percentage column.
-  subroutine timer_summary(timers, comm, run_s)
+  !> Print the per-stage table (rank 0 prints) from the ranks' maximum `tmax` and sum `tsum` of
+  !! each stage's total over `nranks` ranks. `run_s` is the wall time of the whole run used for
+  !! the percentage column.
+  subroutine timer_table(timers, tmax, tsum, nranks, run_s)
     type(timer_set_t), intent(in) :: timers  !< timer set (same stages on every rank)
-    type(MPI_Comm), intent(in) :: comm       !< communicator of the run
+    real(wp), intent(in) :: tmax(:)          !< (nstages) largest total over the ranks [s]
+    real(wp), intent(in) :: tsum(:)          !< (nstages) sum of the totals over the ranks [s]
+    integer, intent(in) :: nranks            !< ranks of the run
     real(wp), intent(in) :: run_s            !< wall time of the run [s]
-    real(wp) :: tmax(max_stages), tsum(max_stages)
-    integer :: id, nranks, n
+    integer :: id
     character(len=160) :: line
-    n = timers%nstages
-    if (n == 0) return
-    call MPI_Comm_size(comm, nranks)
-    call MPI_Allreduce(timers%total_s, tmax, n, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
-    call MPI_Allreduce(timers%total_s, tsum, n, MPI_DOUBLE_PRECISION, MPI_SUM, comm)
     if (timers%cpu) then
       call log_info('timers (CPU seconds, MPMICE_CPU_TIMERS; max and mean over ranks)')
     else
@@ -117,7 +121,7 @@ contains
     write(line, '(a32, a10, a12, a12, a8, a14)') 'stage', 'calls', 'max [s]', 'mean [s]', '%', &
       'per call [ms]'
     call log_info(line)
-    do id = 1, n
+    do id = 1, timers%nstages
       write(line, '(a32, i10, f12.4, f12.4, f8.1, f14.4)') adjustr(timers%names(id)(1:32)), &
         timers%calls(id), tmax(id), tsum(id) / real(nranks, wp), &
         100.0_wp * tmax(id) / max(run_s, tiny(1.0_wp)), &
@@ -126,5 +130,5 @@ contains
     end do
     write(line, '(a32, 10x, f12.4)') adjustr('total run'), run_s
     call log_info(line)
-  end subroutine timer_summary
+  end subroutine timer_table
 end module mpmice_timers

@@ -10,12 +10,13 @@
 !! a profile needs at least 2 points with x strictly increasing.
 module config_geometry_csv
   use mpmice_kinds, only: wp, msg_len
+  use mpmice_errors, only: int_text
   use config_text, only: real_repr
   use geometry_shapes, only: polygon_area, polygon_crossing, height_map_t
   implicit none
   private
 
-  public :: read_xy_file, check_polygon_vertices, check_profile_points, file_error, int_str
+  public :: read_xy_file, check_polygon_vertices, check_profile_points, file_error
   public :: height_map_from_points
 
   integer, parameter :: field_len = 256  !< longest CSV field kept (longer ones are cut)
@@ -106,16 +107,16 @@ contains
       end if
       if (nf /= ncols) then
         if (ncols == 3) then
-          expected = 'three values "x, y, z" (as on line ' // int_str(first_line) // ')'
+          expected = 'three values "x, y, z" (as on line ' // int_text(first_line) // ')'
         else if (present(z) .and. lineno == first_line) then
           expected = 'two values "x, y" or three "x, y, z"'
         else if (present(z)) then
-          expected = 'two values "x, y" (as on line ' // int_str(first_line) // ')'
+          expected = 'two values "x, y" (as on line ' // int_text(first_line) // ')'
         else
           expected = 'two values "x, y"'
         end if
         errmsg = file_error(path, lineno, 'expected ' // expected // ', found ' // &
-          int_str(nf) // ': ''' // line // '''', what)
+          int_text(nf) // ': ''' // line // '''', what)
         return
       end if
       v = 0.0_wp
@@ -176,7 +177,7 @@ contains
     end do
     if (nx < 2 .or. n < 2 * nx) then
       errmsg = file_error(path, last_line(lines), 'a height map needs at least 2 rows of at ' // &
-        'least 2 points, found ' // int_str(n) // ' points in rows of ' // int_str(nx) // &
+        'least 2 points, found ' // int_text(n) // ' points in rows of ' // int_text(nx) // &
         layout, what)
       return
     end if
@@ -187,7 +188,7 @@ contains
       if (r == 0 .and. c > 1) then
         if (.not. (x(i) > x(i - 1))) then
           errmsg = file_error(path, lines(i), 'x = ' // real_repr(x(i)) // ' is not greater ' &
-            // 'than x = ' // real_repr(x(i - 1)) // ' on line ' // int_str(lines(i - 1)) // &
+            // 'than x = ' // real_repr(x(i - 1)) // ' on line ' // int_text(lines(i - 1)) // &
             layout, what)
           return
         end if
@@ -195,7 +196,7 @@ contains
         if (.not. (y(i) > y(i - nx))) then
           errmsg = file_error(path, lines(i), 'y = ' // real_repr(y(i)) // ' is not greater ' &
             // 'than y = ' // real_repr(y(i - nx)) // ' of the row before (line ' // &
-            int_str(lines(i - nx)) // ')' // layout, what)
+            int_text(lines(i - nx)) // ')' // layout, what)
           return
         end if
       end if
@@ -208,7 +209,7 @@ contains
     end do
     if (n /= nx * ny) then
       errmsg = file_error(path, last_line(lines), 'the last row holds ' // &
-        int_str(n - (ny - 1) * nx) // ' points, the first ' // int_str(nx) // layout, what)
+        int_text(n - (ny - 1) * nx) // ' points, the first ' // int_text(nx) // layout, what)
       return
     end if
     map%x = x(1:nx)
@@ -260,20 +261,20 @@ contains
     end if
     if (n < 3) then
       errmsg = file_error(path, last_line(lines), 'a polygon needs at least 3 vertices, ' // &
-        'found ' // int_str(n), what)
+        'found ' // int_text(n), what)
       return
     end if
     do i = 2, n
       if (x(i) == x(i - 1) .and. y(i) == y(i - 1)) then
         errmsg = file_error(path, lines(i), 'vertex repeats the one on line ' // &
-          int_str(lines(i - 1)), what)
+          int_text(lines(i - 1)), what)
         return
       end if
     end do
     call polygon_crossing(x, y, a, b)
     if (a > 0) then
       errmsg = file_error(path, lines(b), 'the polygon intersects itself: the edge from ' // &
-        'this line''s vertex crosses the edge from line ' // int_str(lines(a)), what)
+        'this line''s vertex crosses the edge from line ' // int_text(lines(a)), what)
       return
     end if
     if (.not. (abs(polygon_area(x, y)) > 0.0_wp)) then
@@ -296,13 +297,13 @@ contains
     errmsg = ''
     if (size(x) < 2) then
       errmsg = file_error(path, last_line(lines), 'a profile needs at least 2 points, ' // &
-        'found ' // int_str(size(x)), what)
+        'found ' // int_text(size(x)), what)
       return
     end if
     do i = 2, size(x)
       if (.not. (x(i) > x(i - 1))) then
         errmsg = file_error(path, lines(i), 'x = ' // real_repr(x(i)) // ' is not greater ' // &
-          'than x = ' // real_repr(x(i - 1)) // ' on line ' // int_str(lines(i - 1)) // &
+          'than x = ' // real_repr(x(i - 1)) // ' on line ' // int_text(lines(i - 1)) // &
           ' (a profile needs x strictly increasing)', what)
         return
       end if
@@ -316,7 +317,7 @@ contains
     integer, intent(in) :: lineno
     character(len=:), allocatable :: text
     text = 'mpmice: input error: ' // trim(path)
-    if (lineno > 0) text = text // ': line ' // int_str(lineno)
+    if (lineno > 0) text = text // ': line ' // int_text(lineno)
     text = text // ': ' // problem // ' (' // trim(what) // ')'
   end function file_error
 
@@ -402,13 +403,4 @@ contains
     end do
     is_number = digits > 0 .and. (.not. in_exp .or. exp_digits > 0)
   end function is_number
-
-  !> Integer as text.
-  pure function int_str(i) result(text)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: text
-    character(len=16) :: buffer
-    write(buffer, '(i0)') i
-    text = trim(buffer)
-  end function int_str
 end module config_geometry_csv

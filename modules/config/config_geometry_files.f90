@@ -9,16 +9,17 @@
 !! every rank the vertices.
 module config_geometry_files
   use, intrinsic :: iso_c_binding, only: c_char, c_size_t, c_ptr, c_associated, c_null_char
-  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Bcast, MPI_INTEGER, MPI_DOUBLE_PRECISION
+  use parallel_comm, only: MPI_Comm, comm_rank, bcast
   use mpmice_kinds, only: wp, path_len
-  use config_types, only: config_t
+  use mpmice_errors, only: int_text
+  use config_types, only: config_t, grid_params_t
   use config_materials, only: solid_params_t, region_params_t
   use config_text, only: real_repr, quoted
   use config_check_tools, only: config_error_t, set_error, occurrence_label
   use geometry_shapes, only: file_shape_t, shape_kind_none, shape_kind_polygon, &
     shape_kind_profile, level_unset, height_map_t
   use config_geometry_csv, only: read_xy_file, check_polygon_vertices, check_profile_points, &
-    file_error, int_str, height_map_from_points
+    file_error, height_map_from_points
   implicit none
   private
 
@@ -119,7 +120,7 @@ contains
       associate (s => cfg%solids(k))
         if (trim(s%shape) == 'polygon' .and. len_trim(s%polygon_file) > 0 .and. &
           s%npoints /= 0) then
-          call set_error(err, occurrence_label('solid', k), 'npoints', int_str(s%npoints), &
+          call set_error(err, occurrence_label('solid', k), 'npoints', int_text(s%npoints), &
             '0 with polygon_file (the vertices come either inline or from the file)')
           return
         end if
@@ -193,21 +194,17 @@ contains
     errmsg = ''
     do k = 1, cfg%nsolids
       associate (s => cfg%solids(k))
-        call load_shape(s%geometry, '&' // occurrence_label('solid', k), s%shape, &
+        call load_shape(s%geometry, cfg%grid, '&' // occurrence_label('solid', k), s%shape, &
           s%polygon_file, s%profile_file, s%profile_lower_file, s%layer_thickness, &
           s%profile_lower_level, stat, errmsg)
-        if (stat == 0) call check_overlap(cfg, s%geometry, s%polygon_file, s%profile_file, &
-          s%profile_lower_file, '&' // occurrence_label('solid', k), stat, errmsg)
       end associate
       if (stat /= 0) return
     end do
     do k = 1, cfg%nregions
       associate (r => cfg%regions(k))
-        call load_shape(r%geometry, '&' // occurrence_label('region', k), r%shape, &
+        call load_shape(r%geometry, cfg%grid, '&' // occurrence_label('region', k), r%shape, &
           r%polygon_file, r%profile_file, r%profile_lower_file, r%layer_thickness, &
           r%profile_lower_level, stat, errmsg)
-        if (stat == 0) call check_overlap(cfg, r%geometry, r%polygon_file, r%profile_file, &
-          r%profile_lower_file, '&' // occurrence_label('region', k), stat, errmsg)
       end associate
       if (stat /= 0) return
     end do
@@ -215,8 +212,8 @@ contains
 
   !> A file shape must reach into the domain: the polygon's bounding box overlaps it along x
   !! and y (active dimensions), a profile's x range overlaps it along x.
-  subroutine check_overlap(cfg, geo, polygon_file, profile_file, lower_file, g, stat, errmsg)
-    type(config_t), intent(in) :: cfg
+  subroutine check_overlap(grid, geo, polygon_file, profile_file, lower_file, g, stat, errmsg)
+    type(grid_params_t), intent(in) :: grid
     type(file_shape_t), intent(in) :: geo
     character(len=*), intent(in) :: polygon_file, profile_file, lower_file, g
     integer, intent(out) :: stat
@@ -225,9 +222,9 @@ contains
     real(wp) :: lo(2), hi(2)
     character(len=:), allocatable :: domain
     stat = 0
-    active = cfg%grid%ncells(1:2) > 1
-    lo = cfg%grid%lower(1:2)
-    hi = cfg%grid%upper(1:2)
+    active = grid%ncells(1:2) > 1
+    lo = grid%lower(1:2)
+    hi = grid%upper(1:2)
     domain = ' lies outside the domain &grid lower = ' // real_repr(lo(1)) // ', ' // &
       real_repr(lo(2)) // ', upper = ' // real_repr(hi(1)) // ', ' // real_repr(hi(2)) // ' [m]'
     select case (geo%kind)
@@ -241,7 +238,7 @@ contains
       end if
     case (shape_kind_profile)
       if (geo%is_map) then
-        call check_map_overlap(cfg, geo, profile_file, lower_file, g, stat, errmsg)
+        call check_map_overlap(grid, geo, profile_file, lower_file, g, stat, errmsg)
         return
       end if
       if (active(1) .and. size(geo%x) > 0) then
@@ -266,8 +263,8 @@ contains
   end subroutine check_overlap
 
   !> A height map needs an active z and must overlap the domain in x and y.
-  subroutine check_map_overlap(cfg, geo, profile_file, lower_file, g, stat, errmsg)
-    type(config_t), intent(in) :: cfg
+  subroutine check_map_overlap(grid, geo, profile_file, lower_file, g, stat, errmsg)
+    type(grid_params_t), intent(in) :: grid
     type(file_shape_t), intent(in) :: geo
     character(len=*), intent(in) :: profile_file, lower_file, g
     integer, intent(out) :: stat
@@ -286,30 +283,32 @@ contains
       logical :: active(2)
       path = trim(file)
       variable = g // ' ' // name
-      if (cfg%grid%ncells(3) <= 1) then
+      if (grid%ncells(3) <= 1) then
         stat = 1
         errmsg = file_error(path, 0, 'a height map "x, y, z" needs a 3D grid (&grid ' // &
           'ncells(3) > 1); a 2D bed is a profile "x, y"', variable)
         return
       end if
-      active = cfg%grid%ncells(1:2) > 1
+      active = grid%ncells(1:2) > 1
       if (any(active .and. ([map%x(size(map%x)), map%y(size(map%y))] <= &
-        cfg%grid%lower(1:2) .or. [map%x(1), map%y(1)] >= cfg%grid%upper(1:2)))) then
+        grid%lower(1:2) .or. [map%x(1), map%y(1)] >= grid%upper(1:2)))) then
         stat = 1
         errmsg = file_error(path, 0, 'the height map (x ' // real_repr(map%x(1)) // '..' // &
           real_repr(map%x(size(map%x))) // ', y ' // real_repr(map%y(1)) // '..' // &
           real_repr(map%y(size(map%y))) // ') lies outside the domain &grid lower = ' // &
-          real_repr(cfg%grid%lower(1)) // ', ' // real_repr(cfg%grid%lower(2)) // &
-          ', upper = ' // real_repr(cfg%grid%upper(1)) // ', ' // &
-          real_repr(cfg%grid%upper(2)) // ' [m]', variable)
+          real_repr(grid%lower(1)) // ', ' // real_repr(grid%lower(2)) // &
+          ', upper = ' // real_repr(grid%upper(1)) // ', ' // &
+          real_repr(grid%upper(2)) // ' [m]', variable)
       end if
     end subroutine one
   end subroutine check_map_overlap
 
-  !> Read the files of one shape into `geo`.
-  subroutine load_shape(geo, g, shape, polygon_file, profile_file, lower_file, thickness, &
+  !> Read the files of one shape into `geo` and check that it reaches into the domain of `grid`
+  !! (`check_overlap`).
+  subroutine load_shape(geo, grid, g, shape, polygon_file, profile_file, lower_file, thickness, &
     lower_level, stat, errmsg)
     type(file_shape_t), intent(inout) :: geo
+    type(grid_params_t), intent(in) :: grid
     character(len=*), intent(in) :: g, shape, polygon_file, profile_file, lower_file
     real(wp), intent(in) :: thickness, lower_level
     integer, intent(out) :: stat
@@ -352,6 +351,7 @@ contains
       geo%lower_level = lower_level
       geo%kind = shape_kind_profile
     end if
+    call check_overlap(grid, geo, polygon_file, profile_file, lower_file, g, stat, errmsg)
   end subroutine load_shape
 
   !> Read a profile "x, y" (into x, y; `has_map` false) or a height map "x, y, z" (into
@@ -398,7 +398,7 @@ contains
     type(MPI_Comm), intent(in) :: comm
     integer :: rank, n(4)
     real(wp) :: levels(2)
-    call MPI_Comm_rank(comm, rank)
+    rank = comm_rank(comm)
     n = 0
     if (rank == 0) then
       n(1) = geo%kind
@@ -407,9 +407,9 @@ contains
       n(4) = merge(1, 0, geo%is_map)
       levels = [geo%thickness, geo%lower_level]
     end if
-    call MPI_Bcast(n, 4, MPI_INTEGER, 0, comm)
+    call bcast(comm, n, 0)
     if (n(1) == shape_kind_none) return
-    call MPI_Bcast(levels, 2, MPI_DOUBLE_PRECISION, 0, comm)
+    call bcast(comm, levels, 0)
     if (rank /= 0) then
       geo = file_shape_t()
       geo%kind = n(1)
@@ -423,12 +423,12 @@ contains
       call bcast_map(geo%lower_map, rank, comm)
     end if
     if (n(2) > 0) then
-      call MPI_Bcast(geo%x, n(2), MPI_DOUBLE_PRECISION, 0, comm)
-      call MPI_Bcast(geo%y, n(2), MPI_DOUBLE_PRECISION, 0, comm)
+      call bcast(comm, geo%x, 0)
+      call bcast(comm, geo%y, 0)
     end if
     if (n(3) > 0) then
-      call MPI_Bcast(geo%lower_x, n(3), MPI_DOUBLE_PRECISION, 0, comm)
-      call MPI_Bcast(geo%lower_y, n(3), MPI_DOUBLE_PRECISION, 0, comm)
+      call bcast(comm, geo%lower_x, 0)
+      call bcast(comm, geo%lower_y, 0)
     end if
   end subroutine bcast_shape
 
@@ -440,12 +440,12 @@ contains
     integer :: n(2)
     n = 0
     if (rank == 0 .and. allocated(map%z)) n = shape(map%z)
-    call MPI_Bcast(n, 2, MPI_INTEGER, 0, comm)
+    call bcast(comm, n, 0)
     if (n(1) == 0) return
     if (rank /= 0) allocate(map%x(n(1)), map%y(n(2)), map%z(n(1), n(2)))
-    call MPI_Bcast(map%x, n(1), MPI_DOUBLE_PRECISION, 0, comm)
-    call MPI_Bcast(map%y, n(2), MPI_DOUBLE_PRECISION, 0, comm)
-    call MPI_Bcast(map%z, n(1) * n(2), MPI_DOUBLE_PRECISION, 0, comm)
+    call bcast(comm, map%x, 0)
+    call bcast(comm, map%y, 0)
+    call bcast(comm, map%z, 0)
   end subroutine bcast_map
 
 end module config_geometry_files

@@ -1,8 +1,7 @@
 !> Load a run's configuration: case file, then `--set` overrides, then validation; rank 0 does the
 !! work and every rank ends with the identical configuration or the identical failure status.
 module config_load
-  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Bcast, MPI_INTEGER, &
-    MPI_CHARACTER
+  use parallel_comm, only: MPI_Comm, comm_rank, comm_size, bcast, bcast_text
   use mpmice_kinds, only: msg_len
   use mpmice_errors, only: input_error_text, fatal
   use config_types, only: config_t
@@ -16,7 +15,7 @@ module config_load
   private
 
   public :: config_load_file, config_read_text_file, config_resolve, config_load_run
-  public :: config_bcast, bcast_text
+  public :: config_bcast, open_stream
 
 contains
 
@@ -29,22 +28,12 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg   !< error line
     character(len=msg_len) :: iomsg
     integer :: unit, ios, nbytes
-    logical :: exists
 
     stat = 1
     text = ''
     errmsg = ''
-    inquire(file=path, exist=exists)
-    if (.not. exists) then
-      errmsg = group_error_text(path, '', 'cannot read the file: no such file')
-      return
-    end if
-    open(newunit=unit, file=path, status='old', action='read', access='stream', &
-      form='unformatted', iostat=ios, iomsg=iomsg)
-    if (ios /= 0) then
-      errmsg = group_error_text(path, '', 'cannot read the file: ' // trim(iomsg))
-      return
-    end if
+    call open_stream(path, 'file', unit, errmsg)
+    if (len(errmsg) > 0) return
     inquire(unit=unit, size=nbytes)
     if (nbytes < 0) then
       close(unit)
@@ -61,6 +50,29 @@ contains
     end if
     stat = 0
   end subroutine config_read_text_file
+
+  !> Open the existing file `path` for reading as a byte stream on a new `unit`; otherwise
+  !! `errmsg` is the input-error line `cannot read the <what>: <reason>` (else empty).
+  subroutine open_stream(path, what, unit, errmsg)
+    character(len=*), intent(in) :: path                    !< file to open
+    character(len=*), intent(in) :: what                    !< what it is, for the message
+    integer, intent(out) :: unit                            !< the open unit
+    character(len=:), allocatable, intent(inout) :: errmsg  !< error line, '' when open
+    character(len=msg_len) :: iomsg
+    integer :: ios
+    logical :: exists
+    errmsg = ''
+    unit = -1
+    inquire(file=path, exist=exists)
+    if (.not. exists) then
+      errmsg = group_error_text(path, '', 'cannot read the ' // what // ': no such file')
+      return
+    end if
+    open(newunit=unit, file=path, status='old', action='read', access='stream', &
+      form='unformatted', iostat=ios, iomsg=iomsg)
+    if (ios /= 0) errmsg = group_error_text(path, '', 'cannot read the ' // what // ': ' // &
+      trim(iomsg))
+  end subroutine open_stream
 
   !> Apply the namelist file `path` to `cfg` (variables it does not set keep their values).
   subroutine config_load_file(cfg, path, stat, errmsg, origin)
@@ -146,13 +158,11 @@ contains
     integer, intent(out) :: stat                           !< 0 ok, 1 input error
     character(len=:), allocatable, intent(out) :: errmsg   !< error line (all ranks)
     character(len=*), intent(in), optional :: base_text    !< text to use instead of the file
-    integer :: rank, nranks
-    call MPI_Comm_rank(comm, rank)
-    call MPI_Comm_size(comm, nranks)
     errmsg = ''
-    if (rank == 0) call config_resolve(cfg, source, sets, nranks, stat, errmsg, base_text)
-    call MPI_Bcast(stat, 1, MPI_INTEGER, 0, comm)
-    call bcast_text(errmsg, comm)
+    if (comm_rank(comm) == 0) call config_resolve(cfg, source, sets, comm_size(comm), stat, &
+      errmsg, base_text)
+    call bcast(comm, stat, 0)
+    call bcast_text(comm, errmsg, 0)
     if (stat == 0) call config_bcast(cfg, comm)
   end subroutine config_load_run
 
@@ -163,31 +173,14 @@ contains
     type(MPI_Comm), intent(in) :: comm    !< communicator
     character(len=:), allocatable :: text, errmsg
     type(config_t) :: fresh
-    integer :: rank, stat
-    call MPI_Comm_rank(comm, rank)
-    if (rank == 0) text = config_to_text(cfg)
-    call bcast_text(text, comm)
-    if (rank /= 0) then
+    integer :: stat
+    if (comm_rank(comm) == 0) text = config_to_text(cfg)
+    call bcast_text(comm, text, 0)
+    if (comm_rank(comm) /= 0) then
       call config_load_text(fresh, text, 'broadcast configuration', stat, errmsg)
       if (stat /= 0) call fatal('config_bcast: ' // errmsg)
       cfg = fresh
     end if
     call geometry_files_bcast(cfg, comm)
   end subroutine config_bcast
-
-  !> Broadcast a deferred-length string from rank 0.
-  subroutine bcast_text(text, comm)
-    character(len=:), allocatable, intent(inout) :: text  !< string (significant on rank 0)
-    type(MPI_Comm), intent(in) :: comm                    !< communicator
-    integer :: rank, n
-    call MPI_Comm_rank(comm, rank)
-    n = 0
-    if (rank == 0) n = len(text)
-    call MPI_Bcast(n, 1, MPI_INTEGER, 0, comm)
-    if (rank /= 0) then
-      if (allocated(text)) deallocate(text)
-      allocate(character(len=n) :: text)
-    end if
-    if (n > 0) call MPI_Bcast(text, n, MPI_CHARACTER, 0, comm)
-  end subroutine bcast_text
 end module config_load

@@ -9,6 +9,7 @@
 module config_scene_groups
   use config_parse, only: group_error_text
   use config_occurrences, only: is_repeated_group
+  use config_text, only: replaced
   implicit none
   private
 
@@ -61,7 +62,7 @@ contains
         'case needs at least a &run group with its scene')
     else
       errmsg = group_error_text(source, '', 'no &run group; a case needs a &run group with its ' &
-        // 'scene (groups found: &' // replace_blanks(trim(groups)) // ')')
+        // 'scene (groups found: &' // replaced(trim(groups), ' ', ', &') // ')')
     end if
   end subroutine check_run_group
 
@@ -88,26 +89,11 @@ contains
         if (.not. repeated_only .or. is_repeated_group(groups(first:last))) then
           stat = 1
           errmsg = group_error_text(source, groups(first:last), 'group not used by &run ' // &
-            'scene = ''' // trim(scene) // '''; its groups: &' // replace_blanks(trim(used)))
+            'scene = ''' // trim(scene) // '''; its groups: &' // replaced(trim(used), ' ', ', &'))
           return
         end if
       end if
       first = last + 2
     end do
   end subroutine check_scene_groups
-
-  !> `a b c` -> `a, &b, &c` (a list of group names for messages).
-  pure function replace_blanks(list) result(text)
-    character(len=*), intent(in) :: list  !< blank-separated names
-    character(len=:), allocatable :: text
-    integer :: k
-    text = ''
-    do k = 1, len(list)
-      if (list(k:k) == ' ') then
-        text = text // ', &'
-      else
-        text = text // list(k:k)
-      end if
-    end do
-  end function replace_blanks
 end module config_scene_groups

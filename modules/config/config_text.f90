@@ -11,7 +11,7 @@ module config_text
   private
 
   public :: real_repr, reals_repr, ints_repr, logicals_repr, quoted, unquoted, lower_case
-  public :: is_identifier_char, join_names
+  public :: is_identifier_char, join_names, replaced
 
 contains
 
@@ -136,17 +136,25 @@ contains
   function quoted(s) result(text)
     character(len=*), intent(in) :: s  !< string
     character(len=:), allocatable :: text
+    text = "'" // replaced(s(1:len_trim(s)), "'", "''") // "'"
+  end function quoted
+
+  !> `s` with every character `from` replaced by the text `to`.
+  pure function replaced(s, from, to) result(text)
+    character(len=*), intent(in) :: s     !< string
+    character(len=1), intent(in) :: from  !< character to replace
+    character(len=*), intent(in) :: to    !< its replacement
+    character(len=:), allocatable :: text
     integer :: i
-    text = "'"
-    do i = 1, len_trim(s)
-      if (s(i:i) == "'") then
-        text = text // "''"
+    text = ''
+    do i = 1, len(s)
+      if (s(i:i) == from) then
+        text = text // to
       else
         text = text // s(i:i)
       end if
     end do
-    text = text // "'"
-  end function quoted
+  end function replaced
 
   !> The content of a namelist string constant `'...'` or `"..."` (doubled quotes undone).
   !! `ok` is false when `s` is not exactly one delimited string.

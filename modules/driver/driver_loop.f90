@@ -7,7 +7,8 @@ module driver_loop
   use mpmice_kinds, only: wp, path_len
   use mpmice_errors, only: int_text, real_short_text
   use mpmice_log, only: log_info, log_warning, log_warning_summary
-  use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop, timer_summary
+  use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
+  use parallel_timers, only: timer_summary
   use mpmice_progress, only: progress_t, progress_init, progress_update, progress_elapsed
   use config_types, only: config_t
   use parallel_domain, only: domain_t
@@ -16,7 +17,7 @@ module driver_loop
   use grid_layout, only: grid_t
   use driver_clock, only: clock_t, clock_from_config, clock_next_dt, clock_reject, clock_refusal, &
     clock_accept, clock_finished, clock_resume
-  use driver_output, only: write_dump, write_checkpoint, read_checkpoint
+  use driver_output, only: write_state_file, read_checkpoint
   use scene_interface, only: scene_t
   use scene_params, only: scene_params_t
   use driver_stops, only: stops_watch_state, stops_start, stops_check_dt, stops_check_state
@@ -80,8 +81,8 @@ contains
       call log_info('restarted from ' // trim(restart_file) // ' at step ' // int_text(clock%step) &
         // ', t = ' // real_short_text(clock%time) // ' s')
     else
-      call write_dump(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, namelist_text, &
-        cfg%output%xdmf, 'dump')
+      call write_state_file(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
+        namelist_text, cfg%output%xdmf, 'dump')
     end if
     call timer_stop(timers, t_output)
     progress%start_time = clock%time
@@ -142,12 +143,12 @@ contains
 
       call timer_start(timers, t_output)
       if (clock%output_due .or. clock_finished(clock)) then
-        call write_dump(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
+        call write_state_file(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
           namelist_text, cfg%output%xdmf, 'dump')
       end if
       if (clock%checkpoint_due) then
-        call write_checkpoint(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
-          namelist_text)
+        call write_state_file(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
+          namelist_text, .false., 'checkpoint')
       end if
       call timer_stop(timers, t_output)
 
@@ -180,10 +181,10 @@ contains
       end if
       if (stopped_early) then
         ! leave a continuable state: a dump of where the run stopped and a checkpoint
-        call write_dump(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
+        call write_state_file(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
           namelist_text, cfg%output%xdmf, 'dump')
-        call write_checkpoint(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
-          namelist_text, status%checkpoint)
+        call write_state_file(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
+          namelist_text, .false., 'checkpoint', status%checkpoint)
         status%state = 'stopped'
         status%reason = trim(status%reason) // '; continue with mpmice --restart ' // &
           trim(status%checkpoint)
@@ -216,8 +217,8 @@ contains
     character(len=*), intent(in) :: reason           !< why the run failed
     type(run_status_t), intent(inout) :: status      !< how the run ended
     character(len=path_len) :: path
-    call write_dump(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, namelist_text, &
-      cfg%output%xdmf, 'failed', path)
+    call write_state_file(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
+      namelist_text, cfg%output%xdmf, 'failed', path)
     status%reason = trim(reason) // '; state dumped to ' // trim(path)
     status%exit_code = 3
   end subroutine fail_with_dump

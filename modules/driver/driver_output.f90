@@ -25,17 +25,22 @@ module driver_output
   implicit none
   private
 
-  public :: write_dump, write_checkpoint, read_checkpoint, read_namelist_text
+  public :: write_state_file, read_checkpoint, read_namelist_text
   public :: checkpoint_version
 
   integer, parameter :: checkpoint_version = 1  !< layout version of checkpoints
 
 contains
 
-  !> Write the dump `<output_dir>/<name>_<step>.h5` (`kind` 'dump') or the failure dump
-  !! `<name>_failed_<step>.h5` (`kind` 'failed') with its XDMF file, and add a regular dump to the
-  !! time series `<name>.xmf`. Collective.
-  subroutine write_dump(scene, dom, grid, clock, output_dir, name, namelist_text, xdmf, kind, path)
+  !> Write the state at `clock` into `output_dir` (collective), by `kind`:
+  !! * 'dump': `<name>_<step>.h5` with its XDMF file (`xdmf`), added to the time series
+  !!   `<name>.xmf`;
+  !! * 'failed': the failure dump `<name>_failed_<step>.h5` with its XDMF file (`xdmf`);
+  !! * 'checkpoint': `<name>_checkpoint_<step>.h5` with the clock and the scene's full state.
+  !! Each is written under a temporary name and renamed: a kill or a full disk never leaves a
+  !! partial file under its final name (a failed write ends the run, io_write_failure).
+  subroutine write_state_file(scene, dom, grid, clock, output_dir, name, namelist_text, xdmf, &
+    kind, path)
     class(scene_t), intent(inout) :: scene            !< scene whose state is written
     type(domain_t), intent(in) :: dom                 !< decomposition
     type(grid_t), intent(in) :: grid                  !< block geometry
@@ -43,34 +48,42 @@ contains
     character(len=*), intent(in) :: output_dir        !< output directory
     character(len=*), intent(in) :: name              !< case name
     character(len=*), intent(in) :: namelist_text     !< resolved input
-    logical, intent(in) :: xdmf                       !< write XDMF files
-    character(len=*), intent(in) :: kind              !< 'dump' or 'failed'
+    logical, intent(in) :: xdmf                       !< write XDMF files (dumps)
+    character(len=*), intent(in) :: kind              !< 'dump', 'failed' or 'checkpoint'
     character(len=path_len), intent(out), optional :: path !< file written
     type(h5_file_t) :: file
     character(len=:), allocatable :: stem, h5_path
     character(len=name_len), allocatable :: cell_paths(:)
     type(xdmf_particles_t), allocatable :: particle_sets(:)
     integer :: fault_dump_step
+    logical :: checkpoint
 
-    fault_dump_step = fault_step('enospc_dump_step')   ! testing aid, docs/testing.md
-    if (kind == 'failed') then
+    checkpoint = kind == 'checkpoint'
+    select case (kind)
+    case ('failed')
       stem = io_dump_stem(trim(name) // '_failed', clock%step)
-    else
+    case ('checkpoint')
+      stem = io_dump_stem(trim(name) // '_checkpoint', clock%step)
+    case default
       stem = io_dump_stem(name, clock%step)
-    end if
+    end select
     h5_path = io_join_path(output_dir, stem // '.h5')
-    ! written under a temporary name and renamed: a kill or a full disk never leaves a partial
-    ! dump under its final name (a failed write ends the run, io_write_failure)
     call h5_create(file, h5_path // '.tmp', dom%comm, final_path=h5_path)
     call write_header(file, grid, clock, namelist_text)
-    if (fault_dump_step >= 0 .and. clock%step == fault_dump_step .and. dom%rank == 0) then
-      call io_write_failed(h5_path // '.tmp', h5_path, 'MPMICE_FAULT', enospc)
+    if (checkpoint) then
+      call write_clock(file, clock)
+    else
+      fault_dump_step = fault_step('enospc_dump_step')   ! testing aid, docs/testing.md
+      if (fault_dump_step >= 0 .and. clock%step == fault_dump_step .and. dom%rank == 0) then
+        call io_write_failed(h5_path // '.tmp', h5_path, 'MPMICE_FAULT', enospc)
+      end if
     end if
-    call scene%write_state(file, dom, grid, .false.)
+    call scene%write_state(file, dom, grid, checkpoint)
     call h5_close(file)
+    if (checkpoint) call barrier(dom%comm)
     if (dom%rank == 0) call io_rename(h5_path // '.tmp', h5_path)
     call barrier(dom%comm)
-    if (xdmf .and. dom%rank == 0) then
+    if (xdmf .and. .not. checkpoint .and. dom%rank == 0) then
       call scene%output_layout(cell_paths, particle_sets)
       call xdmf_write_dump(io_join_path(output_dir, stem // '.xmf.tmp'), stem // '.h5', grid, &
         clock%time, cell_paths, particle_sets)
@@ -82,27 +95,12 @@ contains
       end if
     end if
     if (present(path)) path = h5_path
-  end subroutine write_dump
+  end subroutine write_state_file
 
-  !> Write the checkpoint `<output_dir>/<name>_checkpoint_<step>.h5` (via a temporary file and a
-  !! rename). Collective.
-  subroutine write_checkpoint(scene, dom, grid, clock, output_dir, name, namelist_text, path)
-    class(scene_t), intent(inout) :: scene            !< scene whose state is written
-    type(domain_t), intent(in) :: dom                 !< decomposition
-    type(grid_t), intent(in) :: grid                  !< block geometry
-    type(clock_t), intent(in) :: clock                !< run clock
-    character(len=*), intent(in) :: output_dir        !< output directory
-    character(len=*), intent(in) :: name              !< case name
-    character(len=*), intent(in) :: namelist_text     !< resolved input
-    character(len=path_len), intent(out), optional :: path !< file written
-    type(h5_file_t) :: file
-    character(len=:), allocatable :: final_path, tmp_path
-
-    final_path = io_join_path(output_dir, io_dump_stem(trim(name) // '_checkpoint', clock%step) &
-      // '.h5')
-    tmp_path = final_path // '.tmp'
-    call h5_create(file, tmp_path, dom%comm, final_path=final_path)
-    call write_header(file, grid, clock, namelist_text)
+  !> The clock of a checkpoint: what the root attributes of `write_header` leave out.
+  subroutine write_clock(file, clock)
+    type(h5_file_t), intent(in) :: file   !< open checkpoint
+    type(clock_t), intent(in) :: clock    !< run clock
     call h5_write_attribute(file, 'checkpoint_version', checkpoint_version)
     call h5_write_attribute(file, 'dt_next', clock%dt_next)
     call h5_write_attribute(file, 'output_index', clock%output_index)
@@ -110,13 +108,7 @@ contains
     call h5_write_attribute(file, 'stop_energy_reference', clock%energy_reference)
     call h5_write_attribute(file, 'stop_load_work', clock%load_work)
     call h5_write_attribute(file, 'stop_dt_reference', clock%dt_reference)
-    call scene%write_state(file, dom, grid, .true.)
-    call h5_close(file)
-    call barrier(dom%comm)
-    if (dom%rank == 0) call io_rename(tmp_path, final_path)
-    call barrier(dom%comm)
-    if (present(path)) path = final_path
-  end subroutine write_checkpoint
+  end subroutine write_clock
 
   !> Read the clock and the scene's state from a checkpoint. The clock's limits (end time,
   !! intervals, dt limits) come from the configuration and are set by the caller before.

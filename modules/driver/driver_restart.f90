@@ -14,12 +14,12 @@
 !! `&run output_dir`, the output folder is the folder that holds the checkpoint (as named on the
 !! command line), not the stored `output_dir` read relative to the current working directory.
 module driver_restart
-  use parallel_comm, only: MPI_Comm, comm_rank, comm_size, bcast
+  use parallel_comm, only: MPI_Comm, comm_rank, comm_size, bcast, bcast_text
   use mpmice_kinds, only: msg_len
   use mpmice_errors, only: input_error_text, int_text
   use config_types, only: config_t
   use config_parse, only: group_error_text
-  use config_load, only: config_load_run, config_resolve, bcast_text
+  use config_load, only: config_load_run, config_resolve, open_stream
   use config_echo, only: config_to_text
   use io_files, only: io_dirname
   use io_hdf5_probe, only: checkpoint_probe_t, h5_probe_checkpoint
@@ -83,7 +83,7 @@ contains
     end if
     call bcast_status(stat, errmsg, comm)
     if (stat /= 0) return
-    call bcast_text(text, comm)
+    call bcast_text(comm, text, 0)
 
     call config_load_run(cfg, path, sets, comm, stat, errmsg, base_text=text)
     if (stat /= 0) return
@@ -189,19 +189,11 @@ contains
     character(len=8) :: head
     character(len=msg_len) :: iomsg
     integer :: unit, ios
-    logical :: exists
     stat = 1
-    inquire(file=path, exist=exists)
-    if (.not. exists) then
-      errmsg = group_error_text(path, '', 'cannot read the checkpoint: no such file')
-      return
-    end if
-    open(newunit=unit, file=path, status='old', action='read', access='stream', &
-      form='unformatted', iostat=ios, iomsg=iomsg)
-    if (ios == 0) then
-      read(unit, iostat=ios, iomsg=iomsg) head
-      close(unit)
-    end if
+    call open_stream(path, 'checkpoint', unit, errmsg)
+    if (len(errmsg) > 0) return
+    read(unit, iostat=ios, iomsg=iomsg) head
+    close(unit)
     if (ios /= 0) then
       errmsg = group_error_text(path, '', 'cannot read the checkpoint: ' // trim(iomsg))
     else if (head /= hdf5_signature) then
@@ -225,6 +217,6 @@ contains
     character(len=:), allocatable, intent(inout) :: errmsg !< error line (rank 0)
     type(MPI_Comm), intent(in) :: comm                     !< communicator
     call bcast(comm, stat, 0)
-    if (stat /= 0) call bcast_text(errmsg, comm)
+    if (stat /= 0) call bcast_text(comm, errmsg, 0)
   end subroutine bcast_status
 end module driver_restart

@@ -12,7 +12,7 @@ module io_files
   private
 
   public :: io_make_directory, io_directory_exists, io_file_exists, io_rename, io_select_mpiio
-  public :: io_dump_stem, io_join_path, io_basename, io_dirname
+  public :: io_dump_stem, io_join_path, io_basename, io_dirname, io_open_series
 
   integer(c_int), parameter :: directory_mode = int(o'755', c_int)  !< permissions of new folders
   integer(c_int), parameter :: access_exists = 0_c_int              !< `F_OK` of `access(2)`
@@ -133,4 +133,27 @@ contains
       dir = path(1:slash - 1)
     end if
   end function io_dirname
+  !> Open the CSV time series `path` (rank 0) to add a line: the first time in a run (`started`
+  !! false; set here) it is replaced, `fresh` telling the caller to write the header line first,
+  !! unless the run continues a checkpoint (`restored`): then, as every later time, the lines
+  !! are appended.
+  subroutine io_open_series(path, restored, started, unit, fresh)
+    character(len=*), intent(in) :: path     !< series file
+    logical, intent(in) :: restored          !< the run continues a checkpoint
+    logical, intent(inout) :: started        !< the series was opened before in this run
+    integer, intent(out) :: unit             !< the open unit (close it after the line)
+    logical, intent(out) :: fresh            !< the file is new: write the header first
+    fresh = .false.
+    if (.not. started) then
+      if (restored) then
+        open(newunit=unit, file=path, status='unknown', position='append', action='write')
+      else
+        open(newunit=unit, file=path, status='replace', action='write')
+        fresh = .true.
+      end if
+      started = .true.
+    else
+      open(newunit=unit, file=path, status='old', position='append', action='write')
+    end if
+  end subroutine io_open_series
 end module io_files

@@ -11,6 +11,7 @@ module io_write_failure
   use, intrinsic :: iso_c_binding, only: c_int, c_null_char
   use io_posix, only: c_unlink, posix_errno, posix_error_text
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
+  use mpmice_errors, only: int_text
   use parallel_comm, only: world_ranks, abort_world
   implicit none
   private
@@ -70,8 +71,8 @@ contains
     stat = 1
     reason = io_system_error_text(code)
     if (code /= enospc .and. code /= 122) reason = ''   ! ENOSPC or EDQUOT, else unknown
-    if (len(reason) == 0) reason = 'incomplete write (' // int_string(nbytes) // ' of ' // &
-      int_string(expected) // ' bytes)'
+    if (len(reason) == 0) reason = 'incomplete write (' // int_text(nbytes) // ' of ' // &
+      int_text(expected) // ' bytes)'
     reason = lower_first(reason)
   end subroutine io_check_size
 
@@ -95,15 +96,6 @@ contains
       reason = trim(iomsg)
     end if
   end subroutine io_close_checked
-
-  !> An integer as text.
-  pure function int_string(n) result(text)
-    integer, intent(in) :: n  !< value
-    character(len=:), allocatable :: text
-    character(len=16) :: buffer
-    write(buffer, '(i0)') n
-    text = trim(buffer)
-  end function int_string
 
   !> End the run after a failed write of `written` (the temporary file, removed here) meant for
   !! `final` (named in the message): one line on standard error, exit status 3. A run on one rank

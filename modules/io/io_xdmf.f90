@@ -206,7 +206,7 @@ contains
     type(xdmf_particles_t), intent(in) :: set     !< particle set
     character(len=:), allocatable :: n, group
     integer :: f
-    n = i8_text(set%count)
+    n = int_text(set%count)
     group = trim(set%group)
     call put(unit, path, indent // '<Grid Name="' // xml_text(field_label(group)) &
       // '" GridType="Uniform">')
@@ -368,13 +368,4 @@ contains
     end if
     call io_write_failed(trim(path), final, 'XDMF ' // operation, 0, message=msg)
   end subroutine write_failed
-
-  !> A 64-bit integer as text.
-  pure function i8_text(n) result(text)
-    integer(i8), intent(in) :: n  !< value
-    character(len=:), allocatable :: text
-    character(len=24) :: buffer
-    write(buffer, '(i0)') n
-    text = trim(buffer)
-  end function i8_text
 end module io_xdmf

@@ -19,10 +19,10 @@ module mpm_output
   character(len=2), parameter :: sym_names(6) = ['xx', 'yy', 'zz', 'xy', 'yz', 'xz']  !< stress
   character(len=1), parameter :: axis(3) = ['x', 'y', 'z']                          !< components
 
-  !> Read a checkpoint's particle dataset into this rank's particle arrays.
-  interface read_into
-    module procedure read_rows_into, read_column_into
-  end interface read_into
+  !> Write a checkpoint's particle dataset from this rank's particle arrays, or read it into them.
+  interface transfer
+    module procedure transfer_rows, transfer_column
+  end interface transfer
 
 contains
 
@@ -80,26 +80,13 @@ contains
 
   !> Full state of one solid under `checkpoint/particles/<name>/` (collective).
   subroutine write_particle_checkpoint(file, name, p)
-    type(h5_file_t), intent(in) :: file    !< open checkpoint
-    character(len=*), intent(in) :: name   !< solid name
-    type(particles_t), intent(in) :: p     !< particles
+    type(h5_file_t), intent(in) :: file      !< open checkpoint
+    character(len=*), intent(in) :: name     !< solid name
+    type(particles_t), intent(inout) :: p    !< particles (unchanged)
     character(len=:), allocatable :: g
-    integer :: n
-    n = p%np
     g = 'checkpoint/particles/' // trim(name) // '/'
-    call h5_write_particles(file, g // 'x', p%x(:, 1:n))
-    call h5_write_particles(file, g // 'v', p%v(:, 1:n))
-    call h5_write_particles(file, g // 'f', p%f(:, 1:n))
-    call h5_write_particles(file, g // 'stress', p%stress(:, 1:n))
-    call h5_write_particles(file, g // 'stress_unrot', p%stress_unrot(:, 1:n))
-    call h5_write_particles(file, g // 'mass', p%mass(1:n))
-    call h5_write_particles(file, g // 'volume', p%volume(1:n))
-    call h5_write_particles(file, g // 'volume0', p%volume0(1:n))
-    call h5_write_particles(file, g // 'plastic_strain', p%plastic_strain(1:n))
-    call h5_write_particles(file, g // 'hardening', p%hardening(1:n))
-    call h5_write_particles(file, g // 'temperature', p%temperature(1:n))
-    call h5_write_particles(file, g // 'pore_pressure', p%pore_pressure(1:n))
-    call h5_write_particles(file, g // 'id', p%id(1:n))
+    call checkpoint_state(file, g, p, p%np, .true.)
+    call h5_write_particles(file, g // 'id', p%id(1:p%np))
   end subroutine write_particle_checkpoint
 
   !> Replace the particles of one solid by this rank's chunk of a checkpoint (collective; the
@@ -118,39 +105,62 @@ contains
     call particles_resize(p, max(n, 16))
     p%np = n
     p%id(1:n) = ids
-    call read_into(file, g // 'x', p%x(:, 1:n))
-    call read_into(file, g // 'v', p%v(:, 1:n))
-    call read_into(file, g // 'f', p%f(:, 1:n))
-    call read_into(file, g // 'stress', p%stress(:, 1:n))
-    call read_into(file, g // 'stress_unrot', p%stress_unrot(:, 1:n))
-    call read_into(file, g // 'mass', p%mass(1:n))
-    call read_into(file, g // 'volume', p%volume(1:n))
-    call read_into(file, g // 'volume0', p%volume0(1:n))
-    call read_into(file, g // 'plastic_strain', p%plastic_strain(1:n))
-    call read_into(file, g // 'hardening', p%hardening(1:n))
-    call read_into(file, g // 'temperature', p%temperature(1:n))
-    call read_into(file, g // 'pore_pressure', p%pore_pressure(1:n))
+    call checkpoint_state(file, g, p, n, .false.)
   end subroutine read_particle_checkpoint
 
-  !> Read this rank's chunk of the 2-D particle dataset `path` into `dest` (same extent).
-  subroutine read_rows_into(file, path, dest)
-    type(h5_file_t), intent(in) :: file     !< open checkpoint
-    character(len=*), intent(in) :: path    !< dataset path
-    real(wp), intent(inout) :: dest(:, :)   !< this rank's particles' values (ncomp, n)
-    real(wp), allocatable :: values(:, :)
-    call h5_read_particles(file, path, values)
-    dest = values
-  end subroutine read_rows_into
+  !> Write (`write`) or read the particle arrays of a checkpoint but the ids, particles 1..n,
+  !! under the group `g`: the one list of what a bitwise restart needs.
+  subroutine checkpoint_state(file, g, p, n, write)
+    type(h5_file_t), intent(in) :: file      !< open checkpoint
+    character(len=*), intent(in) :: g        !< group path, ending in '/'
+    type(particles_t), intent(inout) :: p    !< particles
+    integer, intent(in) :: n                 !< particles on this rank
+    logical, intent(in) :: write             !< write, else read
+    call transfer(file, g // 'x', p%x(:, 1:n), write)
+    call transfer(file, g // 'v', p%v(:, 1:n), write)
+    call transfer(file, g // 'f', p%f(:, 1:n), write)
+    call transfer(file, g // 'stress', p%stress(:, 1:n), write)
+    call transfer(file, g // 'stress_unrot', p%stress_unrot(:, 1:n), write)
+    call transfer(file, g // 'mass', p%mass(1:n), write)
+    call transfer(file, g // 'volume', p%volume(1:n), write)
+    call transfer(file, g // 'volume0', p%volume0(1:n), write)
+    call transfer(file, g // 'plastic_strain', p%plastic_strain(1:n), write)
+    call transfer(file, g // 'hardening', p%hardening(1:n), write)
+    call transfer(file, g // 'temperature', p%temperature(1:n), write)
+    call transfer(file, g // 'pore_pressure', p%pore_pressure(1:n), write)
+  end subroutine checkpoint_state
 
-  !> Read this rank's chunk of the 1-D particle dataset `path` into `dest` (same length).
-  subroutine read_column_into(file, path, dest)
-    type(h5_file_t), intent(in) :: file     !< open checkpoint
-    character(len=*), intent(in) :: path    !< dataset path
-    real(wp), intent(inout) :: dest(:)      !< this rank's particles' values (n)
-    real(wp), allocatable :: values(:)
-    call h5_read_particles(file, path, values)
-    dest = values
-  end subroutine read_column_into
+  !> Write this rank's rows of the 2-D particle dataset `path`, or read them into `values`
+  !! (same extent).
+  subroutine transfer_rows(file, path, values, write)
+    type(h5_file_t), intent(in) :: file      !< open checkpoint
+    character(len=*), intent(in) :: path     !< dataset path
+    real(wp), intent(inout) :: values(:, :)  !< this rank's particles' values (ncomp, n)
+    logical, intent(in) :: write             !< write, else read
+    real(wp), allocatable :: stored(:, :)
+    if (write) then
+      call h5_write_particles(file, path, values)
+    else
+      call h5_read_particles(file, path, stored)
+      values = stored
+    end if
+  end subroutine transfer_rows
+
+  !> Write this rank's part of the 1-D particle dataset `path`, or read it into `values`
+  !! (same length).
+  subroutine transfer_column(file, path, values, write)
+    type(h5_file_t), intent(in) :: file      !< open checkpoint
+    character(len=*), intent(in) :: path     !< dataset path
+    real(wp), intent(inout) :: values(:)     !< this rank's particles' values (n)
+    logical, intent(in) :: write             !< write, else read
+    real(wp), allocatable :: stored(:)
+    if (write) then
+      call h5_write_particles(file, path, values)
+    else
+      call h5_read_particles(file, path, stored)
+      values = stored
+    end if
+  end subroutine transfer_column
 
   !> Cell dataset paths written by `write_cell_dump` for solid `name`.
   function cell_dump_paths(name) result(paths)

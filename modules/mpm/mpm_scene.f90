@@ -20,7 +20,7 @@ module mpm_scene
   use parallel_reduce, only: global_sum, global_max, global_min
   use grid_layout, only: grid_t
   use io_hdf5, only: h5_file_t, h5_write_attribute, h5_read_attribute
-  use io_files, only: io_join_path
+  use io_files, only: io_join_path, io_open_series
   use io_xdmf, only: xdmf_particles_t
   use scene_interface, only: scene_t, scene_health_t
   use particles_store, only: particles_t, particles_free
@@ -412,6 +412,7 @@ contains
     real(wp), intent(in) :: time               !< time [s]
     real(wp) :: e(2), xmax(3), xmin(3)
     integer :: s, ip, d, unit
+    logical :: fresh
     e = solid_energies(self)
     xmax = -huge(1.0_wp)
     xmin = huge(1.0_wp)
@@ -431,19 +432,8 @@ contains
       xmin(d) = global_min(dom, xmin(d))
     end do
     if (dom%rank /= 0) return
-    if (.not. self%series_started) then
-      if (self%restored) then
-        open(newunit=unit, file=trim(self%series_path), status='unknown', position='append', &
-          action='write')
-      else
-        open(newunit=unit, file=trim(self%series_path), status='replace', action='write')
-        write(unit, '(a)') 'time,kinetic_energy,strain_energy,xmax,ymax,zmax,xmin,ymin,zmin'
-      end if
-      self%series_started = .true.
-    else
-      open(newunit=unit, file=trim(self%series_path), status='old', position='append', &
-        action='write')
-    end if
+    call io_open_series(trim(self%series_path), self%restored, self%series_started, unit, fresh)
+    if (fresh) write(unit, '(a)') 'time,kinetic_energy,strain_energy,xmax,ymax,zmax,xmin,ymin,zmin'
     write(unit, '(es24.16e3, 8(",", es24.16e3))') time, e, xmax, xmin
     close(unit)
   end subroutine write_series

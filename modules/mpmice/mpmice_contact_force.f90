@@ -7,6 +7,7 @@ module mpmice_contact_force
   use parallel_halo, only: halo_t, halo_exchange_cell
   use parallel_reduce, only: global_sum
   use grid_layout, only: grid_t
+  use io_files, only: io_open_series
   use ice_state, only: ice_state_t
   use mpm_scene, only: mpm_scene_t
   use mpm_constitutive, only: model_rigid
@@ -76,6 +77,7 @@ contains
     real(wp), intent(in) :: gravity(3)            !< gravitational acceleration [m/s^2]
     real(wp) :: force(3, so%nsolids), fluid(3, so%nsolids)
     integer :: s, i, j, k, unit
+    logical :: fresh
     character(len=:), allocatable :: header
     ! the owner map moves with the bodies: computed once when none of them moves
     if (.not. self%owner_fixed) then
@@ -117,29 +119,20 @@ contains
       fluid(:, s) = global_sum(dom, fluid(:, s))
     end do
     if (dom%rank /= 0) return
-    if (.not. self%started) then
-      if (so%restored) then
-        open(newunit=unit, file=trim(self%path), status='unknown', &
-          position='append', action='write')
-      else
-        open(newunit=unit, file=trim(self%path), status='replace', action='write')
-        header = 'time'
-        do s = 1, so%nsolids
-          if (so%mats(s)%model /= model_rigid) cycle
-          header = header // ',' // trim(so%names(s)) // '_fx,' // trim(so%names(s)) // &
-            '_fy,' // trim(so%names(s)) // '_fz'
-        end do
-        do s = 1, so%nsolids
-          if (so%mats(s)%model /= model_rigid) cycle
-          header = header // ',' // trim(so%names(s)) // '_fluid_fx,' // &
-            trim(so%names(s)) // '_fluid_fy,' // trim(so%names(s)) // '_fluid_fz'
-        end do
-        write(unit, '(a)') header
-      end if
-      self%started = .true.
-    else
-      open(newunit=unit, file=trim(self%path), status='old', position='append', &
-        action='write')
+    call io_open_series(trim(self%path), so%restored, self%started, unit, fresh)
+    if (fresh) then
+      header = 'time'
+      do s = 1, so%nsolids
+        if (so%mats(s)%model /= model_rigid) cycle
+        header = header // ',' // trim(so%names(s)) // '_fx,' // trim(so%names(s)) // &
+          '_fy,' // trim(so%names(s)) // '_fz'
+      end do
+      do s = 1, so%nsolids
+        if (so%mats(s)%model /= model_rigid) cycle
+        header = header // ',' // trim(so%names(s)) // '_fluid_fx,' // &
+          trim(so%names(s)) // '_fluid_fy,' // trim(so%names(s)) // '_fluid_fz'
+      end do
+      write(unit, '(a)') header
     end if
     write(unit, '(es24.16e3)', advance='no') time
     do s = 1, so%nsolids

@@ -1,6 +1,7 @@
 !> Thin wrappers of the MPI calls that the layers above parallel/ need, so that only parallel/
-!! talks to MPI (base/ aside: the abort of `mpmice_errors` and the clocks of the timers sit below
-!! every folder). Each wrapper is one MPI call (or the fixed sequence named) on the communicator
+!! talks to MPI. base/ sits below parallel/: `mpi_start` hands `mpmice_errors` the MPI ends of
+!! its abort and clean exit (`set_exit_hooks`), and `parallel_timers` reduces the stage timers
+!! over the ranks. Each wrapper is one MPI call (or the fixed sequence named) on the communicator
 !! it is given; nothing is reordered or summed differently, so results are those of the direct
 !! calls.
 !!
@@ -12,31 +13,56 @@ module parallel_comm
     MPI_Comm_free, MPI_Comm_rank, MPI_Comm_size, MPI_Comm_split_type, MPI_COMM_TYPE_SHARED, &
     MPI_INFO_NULL, MPI_Bcast, MPI_Barrier, MPI_Allreduce, MPI_Exscan, MPI_Alltoall, &
     MPI_Alltoallv, MPI_Cart_rank, MPI_Get_library_version, MPI_Initialized, MPI_Finalized, &
-    MPI_Abort, MPI_IN_PLACE, MPI_INTEGER, &
+    MPI_Abort, MPI_IN_PLACE, MPI_INTEGER, MPI_CHARACTER, &
     MPI_INTEGER8, MPI_LOGICAL, MPI_DOUBLE_PRECISION, MPI_2DOUBLE_PRECISION, MPI_SUM, &
     MPI_MAXLOC, MPI_LAND, MPI_LOR, MPI_MAX_LIBRARY_VERSION_STRING
   use mpmice_kinds, only: wp, i8
+  use mpmice_errors, only: set_exit_hooks
   implicit none
   private
 
   public :: MPI_Comm, MPI_COMM_NULL, MPI_INFO_NULL
   public :: mpi_start, mpi_stop, comm_dup_world, comm_free, comm_rank, comm_size, barrier, &
-    bcast, sum_in_place, node_sum, max_location, all_and, all_or, exscan_sum, alltoall_counts, &
-    alltoallv_real, cart_rank, mpi_library_version, world_ranks, abort_world
+    bcast, bcast_text, sum_in_place, node_sum, max_location, all_and, all_or, exscan_sum, &
+    alltoall_counts, alltoallv_real, cart_rank, mpi_library_version, world_ranks, abort_world
 
-  !> `bcast(comm, value, root)`: MPI_Bcast of a scalar or array from rank `root`.
+  !> `bcast(comm, values, root)`: MPI_Bcast from rank `root` of one integer or logical, or of an
+  !! integer vector or a real vector or matrix.
   interface bcast
-    module procedure bcast_int, bcast_logical, bcast_real_array
+    module procedure bcast_int, bcast_int_array, bcast_logical, bcast_real_array, &
+      bcast_real_matrix
   end interface bcast
 
 contains
 
-  !> MPI_Init, then the program's communicator: a duplicate of `MPI_COMM_WORLD`.
+  !> MPI_Init, then the program's communicator: a duplicate of `MPI_COMM_WORLD`; from here on
+  !! `fatal` aborts every rank and `exit_cleanly` finalizes MPI (`set_exit_hooks`).
   subroutine mpi_start(comm)
     type(MPI_Comm), intent(out) :: comm  !< the program's communicator
     call MPI_Init()
     call MPI_Comm_dup(MPI_COMM_WORLD, comm)
+    call set_exit_hooks(abort_running, finalize_running)
   end subroutine mpi_start
+
+  !> The abort hook of `mpmice_errors%fatal`: MPI_Abort of every rank with exit status `code`
+  !! while MPI runs (nothing before MPI_Init or after MPI_Finalize).
+  subroutine abort_running(code)
+    integer, intent(in) :: code  !< exit status
+    if (mpi_running()) call MPI_Abort(MPI_COMM_WORLD, code)
+  end subroutine abort_running
+
+  !> The finalize hook of `mpmice_errors%exit_cleanly`: MPI_Finalize while MPI runs.
+  subroutine finalize_running()
+    if (mpi_running()) call MPI_Finalize()
+  end subroutine finalize_running
+
+  !> MPI is initialized and not yet finalized.
+  logical function mpi_running() result(running)
+    logical :: initialized, finalized
+    call MPI_Initialized(initialized)
+    call MPI_Finalized(finalized)
+    running = initialized .and. .not. finalized
+  end function mpi_running
 
   !> Free the program's communicator, then MPI_Finalize.
   subroutine mpi_stop(comm)
@@ -83,6 +109,14 @@ contains
     call MPI_Bcast(value, 1, MPI_INTEGER, root, comm)
   end subroutine bcast_int
 
+  !> Broadcast of an integer array.
+  subroutine bcast_int_array(comm, values, root)
+    type(MPI_Comm), intent(in) :: comm             !< communicator
+    integer, intent(inout), contiguous :: values(:) !< sent by root, received elsewhere
+    integer, intent(in) :: root                    !< sending rank
+    call MPI_Bcast(values, size(values), MPI_INTEGER, root, comm)
+  end subroutine bcast_int_array
+
   !> Broadcast of one logical.
   subroutine bcast_logical(comm, value, root)
     type(MPI_Comm), intent(in) :: comm  !< communicator
@@ -98,6 +132,30 @@ contains
     integer, intent(in) :: root           !< sending rank
     call MPI_Bcast(values, size(values), MPI_DOUBLE_PRECISION, root, comm)
   end subroutine bcast_real_array
+
+  !> Broadcast of a real matrix.
+  subroutine bcast_real_matrix(comm, values, root)
+    type(MPI_Comm), intent(in) :: comm                   !< communicator
+    real(wp), intent(inout), contiguous :: values(:, :)  !< sent by root, received elsewhere
+    integer, intent(in) :: root                          !< sending rank
+    call MPI_Bcast(values, size(values), MPI_DOUBLE_PRECISION, root, comm)
+  end subroutine bcast_real_matrix
+
+  !> Broadcast of a deferred-length string from rank `root` (allocated on the others).
+  subroutine bcast_text(comm, text, root)
+    type(MPI_Comm), intent(in) :: comm                    !< communicator
+    character(len=:), allocatable, intent(inout) :: text  !< sent by root, received elsewhere
+    integer, intent(in) :: root                           !< sending rank
+    integer :: n
+    n = 0
+    if (comm_rank(comm) == root) n = len(text)
+    call MPI_Bcast(n, 1, MPI_INTEGER, root, comm)
+    if (comm_rank(comm) /= root) then
+      if (allocated(text)) deallocate(text)
+      allocate(character(len=n) :: text)
+    end if
+    if (n > 0) call MPI_Bcast(text, n, MPI_CHARACTER, root, comm)
+  end subroutine bcast_text
 
   !> Sum over the ranks, in place (MPI_SUM: the order is MPI's, not reproducible across rank
   !! counts; `parallel_reduce%global_sum` is the reproducible one).
@@ -199,11 +257,8 @@ contains
   !> Ranks of `MPI_COMM_WORLD` while MPI runs; 1 before `MPI_Init` and after `MPI_Finalize`
   !! (the failure paths that may run then).
   integer function world_ranks() result(n)
-    logical :: initialized, finalized
     n = 1
-    call MPI_Initialized(initialized)
-    call MPI_Finalized(finalized)
-    if (initialized .and. .not. finalized) call MPI_Comm_size(MPI_COMM_WORLD, n)
+    if (mpi_running()) call MPI_Comm_size(MPI_COMM_WORLD, n)
   end function world_ranks
 
   !> MPI_Abort of every rank with exit status `code`.

@@ -110,14 +110,9 @@ contains
     type(grid_t), intent(in) :: grid            !< this block's index ranges
     real(wp), intent(inout) :: field(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell field
     integer, intent(in), optional :: width      !< ghost layers to fill (<= ng)
-    integer :: d, w(3), sbox(2, 3, 2), rbox(2, 3, 2)
     call check_bounds(halo, shape(field), grid%ubc - grid%lbc + 1, 1, 'halo_exchange_cell')
-    w = cell_width(grid, width)
-    do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      call plan_sweep(grid, d, stage_cell, w, sbox, rbox)
-      call sweep_3(halo, dom, d, grid%lbc, field, sbox, rbox, .false.)
-    end do
+    call sweeps(halo, dom, grid, 1, grid%lbc, grid%ubc, field, stage_cell, &
+      cell_width(grid, width))
   end subroutine halo_exchange_cell_scalar
 
   !> Rank-4 variant of `halo_exchange_cell` for fields `(component, i, j, k)`.
@@ -127,15 +122,10 @@ contains
     type(grid_t), intent(in) :: grid            !< this block's index ranges
     real(wp), intent(inout) :: field(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell field
     integer, intent(in), optional :: width      !< ghost layers to fill (<= ng)
-    integer :: d, w(3), sbox(2, 3, 2), rbox(2, 3, 2), ext(3)
-    ext = [size(field, 2), size(field, 3), size(field, 4)]
-    call check_bounds(halo, ext, grid%ubc - grid%lbc + 1, size(field, 1), 'halo_exchange_cell')
-    w = cell_width(grid, width)
-    do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      call plan_sweep(grid, d, stage_cell, w, sbox, rbox)
-      call sweep_4(halo, dom, d, grid%lbc, field, sbox, rbox, .false.)
-    end do
+    call check_bounds(halo, point_extents(field), grid%ubc - grid%lbc + 1, size(field, 1), &
+      'halo_exchange_cell')
+    call sweeps(halo, dom, grid, size(field, 1), grid%lbc, grid%ubc, field, stage_cell, &
+      cell_width(grid, width))
   end subroutine halo_exchange_cell_vec
 
   !> Fill every non-owned node of `field` (allocated `grid%lbn:grid%ubn`) from its owner: the ghost
@@ -145,15 +135,8 @@ contains
     type(domain_t), intent(in) :: dom           !< decomposition
     type(grid_t), intent(in) :: grid            !< this block's index ranges
     real(wp), intent(inout) :: field(grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< node field
-    integer :: d, pass, sbox(2, 3, 2), rbox(2, 3, 2)
     call check_bounds(halo, shape(field), grid%ubn - grid%lbn + 1, 1, 'halo_exchange_node')
-    do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      call plan_sweep(grid, d, stage_node, grid%ng, sbox, rbox)
-      do pass = 1, node_passes(dom, d)
-        call sweep_3(halo, dom, d, grid%lbn, field, sbox, rbox, .false.)
-      end do
-    end do
+    call sweeps(halo, dom, grid, 1, grid%lbn, grid%ubn, field, stage_node, grid%ng)
   end subroutine halo_exchange_node_scalar
 
   !> Rank-4 variant of `halo_exchange_node` for fields `(component, i, j, k)`.
@@ -162,16 +145,9 @@ contains
     type(domain_t), intent(in) :: dom           !< decomposition
     type(grid_t), intent(in) :: grid            !< this block's index ranges
     real(wp), intent(inout) :: field(:, grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< node field
-    integer :: d, pass, sbox(2, 3, 2), rbox(2, 3, 2), ext(3)
-    ext = [size(field, 2), size(field, 3), size(field, 4)]
-    call check_bounds(halo, ext, grid%ubn - grid%lbn + 1, size(field, 1), 'halo_exchange_node')
-    do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      call plan_sweep(grid, d, stage_node, grid%ng, sbox, rbox)
-      do pass = 1, node_passes(dom, d)
-        call sweep_4(halo, dom, d, grid%lbn, field, sbox, rbox, .false.)
-      end do
-    end do
+    call check_bounds(halo, point_extents(field), grid%ubn - grid%lbn + 1, size(field, 1), &
+      'halo_exchange_node')
+    call sweeps(halo, dom, grid, size(field, 1), grid%lbn, grid%ubn, field, stage_node, grid%ng)
   end subroutine halo_exchange_node_vec
 
   !> Reverse halo of a node field: every value held at a non-owned in-domain node location is added
@@ -183,15 +159,8 @@ contains
     type(grid_t), intent(in) :: grid            !< this block's index ranges
     real(wp), intent(inout) :: field(grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< node field
     logical, intent(in), optional :: refresh    !< refresh the copies afterwards (default true)
-    integer :: d, pass, sbox(2, 3, 2), rbox(2, 3, 2)
     call check_bounds(halo, shape(field), grid%ubn - grid%lbn + 1, 1, 'halo_reverse_node')
-    do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      call plan_sweep(grid, d, stage_reverse, grid%ng, sbox, rbox)
-      do pass = 1, node_passes(dom, d)
-        call sweep_3(halo, dom, d, grid%lbn, field, sbox, rbox, .true.)
-      end do
-    end do
+    call sweeps(halo, dom, grid, 1, grid%lbn, grid%ubn, field, stage_reverse, grid%ng)
     if (want_refresh(refresh)) call halo_exchange_node_scalar(halo, dom, grid, field)
   end subroutine halo_reverse_node_scalar
 
@@ -202,43 +171,67 @@ contains
     type(grid_t), intent(in) :: grid            !< this block's index ranges
     real(wp), intent(inout) :: field(:, grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< node field
     logical, intent(in), optional :: refresh    !< refresh the copies afterwards (default true)
-    integer :: d, pass, sbox(2, 3, 2), rbox(2, 3, 2), ext(3)
-    ext = [size(field, 2), size(field, 3), size(field, 4)]
-    call check_bounds(halo, ext, grid%ubn - grid%lbn + 1, size(field, 1), 'halo_reverse_node')
-    do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      call plan_sweep(grid, d, stage_reverse, grid%ng, sbox, rbox)
-      do pass = 1, node_passes(dom, d)
-        call sweep_4(halo, dom, d, grid%lbn, field, sbox, rbox, .true.)
-      end do
-    end do
+    call check_bounds(halo, point_extents(field), grid%ubn - grid%lbn + 1, size(field, 1), &
+      'halo_reverse_node')
+    call sweeps(halo, dom, grid, size(field, 1), grid%lbn, grid%ubn, field, stage_reverse, &
+      grid%ng)
     if (want_refresh(refresh)) call halo_exchange_node_vec(halo, dom, grid, field)
   end subroutine halo_reverse_node_vec
 
   !> Reverse halo of a cell field `(component, i, j, k)` over `width` ghost layers (default 1):
-!! every value scattered into an in-domain ghost cell is added into the owner's cell and the
-!! ghost is zeroed; then the ghost copies are refreshed from the owners. Used for particle
-!! deposits that reach into the neighbouring block (particle-domain overlaps); then all ghost
-!! layers are refreshed from the owners. Collective.
+  !! every value scattered into an in-domain ghost cell is added into the owner's cell and the
+  !! ghost is zeroed; then the ghost copies are refreshed from the owners. Used for particle
+  !! deposits that reach into the neighbouring block (particle-domain overlaps); then all ghost
+  !! layers are refreshed from the owners. Collective.
   subroutine halo_reverse_cell_vec(halo, dom, grid, field, width)
     type(halo_t), intent(inout) :: halo         !< message buffers
     type(domain_t), intent(in) :: dom           !< decomposition
     type(grid_t), intent(in) :: grid            !< this block's index ranges
     real(wp), intent(inout) :: field(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell field
     integer, intent(in), optional :: width      !< ghost layers to sum (<= ng, default 1)
-    integer :: d, w(3), sbox(2, 3, 2), rbox(2, 3, 2), ext(3)
-    ext = [size(field, 2), size(field, 3), size(field, 4)]
-    call check_bounds(halo, ext, grid%ubc - grid%lbc + 1, size(field, 1), 'halo_reverse_cell')
+    integer :: w(3)
+    call check_bounds(halo, point_extents(field), grid%ubc - grid%lbc + 1, size(field, 1), &
+      'halo_reverse_cell')
     w = cell_width(grid, 1)
     if (present(width)) w = cell_width(grid, width)
-    do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      call plan_sweep(grid, d, stage_reverse_cell, w, sbox, rbox)
-      call sweep_4(halo, dom, d, grid%lbc, field, sbox, rbox, .true.)
-    end do
+    call sweeps(halo, dom, grid, size(field, 1), grid%lbc, grid%ubc, field, stage_reverse_cell, w)
     ! refresh every ghost layer: the summed values feed fields used across the full width
     call halo_exchange_cell_vec(halo, dom, grid, field)
   end subroutine halo_reverse_cell_vec
+
+  !> The sweeps of one exchange of `stage` over `w` layers, x, y, z in turn (a node stage
+  !! repeats a sweep `node_passes` times). `field` is `(component, i, j, k)` with `ncomp`
+  !! components; a scalar field comes in by sequence association with `ncomp` = 1.
+  subroutine sweeps(halo, dom, grid, ncomp, lb, ub, field, stage, w)
+    type(halo_t), intent(inout) :: halo         !< message buffers
+    type(domain_t), intent(in) :: dom           !< decomposition
+    type(grid_t), intent(in) :: grid            !< this block's index ranges
+    integer, intent(in) :: ncomp                !< components per point
+    integer, intent(in) :: lb(3)                !< lower bounds of the points
+    integer, intent(in) :: ub(3)                !< upper bounds of the points
+    real(wp), intent(inout) :: field(ncomp, lb(1):ub(1), lb(2):ub(2), lb(3):ub(3))  !< field
+    integer, intent(in) :: stage                !< stage_cell, stage_node, stage_reverse, ...
+    integer, intent(in) :: w(3)                 !< layers per dimension
+    integer :: d, pass, npasses, sbox(2, 3, 2), rbox(2, 3, 2)
+    logical :: reverse
+    reverse = stage == stage_reverse .or. stage == stage_reverse_cell
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      call plan_sweep(grid, d, stage, w, sbox, rbox)
+      npasses = 1
+      if (stage == stage_node .or. stage == stage_reverse) npasses = node_passes(dom, d)
+      do pass = 1, npasses
+        call sweep(halo, dom, d, ncomp, lb, ub, field, sbox, rbox, reverse)
+      end do
+    end do
+  end subroutine sweeps
+
+  !> Extents of the points `(i, j, k)` of a field `(component, i, j, k)`.
+  pure function point_extents(field) result(ext)
+    real(wp), intent(in) :: field(:, :, :, :)  !< field
+    integer :: ext(3)
+    ext = [size(field, 2), size(field, 3), size(field, 4)]
+  end function point_extents
 
   ! ------------------------------------------------------------------ planning
 
@@ -392,49 +385,22 @@ contains
       message_tag(d, s), dom%comm, req(2 + s))
   end subroutine start_send
 
-  !> One sweep along `d` for a rank-3 field: pack, exchange, unpack (copy, or add when `reverse`,
-  !! in which case the sent boxes are zeroed).
-  subroutine sweep_3(halo, dom, d, lb, field, sbox, rbox, reverse)
-    type(halo_t), intent(inout), asynchronous :: halo         !< message buffers
-    type(domain_t), intent(in) :: dom                         !< decomposition
-    integer, intent(in) :: d                                  !< dimension
-    integer, intent(in) :: lb(3)                              !< lower bounds of `field`
-    real(wp), intent(inout) :: field(lb(1):, lb(2):, lb(3):)  !< field
-    integer, intent(in) :: sbox(2, 3, 2)                      !< boxes to send
-    integer, intent(in) :: rbox(2, 3, 2)                      !< boxes to receive
-    logical, intent(in) :: reverse                            !< reverse halo
+  !> One sweep along `d`: pack, exchange, unpack (copy, or add when `reverse`, in which case the
+  !! sent boxes are zeroed). `field` is `(component, i, j, k)` with `ncomp` components; a
+  !! scalar field `(i, j, k)` comes in by sequence association with `ncomp` = 1.
+  subroutine sweep(halo, dom, d, ncomp, lb, ub, field, sbox, rbox, reverse)
+    type(halo_t), intent(inout), asynchronous :: halo  !< message buffers
+    type(domain_t), intent(in) :: dom                  !< decomposition
+    integer, intent(in) :: d                           !< dimension
+    integer, intent(in) :: ncomp                       !< components per point
+    integer, intent(in) :: lb(3)                       !< lower bounds of the points
+    integer, intent(in) :: ub(3)                       !< upper bounds of the points
+    real(wp), intent(inout) :: field(ncomp, lb(1):ub(1), lb(2):ub(2), lb(3):ub(3))  !< field
+    integer, intent(in) :: sbox(2, 3, 2)               !< boxes to send
+    integer, intent(in) :: rbox(2, 3, 2)               !< boxes to receive
+    logical, intent(in) :: reverse                     !< reverse halo
     type(MPI_Request) :: req(4)
     integer :: s, nsend(2), nrecv(2)
-    do s = 1, 2
-      nsend(s) = box_size(sbox(:, :, s))
-      nrecv(s) = box_size(rbox(:, :, s))
-    end do
-    call post_receives(halo, dom, d, nrecv, req)
-    do s = 1, 2
-      if (dom%neighbour(s, d) == MPI_PROC_NULL .or. nsend(s) == 0) cycle
-      call pack_box(field, lb, sbox(:, :, s), halo%send_buf(:, s), reverse)
-      call start_send(halo, dom, d, s, nsend(s), req)
-    end do
-    call MPI_Waitall(4, req, MPI_STATUSES_IGNORE)
-    do s = 1, 2
-      if (dom%neighbour(s, d) == MPI_PROC_NULL .or. nrecv(s) == 0) cycle
-      call unpack_box(field, lb, rbox(:, :, s), halo%recv_buf(:, s), reverse)
-    end do
-  end subroutine sweep_3
-
-  !> One sweep along `d` for a rank-4 field `(component, i, j, k)`; see `sweep_3`.
-  subroutine sweep_4(halo, dom, d, lb, field, sbox, rbox, reverse)
-    type(halo_t), intent(inout), asynchronous :: halo            !< message buffers
-    type(domain_t), intent(in) :: dom                            !< decomposition
-    integer, intent(in) :: d                                     !< dimension
-    integer, intent(in) :: lb(3)                                 !< lower bounds of dims 2..4
-    real(wp), intent(inout) :: field(:, lb(1):, lb(2):, lb(3):)  !< field
-    integer, intent(in) :: sbox(2, 3, 2)                         !< boxes to send
-    integer, intent(in) :: rbox(2, 3, 2)                         !< boxes to receive
-    logical, intent(in) :: reverse                               !< reverse halo
-    type(MPI_Request) :: req(4)
-    integer :: s, nsend(2), nrecv(2), ncomp
-    ncomp = size(field, 1)
     do s = 1, 2
       nsend(s) = ncomp * box_size(sbox(:, :, s))
       nrecv(s) = ncomp * box_size(rbox(:, :, s))
@@ -450,5 +416,5 @@ contains
       if (dom%neighbour(s, d) == MPI_PROC_NULL .or. nrecv(s) == 0) cycle
       call unpack_box(field, lb, rbox(:, :, s), halo%recv_buf(:, s), reverse)
     end do
-  end subroutine sweep_4
+  end subroutine sweep
 end module parallel_halo

@@ -1,5 +1,6 @@
-!> Packing kernels of the halo exchange: copy a box of a cell or node field into a contiguous
-!! buffer and back (copy or add).
+!> Packing kernels of the halo exchange: copy a box of a cell or node field
+!! `(component, i, j, k)` (a scalar field is one component) into a contiguous buffer and back
+!! (copy or add).
 !!
 !! A box is `box(1:2, 1:3)`: first (`box(1, d)`) and last (`box(2, d)`) global index along each
 !! dimension d. Buffers are ordered with the leftmost index fastest (component, i, j, k), so the
@@ -11,16 +12,6 @@ module parallel_halo_pack
 
   public :: box_size, pack_box, unpack_box
 
-  !> Copy a box of a field into a buffer; optionally zero the box afterwards (reverse halo).
-  interface pack_box
-    module procedure pack_box_3, pack_box_4
-  end interface pack_box
-
-  !> Copy (or add) a buffer into a box of a field.
-  interface unpack_box
-    module procedure unpack_box_3, unpack_box_4
-  end interface unpack_box
-
 contains
 
   !> Number of points in `box` (0 when empty along any dimension).
@@ -31,28 +22,8 @@ contains
       * max(0, box(2, 3) - box(1, 3) + 1)
   end function box_size
 
-  !> Copy `field(box)` into `buf(1:box_size(box))`; zero the box afterwards when `clear`.
-  subroutine pack_box_3(field, lb, box, buf, clear)
-    integer, intent(in) :: lb(3)                               !< lower bounds of `field`
-    real(wp), intent(inout) :: field(lb(1):, lb(2):, lb(3):)   !< field [any unit]
-    integer, intent(in) :: box(2, 3)                           !< box to pack
-    real(wp), intent(inout) :: buf(:)                          !< contiguous buffer [field unit]
-    logical, intent(in) :: clear                               !< zero the box after packing
-    integer :: i, j, k, n
-    n = 0
-    do k = box(1, 3), box(2, 3)
-      do j = box(1, 2), box(2, 2)
-        do i = box(1, 1), box(2, 1)
-          n = n + 1
-          buf(n) = field(i, j, k)
-        end do
-      end do
-    end do
-    if (clear) field(box(1, 1):box(2, 1), box(1, 2):box(2, 2), box(1, 3):box(2, 3)) = 0.0_wp
-  end subroutine pack_box_3
-
   !> Copy `field(1:ncomp, box)` into `buf(1:ncomp*box_size(box))`; zero it afterwards when `clear`.
-  subroutine pack_box_4(field, lb, box, buf, clear)
+  subroutine pack_box(field, lb, box, buf, clear)
     integer, intent(in) :: lb(3)                                   !< lower bounds of dims 2..4
     real(wp), intent(inout) :: field(:, lb(1):, lb(2):, lb(3):)    !< field (component, i, j, k)
     integer, intent(in) :: box(2, 3)                               !< box to pack
@@ -72,40 +43,10 @@ contains
       end do
     end do
     if (clear) field(:, box(1, 1):box(2, 1), box(1, 2):box(2, 2), box(1, 3):box(2, 3)) = 0.0_wp
-  end subroutine pack_box_4
-
-  !> Copy `buf` into `field(box)`, or add it when `add`.
-  subroutine unpack_box_3(field, lb, box, buf, add)
-    integer, intent(in) :: lb(3)                               !< lower bounds of `field`
-    real(wp), intent(inout) :: field(lb(1):, lb(2):, lb(3):)   !< field [any unit]
-    integer, intent(in) :: box(2, 3)                           !< box to fill
-    real(wp), intent(in) :: buf(:)                             !< received buffer [field unit]
-    logical, intent(in) :: add                                 !< accumulate instead of copy
-    integer :: i, j, k, n
-    n = 0
-    if (add) then
-      do k = box(1, 3), box(2, 3)
-        do j = box(1, 2), box(2, 2)
-          do i = box(1, 1), box(2, 1)
-            n = n + 1
-            field(i, j, k) = field(i, j, k) + buf(n)
-          end do
-        end do
-      end do
-    else
-      do k = box(1, 3), box(2, 3)
-        do j = box(1, 2), box(2, 2)
-          do i = box(1, 1), box(2, 1)
-            n = n + 1
-            field(i, j, k) = buf(n)
-          end do
-        end do
-      end do
-    end if
-  end subroutine unpack_box_3
+  end subroutine pack_box
 
   !> Copy `buf` into `field(1:ncomp, box)`, or add it when `add`.
-  subroutine unpack_box_4(field, lb, box, buf, add)
+  subroutine unpack_box(field, lb, box, buf, add)
     integer, intent(in) :: lb(3)                                   !< lower bounds of dims 2..4
     real(wp), intent(inout) :: field(:, lb(1):, lb(2):, lb(3):)    !< field (component, i, j, k)
     integer, intent(in) :: box(2, 3)                               !< box to fill
@@ -137,5 +78,5 @@ contains
         end do
       end do
     end if
-  end subroutine unpack_box_4
+  end subroutine unpack_box
 end module parallel_halo_pack

@@ -13,7 +13,7 @@
 module parallel_reduce
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_positive_inf
   use mpi_f08, only: MPI_Allreduce, MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_INTEGER8, MPI_LOGICAL, &
-    MPI_SUM, MPI_MAX, MPI_MIN, MPI_LOR, MPI_LAND
+    MPI_SUM, MPI_MAX, MPI_MIN, MPI_LOR, MPI_LAND, MPI_Op
   use mpmice_kinds, only: wp, i8
   use parallel_domain, only: domain_t
   use grid_layout, only: grid_t
@@ -251,66 +251,82 @@ contains
   ! ------------------------------------------------------------------ exact reductions
 
   !> Sum of a default integer over all ranks.
-  function global_sum_int(dom, n) result(total)
+  integer function global_sum_int(dom, n) result(total)
     type(domain_t), intent(in) :: dom  !< decomposition (its communicator)
     integer, intent(in) :: n           !< this rank's contribution
-    integer :: total
-    call MPI_Allreduce(n, total, 1, MPI_INTEGER, MPI_SUM, dom%comm)
+    total = reduce_int(dom, n, MPI_SUM)
   end function global_sum_int
 
   !> Sum of a 64-bit integer over all ranks (global counts).
-  function global_sum_i8(dom, n) result(total)
+  integer(i8) function global_sum_i8(dom, n) result(total)
     type(domain_t), intent(in) :: dom  !< decomposition (its communicator)
     integer(i8), intent(in) :: n       !< this rank's contribution
-    integer(i8) :: total
     call MPI_Allreduce(n, total, 1, MPI_INTEGER8, MPI_SUM, dom%comm)
   end function global_sum_i8
 
   !> Maximum of a real over all ranks [unit of x].
-  function global_max_real(dom, x) result(y)
+  real(wp) function global_max_real(dom, x) result(y)
     type(domain_t), intent(in) :: dom  !< decomposition (its communicator)
     real(wp), intent(in) :: x          !< this rank's value
-    real(wp) :: y
-    call MPI_Allreduce(x, y, 1, MPI_DOUBLE_PRECISION, MPI_MAX, dom%comm)
+    y = reduce_real(dom, x, MPI_MAX)
   end function global_max_real
 
-  !> Maximum of an integer over all ranks.
-  function global_max_int(dom, n) result(m)
-    type(domain_t), intent(in) :: dom  !< decomposition (its communicator)
-    integer, intent(in) :: n           !< this rank's value
-    integer :: m
-    call MPI_Allreduce(n, m, 1, MPI_INTEGER, MPI_MAX, dom%comm)
-  end function global_max_int
-
   !> Minimum of a real over all ranks [unit of x].
-  function global_min_real(dom, x) result(y)
+  real(wp) function global_min_real(dom, x) result(y)
     type(domain_t), intent(in) :: dom  !< decomposition (its communicator)
     real(wp), intent(in) :: x          !< this rank's value
-    real(wp) :: y
-    call MPI_Allreduce(x, y, 1, MPI_DOUBLE_PRECISION, MPI_MIN, dom%comm)
+    y = reduce_real(dom, x, MPI_MIN)
   end function global_min_real
 
-  !> Minimum of an integer over all ranks.
-  function global_min_int(dom, n) result(m)
+  !> Maximum of an integer over all ranks.
+  integer function global_max_int(dom, n) result(m)
     type(domain_t), intent(in) :: dom  !< decomposition (its communicator)
     integer, intent(in) :: n           !< this rank's value
-    integer :: m
-    call MPI_Allreduce(n, m, 1, MPI_INTEGER, MPI_MIN, dom%comm)
+    m = reduce_int(dom, n, MPI_MAX)
+  end function global_max_int
+
+  !> Minimum of an integer over all ranks.
+  integer function global_min_int(dom, n) result(m)
+    type(domain_t), intent(in) :: dom  !< decomposition (its communicator)
+    integer, intent(in) :: n           !< this rank's value
+    m = reduce_int(dom, n, MPI_MIN)
   end function global_min_int
 
   !> True on every rank when `flag` is true on at least one rank.
-  function global_any(dom, flag) result(any_flag)
+  logical function global_any(dom, flag) result(any_flag)
     type(domain_t), intent(in) :: dom  !< decomposition (its communicator)
     logical, intent(in) :: flag        !< this rank's flag
-    logical :: any_flag
-    call MPI_Allreduce(flag, any_flag, 1, MPI_LOGICAL, MPI_LOR, dom%comm)
+    any_flag = reduce_logical(dom, flag, MPI_LOR)
   end function global_any
 
   !> True on every rank when `flag` is true on all ranks.
-  function global_all(dom, flag) result(all_flag)
+  logical function global_all(dom, flag) result(all_flag)
     type(domain_t), intent(in) :: dom  !< decomposition (its communicator)
     logical, intent(in) :: flag        !< this rank's flag
-    logical :: all_flag
-    call MPI_Allreduce(flag, all_flag, 1, MPI_LOGICAL, MPI_LAND, dom%comm)
+    all_flag = reduce_logical(dom, flag, MPI_LAND)
   end function global_all
+
+  !> MPI_Allreduce of one real with the operation `op`.
+  real(wp) function reduce_real(dom, x, op) result(y)
+    type(domain_t), intent(in) :: dom  !< decomposition (its communicator)
+    real(wp), intent(in) :: x          !< this rank's value
+    type(MPI_Op), intent(in) :: op     !< MPI_MAX or MPI_MIN
+    call MPI_Allreduce(x, y, 1, MPI_DOUBLE_PRECISION, op, dom%comm)
+  end function reduce_real
+
+  !> MPI_Allreduce of one default integer with the operation `op`.
+  integer function reduce_int(dom, n, op) result(m)
+    type(domain_t), intent(in) :: dom  !< decomposition (its communicator)
+    integer, intent(in) :: n           !< this rank's value
+    type(MPI_Op), intent(in) :: op     !< MPI_SUM, MPI_MAX or MPI_MIN
+    call MPI_Allreduce(n, m, 1, MPI_INTEGER, op, dom%comm)
+  end function reduce_int
+
+  !> MPI_Allreduce of one logical with the operation `op`.
+  logical function reduce_logical(dom, flag, op) result(reduced)
+    type(domain_t), intent(in) :: dom  !< decomposition (its communicator)
+    logical, intent(in) :: flag        !< this rank's flag
+    type(MPI_Op), intent(in) :: op     !< MPI_LOR or MPI_LAND
+    call MPI_Allreduce(flag, reduced, 1, MPI_LOGICAL, op, dom%comm)
+  end function reduce_logical
 end module parallel_reduce

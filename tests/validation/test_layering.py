@@ -5,9 +5,9 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 
-#: Folders whose files may `use mpi_f08`: parallel/ wraps MPI for every layer above it; base/
-#: sits below it (the abort of mpmice_errors, the clocks); config/ still broadcasts the input.
-MPI_FOLDERS = {"parallel", "base", "config"}
+#: Folders whose files may `use mpi_f08`: parallel/ wraps MPI for every layer above it (base/,
+#: below it, gets its abort and finalize from parallel_comm%mpi_start).
+MPI_FOLDERS = {"parallel"}
 
 
 def _module_deps():
