@@ -3,7 +3,7 @@
 >= 2e5 particles, on 1 and 2 ranks.
 
 Usage:  python -m bench.mpm_bench [--cell 0.00125] [--steps 100] [--ranks 1 2] [--csv FILE]
-        [--png FILE]
+        [--png FILE] [--split y|x] [--balance cells|cost] [--particle-weight W]
 
 Uses the Release executable (build/bin/mpmice or $MPMICE_EXE). The collapse of
 namelists/mpm_collapse_2d.nml (Mohr-Coulomb, GIMP, 2 x 2 particles per cell) on a finer grid:
@@ -11,7 +11,9 @@ cell size 1.25 mm gives 960 x 400 cells and 204800 particles. The first `steps` 
 collapse are timed (the stage timers of the run; output and checkpoint time is excluded). The
 per-step costs are the maximum over ranks, so on 2 ranks they are wall time, not core time; the
 ranks split the domain along y (the lower rank holds 5/8 of the particles at the start, and the
-wait for it shows up in the migration stage, whose collective follows G2P).
+wait for it shows up in the migration stage, whose collective follows G2P). `--split x` cuts
+along x instead; `--balance cost` puts the cut where the modelled step cost is least (`&grid
+balance`, with `--particle-weight` W, docs/performance.md "Balancing the particles").
 """
 from __future__ import annotations
 
@@ -27,13 +29,16 @@ STAGES = ("MPM particle to grid", "MPM nodal solve", "MPM grid to particle + str
           "MPM migration")
 
 
-def run_one(cell: float, steps: int, nranks: int, work: str) -> dict:
+def run_one(cell: float, steps: int, nranks: int, work: str, split: str = "y",
+            balance: str = "cells", weight: float = 0.5) -> dict:
     """Run `steps` steps at cell size `cell` on `nranks` ranks; return the costs."""
     nx, ny = int(round(1.2 / cell)), int(round(0.5 / cell))
     out = os.path.join(work, f"c{cell}_r{nranks}")
     # split along y: the column stands in the left sixth of the domain, so an x split would leave
     # one rank without particles
-    grid = f"&grid ncells = {nx}, {ny}, 1, dims = 1, {nranks}, 1 /"
+    dims = f"{nranks}, 1, 1" if split == "x" else f"1, {nranks}, 1"
+    grid = (f"&grid ncells = {nx}, {ny}, 1, dims = {dims}, balance = '{balance}', "
+            f"particle_weight = {weight} /")
     result = run_mpmice([NAMELIST, "--set", grid,
                          "--set", f"&run output_dir = '{out}', max_steps = {steps}, "
                                   "output_interval = 10.0, checkpoint_interval = 0.0 /"],
@@ -56,12 +61,16 @@ def main(argv=None) -> int:
     parser.add_argument("--steps", type=int, default=100)
     parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--csv", default=os.path.join(ROOT, "bench", "results", "mpm_bench.csv"))
+    parser.add_argument("--split", choices=["y", "x"], default="y")
+    parser.add_argument("--balance", choices=["cells", "cost"], default="cells")
+    parser.add_argument("--particle-weight", type=float, default=0.5)
     parser.add_argument("--png", default=os.path.join(ROOT, "docs", "validation", "mpm_bench.png"))
     args = parser.parse_args(argv)
     rows = []
     with tempfile.TemporaryDirectory() as work:
         for nranks in args.ranks:
-            rows.append(run_one(args.cell, args.steps, nranks, work))
+            rows.append(run_one(args.cell, args.steps, nranks, work, args.split, args.balance,
+                                args.particle_weight))
     header = ["ranks", "particles", "cells", "steps", "us_per_particle_step",
               "us_per_cell_step"] + list(STAGES)
     print(" | ".join(header))

@@ -115,12 +115,14 @@ def run_mpmice(args, nranks: int = 1, cwd: str | None = None, timeout: float = R
 _TIMER_ROW = re.compile(r"\s*(.+?)\s+(\d+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s*$")
 
 
-def stage_timers(stdout: str) -> dict[str, tuple[int, float]]:
-    """The stage-timer table of a run's standard output: {stage: (calls, max seconds over
-    ranks)} (the benchmarks' per-stage costs)."""
+def stage_timers(stdout: str, column: str = "max") -> dict[str, tuple[int, float]]:
+    """The stage-timer table of a run's standard output: {stage: (calls, seconds)}, the seconds
+    the maximum over ranks (the benchmarks' per-stage costs) or, with ``column="mean"``, the
+    mean over ranks."""
+    group = {"max": 3, "mean": 4}[column]
     stages = {}
     for line in stdout.splitlines():
         m = _TIMER_ROW.match(line)
         if m:
-            stages[m.group(1).strip()] = (int(m.group(2)), float(m.group(3)))
+            stages[m.group(1).strip()] = (int(m.group(2)), float(m.group(group)))
     return stages

@@ -21,7 +21,7 @@ module config_materials
   public :: eos_names, solid_model_names, solid_shape_names, face_names
   public :: boundary_fluid_names, boundary_thermal_names, boundary_solid_names
   public :: drag_law_names, drag_scheme_names, rigid_contact_names, contact_normal_names, scene_names
-  public :: shape_function_names
+  public :: shape_function_names, balance_names
   public :: particles_per_cell_used
   public :: max_history_points, history_unset, history_points_used, max_blocks_per_dim
 

@@ -15,7 +15,7 @@ module config_types
     max_regions, max_boundaries, max_polygon_points, eos_names, solid_model_names, &
     solid_shape_names, face_names, boundary_fluid_names, boundary_thermal_names, &
     boundary_solid_names, drag_law_names, drag_scheme_names, rigid_contact_names, &
-    contact_normal_names, &
+    contact_normal_names, balance_names, &
     particles_per_cell_used, max_history_points, history_unset, history_points_used, &
     max_blocks_per_dim, scene_names, shape_function_names
   implicit none
@@ -23,7 +23,7 @@ module config_types
 
   public :: config_t, run_params_t, grid_params_t, time_params_t, numerics_params_t
   public :: solver_params_t, output_params_t, heat_params_t
-  public :: scene_names, shape_function_names
+  public :: scene_names, shape_function_names, balance_names
   public :: physics_params_t, ice_params_t, mpm_params_t, coupling_params_t
   public :: fluid_params_t, solid_params_t, region_params_t, boundary_params_t
   public :: max_fluids, max_solids, max_regions, max_boundaries, max_polygon_points

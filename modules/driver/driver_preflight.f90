@@ -26,6 +26,7 @@ module driver_preflight
   use config_types, only: config_t, solid_params_t, particles_per_cell_used
   use config_text, only: ints_repr, quoted
   use parallel_domain, only: domain_t, domain_init, domain_free
+  use driver_balance, only: run_block_cells
   use io_files, only: io_join_path, io_file_exists, io_dirname, io_dump_stem
   use io_paths, only: io_check_output_directory, io_make_output_directory
   implicit none
@@ -55,7 +56,7 @@ contains
     errmsg = ''
     rank = comm_rank(comm)
     call domain_init(dom, comm, cfg%grid%ncells, cfg%grid%periodic, cfg%grid%ghost_width, &
-      cfg%grid%dims, cfg%grid%block_cells)
+      cfg%grid%dims, run_block_cells(cfg, comm))
     mine = estimate_block_bytes(cfg, dom)
     call domain_free(dom)
 

@@ -11,6 +11,7 @@ module driver_run_mod
   use parallel_domain, only: grid_init, domain_t, domain_init, domain_free
   use grid_layout, only: grid_t
   use driver_preflight, only: preflight_output_dir
+  use driver_balance, only: run_block_cells
   use driver_loop, only: run_scene, run_status_t
   use scene_interface, only: scene_t
   use scene_params, only: scene_params_t
@@ -45,7 +46,7 @@ contains
     integer :: stat
 
     call domain_init(dom, comm, cfg%grid%ncells, cfg%grid%periodic, cfg%grid%ghost_width, &
-      cfg%grid%dims, cfg%grid%block_cells)
+      cfg%grid%dims, run_block_cells(cfg, comm, restart_file))
     call grid_init(grid, dom, cfg%grid%lower, cfg%grid%upper)
     text = config_to_text(cfg)
 
@@ -79,6 +80,14 @@ contains
       int_text(dom%dims(2)) // ' x ' // int_text(dom%dims(3)) // ', cells ' // &
       int_text(grid%ncells(1)) // ' x ' // int_text(grid%ncells(2)) // ' x ' // &
       int_text(grid%ncells(3)))
+    if (trim(cfg%grid%balance) == 'cost') then
+      if (len(restart_file) > 0) then
+        call log_info('mpmice: blocks balanced by cost: ' // block_text(dom) // &
+          ' (particles counted in the checkpoint)')
+      else
+        call log_info('mpmice: blocks balanced by cost: ' // block_text(dom))
+      end if
+    end if
     call log_info('mpmice: output in ' // trim(cfg%run%output_dir) // ', resolved input ' // &
       config_used_path(cfg))
     call log_info('mpmice: version ' // mpmice_version)
@@ -95,6 +104,25 @@ contains
     call log_info('mpmice: ' // trim(status%reason))
     call log_close_file()
   end subroutine driver_run
+
+  !> The cells of each block along the split dimensions, e.g. 'x 190, 310'.
+  function block_text(dom) result(text)
+    type(domain_t), intent(in) :: dom  !< decomposition
+    character(len=:), allocatable :: text
+    character(len=*), parameter :: axes = 'xyz'
+    integer :: d, c
+    text = ''
+    do d = 1, 3
+      if (dom%dims(d) < 2) cycle
+      if (len(text) > 0) text = text // '; '
+      text = text // axes(d:d)
+      do c = 1, dom%dims(d)
+        text = text // merge(' ', ',', c == 1) // int_text(dom%first_cell(c, d) - &
+          dom%first_cell(c - 1, d))
+      end do
+    end do
+    if (len(text) == 0) text = 'one block'
+  end function block_text
 
   !> Path of the run's log file: `<output_dir>/<name>.log`.
   function log_path(cfg) result(path)

@@ -1,0 +1,134 @@
+!> Block boundaries along one dimension from the work per slab (`&grid balance = 'cost'`).
+!!
+!! A slab is the layer of cells with one index along the dimension. A step's stages end in halo
+!! exchanges or collectives, and the fluid stages (work per cell) and the particle stages (work
+!! per particle) are separate stages, so each waits for its own busiest rank. The modelled cost of
+!! a step on blocks b is therefore
+!!
+!!     F = max_b C_b + w max_b P_b,
+!!
+!! C_b the cells and P_b the particles of block b, w the cost of a particle in cells' worth of
+!! fluid work (docs/performance.md "Balancing the particles"). Two blocks: every cut is tried and
+!! the one of least F kept. More blocks: the cuts where the prefix sum of (1 - a) C / C_total +
+!! a P / P_total is nearest to k/p of the total, for a = 0, 1/64, ..., 1 (a = 0: the cells split
+!! evenly, a = 1: the particles), the set of least F kept. Every block keeps at least
+!! `min_cells` slabs. Ties keep the first candidate (the lower cut, the smaller a). The arithmetic
+!! uses only the arguments, so every rank that passes the same counts gets the same blocks.
+module parallel_balance
+  use mpmice_kinds, only: wp
+  implicit none
+  private
+
+  public :: balanced_blocks, modelled_cost, quantile_blocks
+
+  integer, parameter :: blend_steps = 64  !< blends a tried for more than two blocks
+
+contains
+
+  !> `blocks(1:nblocks)`: the slabs of each block, low block first, that minimise the modelled
+  !! cost F for slabs of `cells(i)` cells and `particles(i)` particles (both >= 0). Requires
+  !! size(cells) >= nblocks * min_cells.
+  pure subroutine balanced_blocks(cells, particles, weight, nblocks, min_cells, blocks)
+    real(wp), intent(in) :: cells(:)      !< cells of each slab
+    real(wp), intent(in) :: particles(:)  !< particles of each slab
+    real(wp), intent(in) :: weight        !< w: a particle's cost in cells (>= 0)
+    integer, intent(in) :: nblocks        !< number of blocks (>= 1)
+    integer, intent(in) :: min_cells      !< fewest slabs a block may hold (>= 1)
+    integer, intent(out) :: blocks(:)     !< slabs of each block (size >= nblocks)
+    real(wp) :: share(size(cells)), best, f, a, cell_total, particle_total
+    integer :: n, c, step, trial(nblocks)
+
+    n = size(cells)
+    blocks = 0
+    if (nblocks == 1) then
+      blocks(1) = n
+      return
+    end if
+    best = huge(1.0_wp)
+    if (nblocks == 2) then
+      do c = min_cells, n - min_cells
+        f = modelled_cost(cells, particles, weight, [c, n - c])
+        if (f < best) then
+          best = f
+          blocks(1:2) = [c, n - c]
+        end if
+      end do
+      return
+    end if
+    cell_total = max(sum(cells), tiny(1.0_wp))
+    particle_total = sum(particles)
+    do step = 0, blend_steps
+      if (step > 0 .and. .not. particle_total > 0.0_wp) exit
+      a = real(step, wp) / real(blend_steps, wp)
+      share = (1.0_wp - a) * cells / cell_total
+      if (step > 0) share = share + a * particles / particle_total
+      call quantile_blocks(share, nblocks, min_cells, trial)
+      f = modelled_cost(cells, particles, weight, trial)
+      if (f < best) then
+        best = f
+        blocks(1:nblocks) = trial
+      end if
+    end do
+  end subroutine balanced_blocks
+
+  !> F = max_b C_b + w max_b P_b of the blocks `blocks` (slabs of each, tiling the slabs).
+  pure real(wp) function modelled_cost(cells, particles, weight, blocks) result(f)
+    real(wp), intent(in) :: cells(:)      !< cells of each slab
+    real(wp), intent(in) :: particles(:)  !< particles of each slab
+    real(wp), intent(in) :: weight        !< w: a particle's cost in cells
+    integer, intent(in) :: blocks(:)      !< slabs of each block, low block first
+    real(wp) :: most_cells, most_particles
+    integer :: b, first, last
+    most_cells = 0.0_wp
+    most_particles = 0.0_wp
+    last = 0
+    do b = 1, size(blocks)
+      first = last + 1
+      last = last + blocks(b)
+      most_cells = max(most_cells, sum(cells(first:last)))
+      most_particles = max(most_particles, sum(particles(first:last)))
+    end do
+    f = most_cells + weight * most_particles
+  end function modelled_cost
+
+  !> `blocks(1:nblocks)`: the k-th boundary where the prefix sum of `cost` is nearest to k /
+  !! nblocks of its total (ties: the upper boundary), moved where needed so that every block keeps
+  !! `min_cells` slabs. A total of zero gives the even quantiles of the slab count.
+  pure subroutine quantile_blocks(cost, nblocks, min_cells, blocks)
+    real(wp), intent(in) :: cost(:)      !< cost of each slab (>= 0)
+    integer, intent(in) :: nblocks       !< number of blocks (>= 1)
+    integer, intent(in) :: min_cells     !< fewest slabs a block may hold (>= 1)
+    integer, intent(out) :: blocks(:)    !< slabs of each block (size >= nblocks)
+    real(wp) :: prefix(0:size(cost)), target
+    integer :: n, i, k, cut(0:nblocks)
+
+    n = size(cost)
+    prefix(0) = 0.0_wp
+    do i = 1, n
+      prefix(i) = prefix(i - 1) + cost(i)
+    end do
+    if (.not. prefix(n) > 0.0_wp) then
+      do i = 1, n
+        prefix(i) = real(i, wp)
+      end do
+    end if
+
+    cut(0) = 0
+    cut(nblocks) = n
+    do k = 1, nblocks - 1
+      target = prefix(n) * real(k, wp) / real(nblocks, wp)
+      ! first slab boundary at or above the target, or the one below when that is nearer
+      i = 1
+      do while (i < n .and. prefix(i) < target)
+        i = i + 1
+      end do
+      if (target - prefix(i - 1) < prefix(i) - target) i = i - 1
+      ! keep min_cells slabs for this block and for each block after it
+      cut(k) = min(max(i, cut(k - 1) + min_cells), n - (nblocks - k) * min_cells)
+    end do
+    blocks = 0
+    do k = 1, nblocks
+      blocks(k) = cut(k) - cut(k - 1)
+    end do
+  end subroutine quantile_blocks
+end module parallel_balance

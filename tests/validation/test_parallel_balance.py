@@ -1,0 +1,157 @@
+"""Blocks cut by the modelled cost (`&grid balance = 'cost'`): the submerged sand block, whose
+particles sit in the left fifth of the tank, on 2 ranks with the cut moved into the sand equals
+the 1-rank run to the rank-invariance tolerances; a restart counts the particles in its
+checkpoint: the same blocks while they have not moved (bitwise continuation), new blocks after
+the sliding block moved right (the uninterrupted run's end to the rank-invariance tolerances);
+an unknown value is one input-error line."""
+import os
+import re
+
+import h5py
+import numpy as np
+import pytest
+
+from postproc.dump_compare import assert_dumps_identical
+from postproc.mpm_common import particles
+from postproc.mpmice_io import list_dumps
+from postproc.run_case import ROOT, run_mpmice
+
+BLOCK = os.path.join(ROOT, "namelists", "mpmice_submerged_block_2d.nml")
+#: 40 x 20 cells; the block (x < 0.2 m, 2 x 2 particles per cell) fills 8 columns of 8 cells,
+#: 32 particles per column. A cut at column c costs F = 20 (40 - c) + 4 x 32 max(c, 8 - c) for
+#: c <= 8 (least, 1232, at c = 4: the particles halved) and 20 max(c, 40 - c) + 4 x 256 beyond
+#: (least, 1424, at the even cut): with weight 4 the cut goes through the sand, at column 4
+COST = "&grid balance = 'cost', particle_weight = 4.0 /"
+BLOCKS = (4, 36)
+SETS = ("&run end_time = 0.02, output_interval = 0.01 /",)
+
+
+@pytest.fixture(autouse=True)
+def _executable(mpmice_exe, monkeypatch):
+    monkeypatch.setenv("MPMICE_EXE", str(mpmice_exe))
+
+
+def _run(tmp_path, label, nranks, *sets):
+    out = str(tmp_path / label)
+    command = [BLOCK, "--set", f"&run output_dir = '{out}' /"]
+    for text in sets:
+        command += ["--set", text]
+    return out, run_mpmice(command, nranks=nranks, cwd=str(tmp_path))
+
+
+def _blocks(stdout, restart=False):
+    m = re.search(r"blocks balanced by cost: x (\d+),(\d+)(.*)", stdout)
+    assert m, stdout
+    assert ("particles counted in the checkpoint" in m.group(3)) == restart, m.group(0)
+    return int(m.group(1)), int(m.group(2))
+
+
+def _fields(path):
+    with h5py.File(path) as f:
+        cells = {k: f[k][...] for k in ("cell/pressure", "cell/water/velocity_x",
+                                        "cell/water/velocity_y", "cell/solid_volume_fraction")}
+        order = np.lexsort((f["particles/sand/x"][...], f["particles/sand/y"][...]))
+        parts = {k: f[f"particles/sand/{k}"][...][order] for k in ("x", "y", "velocity_y",
+                                                                  "stress_yy")}
+    return cells, parts
+
+
+@pytest.mark.mpi
+def test_cost_blocks_equal_one_rank(tmp_path):
+    """2 ranks cut at column 4 of 40 (through the sand: particles cross the boundary all the
+    time) equal 1 rank: pressure to 1e-9 of its range, water velocity to 1e-9 of its
+    largest value, particle positions to 1e-12 m, stress to 1e-9 of its largest value (the
+    tolerances of test_mpmice_parallel's submerged block)."""
+    one = list_dumps(_run(tmp_path, "r1", 1, *SETS)[0], "block2d")
+    out, result = _run(tmp_path, "cost2", 2, *SETS, COST)
+    assert _blocks(result.stdout) == BLOCKS
+    two = list_dumps(out, "block2d")
+    assert [os.path.basename(p) for p in one] == [os.path.basename(p) for p in two]
+    c1, p1 = _fields(one[-1])
+    c2, p2 = _fields(two[-1])
+    prange = np.ptp(c1["cell/pressure"])
+    assert prange > 100.0   # the hydrostatic column: the comparison is not of zeros
+    assert np.max(np.abs(c1["cell/pressure"] - c2["cell/pressure"])) < 1e-9 * prange
+    for key in ("cell/water/velocity_x", "cell/water/velocity_y"):
+        scale = np.max(np.abs(c1[key]))
+        assert scale > 0.0
+        assert np.max(np.abs(c1[key] - c2[key])) < 1e-9 * scale, key
+    assert np.array_equal(c1["cell/solid_volume_fraction"] > 0, c2["cell/solid_volume_fraction"] > 0)
+    assert np.max(np.abs(p1["x"] - p2["x"])) < 1e-12
+    assert np.max(np.abs(p1["y"] - p2["y"])) < 1e-12
+    stress = np.max(np.abs(p1["stress_yy"]))
+    assert stress > 0.0
+    assert np.max(np.abs(p1["stress_yy"] - p2["stress_yy"])) < 1e-9 * stress
+
+
+@pytest.mark.mpi
+def test_restart_keeps_blocks_while_particles_stay(tmp_path):
+    """A 2-rank run with balance = 'cost' stopped after 10 steps and continued from its
+    checkpoint: the sand has not moved across a cut, so the particles counted in the checkpoint
+    give the same blocks, and the continuation ends bitwise equal to the uninterrupted run."""
+    sets = ("&run end_time = 0.005, output_interval = 0.005 /", COST)   # ~48 steps
+    full, _ = _run(tmp_path, "full", 2, *sets)
+    half, first = _run(tmp_path, "half", 2, *sets, "&run max_steps = 10 /")
+    checkpoint = os.path.join(half, "block2d_checkpoint_000010.h5")
+    assert os.path.isfile(checkpoint)
+    cont = run_mpmice(["--restart", checkpoint, "--set", "&run max_steps = 0 /"], nranks=2,
+                      cwd=str(tmp_path))
+    assert _blocks(cont.stdout, restart=True) == _blocks(first.stdout) == BLOCKS
+    a = list_dumps(full, "block2d")[-1]
+    b = list_dumps(half, "block2d")[-1]
+    assert os.path.basename(a) == os.path.basename(b)
+    assert_dumps_identical(a, b)
+
+
+SLIDE = os.path.join(ROOT, "namelists", "mpm_slide_2d.nml")
+
+
+@pytest.mark.mpi
+def test_restart_follows_moved_particles(tmp_path):
+    """The sliding block (mpm_slide_2d: 20 x 20 cells, 4 m/s to the right; solids alone, w =
+    20) on 2 ranks: the seeding gives the cut at column 10; after 60 steps (t = 0.025 s) the
+    block has moved 0.1 m, and the restart from that checkpoint cuts at column 11. The
+    continuation ends where the uninterrupted run on the seeding's blocks ends, to the MPM
+    rank-invariance tolerances (test_mpm_parallel: positions 1e-14 m, velocities 3e-13 m/s,
+    stresses 3e-13 of the largest)."""
+    cost = "&grid balance = 'cost', particle_weight = 20.0 /"
+    out_full = str(tmp_path / "full")
+    first = run_mpmice([SLIDE, "--set", f"&run output_dir = '{out_full}' /", "--set", cost],
+                       nranks=2, cwd=str(tmp_path))
+    assert _blocks(first.stdout) == (10, 10)
+    out_half = str(tmp_path / "half")
+    run_mpmice([SLIDE, "--set", f"&run output_dir = '{out_half}', max_steps = 60 /",
+                "--set", cost], nranks=2, cwd=str(tmp_path))
+    checkpoint = os.path.join(out_half, "slide2d_checkpoint_000060.h5")
+    cont = run_mpmice(["--restart", checkpoint, "--set", "&run max_steps = 0 /"], nranks=2,
+                      cwd=str(tmp_path))
+    assert _blocks(cont.stdout, restart=True) == (11, 9)
+    a = list_dumps(out_full, "slide2d")[-1]
+    b = list_dumps(out_half, "slide2d")[-1]
+    assert os.path.basename(a) == os.path.basename(b)
+    _, ref = particles(a, "block")
+    _, other = particles(b, "block")
+    assert np.array_equal(ref["id"], other["id"])
+    scale = max(np.max(np.abs(ref[f"stress_{c}"])) for c in ("xx", "yy", "xy"))
+    assert scale > 0.0
+    for c in ("x", "y"):
+        assert np.max(np.abs(other[c] - ref[c])) < 1e-14, c
+        assert np.max(np.abs(other[f"velocity_{c}"] - ref[f"velocity_{c}"])) < 3e-13, c
+    for c in ("xx", "yy", "zz", "xy"):
+        assert np.max(np.abs(other[f"stress_{c}"] - ref[f"stress_{c}"])) < 3e-13 * scale, c
+
+
+def test_unknown_balance_is_an_input_error(tmp_path, monkeypatch):
+    """`&grid balance = 'particles'`: one error line naming the group, variable, value and the
+    allowed values; exit status 1, nothing written."""
+    monkeypatch.setenv("OMPI_MCA_orte_execute_quiet", "1")   # no launcher report on stderr
+    out = tmp_path / "bad"
+    result = run_mpmice([BLOCK, "--set", f"&run output_dir = '{out}' /",
+                         "--set", "&grid balance = 'particles' /"], cwd=str(tmp_path),
+                        check=False)
+    lines = [line for line in result.stderr.splitlines() if line.strip()]
+    assert result.returncode == 1
+    assert len(lines) == 1, result.stderr
+    for piece in ("&grid", "balance", "particles", "cells", "cost"):
+        assert piece in lines[0], lines[0]
+    assert not out.exists()
