@@ -17,6 +17,7 @@ module ice_exchange
   use mpmice_errors, only: fatal
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
+  use exchange_solid_phase, only: solid_phase_t
   use ice_face_velocity, only: closed_face, face_range, boundary_face
   use solver_dense, only: solve_3, solve_pivoted
   implicit none
@@ -32,26 +33,32 @@ contains
 
   !> Exchange at the faces of the owned cells: u_f += du and v_f := A^-1 v_f. No-op for one
   !! fluid or K = 0.
-  subroutine ice_exchange_faces(state, grid, dt, k_exchange)
+  subroutine ice_exchange_faces(state, grid, dt, k_exchange, solid)
     type(ice_state_t), intent(inout) :: state  !< fluids (uface, vface updated)
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: k_exchange         !< K [kg/m^3/s]
+    type(solid_phase_t), intent(inout), optional :: solid !< solid phase of a coupled scene
     integer :: d, m, i, j, k, o(3), r(2, 3), nf, nm, side
     real(wp) :: beta(max_n, max_n), rhs(max_n, 2), phi(max_n), v(max_n), w(max_n), c(max_n)
-    logical :: with_solid, rigid, pair
+    logical :: with_solid, rigid, pair, explicit
 
     nf = state%nfluids
-    if ((nf < 2 .or. k_exchange <= 0.0_wp) .and. .not. state%solid%present) return
-    if (nf == 2 .and. .not. state%solid%present) then
+    if ((nf < 2 .or. k_exchange <= 0.0_wp) .and. .not. present(solid)) return
+    if (nf == 2 .and. .not. present(solid)) then
       call exchange_faces_two(state, grid, dt, k_exchange)
       return
     end if
     ! two fluids beside a solid phase: at an inner face with no solid in either cell the general
     ! path below reduces to the closed-form 2 x 2 solve of exchange_solve; taken directly (the
     ! same arithmetic) without the solid partner's drag and the general set-up
-    pair = nf == 2 .and. k_exchange > 0.0_wp .and. state%solid%present .and. &
-      .not. state%solid%sliding .and. .not. state%solid%explicit_drag
+    pair = .false.
+    explicit = .false.
+    if (present(solid)) then
+      pair = nf == 2 .and. k_exchange > 0.0_wp .and. .not. solid%sliding .and. &
+        .not. solid%explicit_drag
+      explicit = solid%explicit_drag
+    end if
     do d = 1, 3
       if (.not. grid%active(d)) cycle
       o = 0
@@ -70,16 +77,16 @@ contains
             nm = nf
             with_solid = .false.
             rigid = .false.
-            if (state%solid%present) then
+            if (present(solid)) then
               side = boundary_side(grid, d, [i, j, k])
               if (pair .and. side == 0) then
-                if (state%solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
-                  state%solid%vfrac(i, j, k) <= 0.0_wp) then
+                if (solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
+                  solid%vfrac(i, j, k) <= 0.0_wp) then
                   call pair_face_exchange(dt * v(1) * phi(2) * k_exchange, &
                     dt * v(2) * phi(1) * k_exchange, state%fluid(1)%uface(i, j, k, d), &
                     state%fluid(2)%uface(i, j, k, d), state%fluid(1)%vface(i, j, k, d), &
                     state%fluid(2)%vface(i, j, k, d))
-                  state%solid%vface(i, j, k, d) = 0.0_wp
+                  solid%vface(i, j, k, d) = 0.0_wp
                   cycle
                 end if
               end if
@@ -92,20 +99,21 @@ contains
                 phi(1:nf) = [(state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)), m = 1, nf)]
               case default
               end select
-              call solid_face_partner(state, d, o, i, j, k, side, phi(nf + 1), v(nf + 1), c, rigid)
+              call solid_face_partner(state, solid, d, o, i, j, k, side, phi(nf + 1), &
+                v(nf + 1), c, rigid)
               ! a domain face: the solid of the inner cell (no solid lies beyond)
               with_solid = phi(nf + 1) > 0.0_wp
             end if
             if (with_solid) then
               nm = nf + 1
-              rhs(nm, 1) = state%solid%uface(i, j, k, d)
+              rhs(nm, 1) = solid%uface(i, j, k, d)
               if (rigid) v(nm) = 0.0_wp
             else if (nf < 2 .or. k_exchange <= 0.0_wp) then
               cycle
             end if
             call fill_beta(nf, nm, dt, v, phi, k_exchange, c, rigid, beta)
             rhs(1:nm, 2) = v(1:nm)
-            if (state%solid%present .and. state%solid%explicit_drag) then
+            if (explicit) then
               ! explicit drag (comparison option): forward Euler on the velocities, no
               ! exchange-modified face specific volume
               call exchange_explicit(nm, beta, rhs(:, 1:1), 1)
@@ -124,10 +132,10 @@ contains
               state%fluid(m)%vface(i, j, k, d) = rhs(m, 2)
             end do
             if (with_solid) then
-              state%solid%uface(i, j, k, d) = rhs(nm, 1)
-              state%solid%vface(i, j, k, d) = rhs(nm, 2)
-            else if (state%solid%present) then
-              state%solid%vface(i, j, k, d) = 0.0_wp
+              solid%uface(i, j, k, d) = rhs(nm, 1)
+              solid%vface(i, j, k, d) = rhs(nm, 2)
+            else if (present(solid)) then
+              solid%vface(i, j, k, d) = 0.0_wp
             end if
           end do
         end do
@@ -243,8 +251,9 @@ contains
   !! c_eff = phi_m,up R / phi_s,face makes the exchange's steady state obey exactly that, so a
   !! porous column ending at a face has the resistance of its length (a plain mean of phi_s and
   !! c at the face would lose about half a cell of it at each end).
-  pure subroutine solid_face_partner(state, d, o, i, j, k, ghost_side, phi, v, c, rigid)
-    type(ice_state_t), intent(in) :: state  !< fluids and solid phase
+  pure subroutine solid_face_partner(state, solid, d, o, i, j, k, ghost_side, phi, v, c, rigid)
+    type(ice_state_t), intent(in) :: state  !< fluids
+    type(solid_phase_t), intent(in) :: solid !< solid phase
     integer, intent(in) :: d                !< face direction
     integer, intent(in) :: o(3)             !< unit offset along d
     integer, intent(in) :: i, j, k          !< face index
@@ -256,7 +265,7 @@ contains
     logical, intent(out) :: rigid           !< solid velocity prescribed at the face
     real(wp) :: pl, pr, wl, wr, fl, fr, resistance, up
     integer :: m
-    associate (sp => state%solid)
+    associate (sp => solid)
       rigid = sp%rigid_face(i, j, k, d) > 0.5_wp
       if (sp%sliding) then
         ! the partner's fraction per cell (drag is per it); a face next to a cell with rigid and
@@ -370,19 +379,20 @@ contains
 
   !> Exchange of the Lagrangian velocities (and temperatures when h_exchange > 0) in the owned
   !! cells, `lag(:,:,:,1:4)` updated. No-op for one fluid.
-  subroutine ice_exchange_cells(state, grid, dt, k_exchange, h_exchange)
+  subroutine ice_exchange_cells(state, grid, dt, k_exchange, h_exchange, solid)
     type(ice_state_t), intent(inout) :: state  !< fluids (lag updated)
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: k_exchange         !< K [kg/m^3/s]
     real(wp), intent(in) :: h_exchange         !< H [W/m^3/K]
+    type(solid_phase_t), intent(inout), optional :: solid !< solid phase of a coupled scene
     integer :: m, n, i, j, k, nf, nm
     real(wp) :: beta(max_n, max_n), rhs(max_n, 3), phi(max_n), v(max_n), mass(max_n), c(max_n)
     real(wp) :: ke_old, ke_new, total_mass, heat
 
     nf = state%nfluids
-    if (nf < 2 .and. .not. state%solid%present) return
-    if (nf == 2 .and. .not. state%solid%present .and. h_exchange <= 0.0_wp) then
+    if (nf < 2 .and. .not. present(solid)) return
+    if (nf == 2 .and. .not. present(solid) .and. h_exchange <= 0.0_wp) then
       if (k_exchange > 0.0_wp) call exchange_cells_two(state, grid, dt, k_exchange)
       return
     end if
@@ -396,16 +406,16 @@ contains
           end do
           total_mass = sum(mass(1:nf))
           nm = nf
-          if (state%solid%present) then
-            if (state%solid%vfrac(i, j, k) > 0.0_wp) then
+          if (present(solid)) then
+            if (solid%vfrac(i, j, k) > 0.0_wp) then
               nm = nf + 1
-              phi(nm) = state%solid%vfrac(i, j, k)
+              phi(nm) = solid%vfrac(i, j, k)
               ! sliding rigid bodies: the fluids' partner is the deformable solid where the cell
               ! holds any, the rigid body elsewhere (`drag` is per the partner's fraction)
-              if (state%solid%sliding) phi(nm) = state%solid%xfrac(i, j, k)
-              v(nm) = state%solid%spvol(i, j, k)
-              mass(nm) = state%solid%rho(i, j, k)
-              c(1:nf) = state%solid%drag(i, j, k, 1:nf)
+              if (solid%sliding) phi(nm) = solid%xfrac(i, j, k)
+              v(nm) = solid%spvol(i, j, k)
+              mass(nm) = solid%rho(i, j, k)
+              c(1:nf) = solid%drag(i, j, k, 1:nf)
             end if
           end if
           if (k_exchange > 0.0_wp .or. nm > nf) then
@@ -418,8 +428,8 @@ contains
             ! is held fixed and only the fluids are dragged toward it
             call fill_beta(nf, nm, dt, v, phi, k_exchange, c, nm > nf, beta)
             if (nm > nf) then
-              rhs(nm, 1:3) = state%solid%vel(i, j, k, 1:3)
-              if (state%solid%explicit_drag) then
+              rhs(nm, 1:3) = solid%vel(i, j, k, 1:3)
+              if (solid%explicit_drag) then
                 call exchange_explicit(nm, beta, rhs, 3)
               else
                 call exchange_solve(nm, beta, rhs, 3)
@@ -455,7 +465,7 @@ contains
               end do
             end if
           end if
-          call exchange_heat(state, i, j, k, dt, h_exchange, phi, v)
+          call exchange_heat(state, i, j, k, dt, h_exchange, phi, v, solid)
         end do
       end do
     end do
@@ -463,16 +473,17 @@ contains
 
   !> Implicit heat exchange (eqs. 52-55) in cell (i,j,k): among the fluids with H_ff =
   !! `h_exchange` and, where the cell holds solid with a heat capacity, between each fluid and the
-  !! solid with H_fs = `state%solid%h_exchange`; beta_mn = dt v_m phi_n H / c_m for a fluid m,
+  !! solid with H_fs = `solid%h_exchange`; beta_mn = dt v_m phi_n H / c_m for a fluid m,
   !! dt phi_s phi_n H / C_s for the solid (C_s = rho_bar_s c_s). The fluids' `lag(i,j,k,4)` and the
   !! solid's `temp(i,j,k)` are updated; sum C T is conserved.
-  subroutine exchange_heat(state, i, j, k, dt, h_exchange, phi, v)
-    type(ice_state_t), intent(inout) :: state  !< fluids (lag) and solid (temp)
+  subroutine exchange_heat(state, i, j, k, dt, h_exchange, phi, v, solid)
+    type(ice_state_t), intent(inout) :: state  !< fluids (lag)
     integer, intent(in) :: i, j, k             !< cell
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: h_exchange         !< fluid-fluid H [W/m^3/K]
     real(wp), intent(in) :: phi(max_n)         !< fluid volume fractions
     real(wp), intent(in) :: v(max_n)           !< fluid specific volumes [m^3/kg]
+    type(solid_phase_t), intent(inout), optional :: solid !< solid phase (temp)
     real(wp) :: beta(max_n, max_n), x(max_n, 1), w(max_n), phi_s, h_s, cap
     integer :: m, n, nf, nh
     logical :: with_solid
@@ -481,10 +492,10 @@ contains
     phi_s = 0.0_wp
     h_s = 0.0_wp
     cap = 0.0_wp
-    if (state%solid%present) then
-      h_s = state%solid%h_exchange
-      phi_s = state%solid%vfrac(i, j, k)
-      cap = state%solid%heat_cap(i, j, k)
+    if (present(solid)) then
+      h_s = solid%h_exchange
+      phi_s = solid%vfrac(i, j, k)
+      cap = solid%heat_cap(i, j, k)
       with_solid = h_s > 0.0_wp .and. phi_s > 0.0_wp .and. cap > 0.0_wp
     end if
     if (.not. (with_solid .or. (h_exchange > 0.0_wp .and. nf > 1))) return
@@ -502,7 +513,7 @@ contains
       end associate
     end do
     if (with_solid) then
-      x(nh, 1) = state%solid%temp(i, j, k)
+      x(nh, 1) = solid%temp(i, j, k)
       w(nh) = cap
       do n = 1, nf
         beta(nh, n) = dt * phi_s * phi(n) * h_s / cap
@@ -512,7 +523,7 @@ contains
     do m = 1, nf
       state%fluid(m)%lag(i, j, k, 4) = x(m, 1) * state%fluid(m)%eos%cv
     end do
-    if (with_solid) state%solid%temp(i, j, k) = x(nh, 1)
+    if (with_solid) solid%temp(i, j, k) = x(nh, 1)
   end subroutine exchange_heat
 
   !> Explicit (forward Euler) exchange: x_m += sum_n beta_mn (x_n - x_m), for the comparison
