@@ -23,7 +23,7 @@ module ice_advection
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t, cell_centre
   use ice_state, only: ice_state_t
-  use exchange_solid_phase, only: solid_phase_t
+  use ice_solid_view, only: ice_solid_view_t
   use ice_face_velocity, only: face_range
   implicit none
   private
@@ -44,7 +44,7 @@ contains
     real(wp), intent(in), optional :: gravity(3) !< gravitational acceleration [m/s^2]
     !> the solid phase of a coupled scene: cv T advected, porous stencils upwind, the open faces'
     !! inflow through the pores
-    type(solid_phase_t), intent(in), optional :: solid
+    class(ice_solid_view_t), intent(in), optional :: solid
     integer :: d, m, n, i, j, k, o(3), r(2, 3), i1, i2, cu(3), negative_cells
     real(wp) :: area, u, vol, g(3), pot_lo, pot_hi
     logical :: total

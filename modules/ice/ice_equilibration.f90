@@ -9,7 +9,7 @@ module ice_equilibration
   use grid_layout, only: grid_t, cell_centre
   use ice_eos, only: eos_pressure, eos_density, eos_dp_drho, eos_sound_speed2
   use ice_state, only: ice_state_t
-  use exchange_solid_phase, only: solid_phase_t
+  use ice_solid_view, only: ice_solid_view_t
   use mpmice_errors, only: real_short_text
   implicit none
   private
@@ -37,7 +37,7 @@ contains
     integer, intent(out), optional :: first_failed(3) !< the first such cell (0 when none)
     !> the solid phase of a coupled scene: the fluids fill its pores, its compressibility joins
     !! sum_kappa
-    type(solid_phase_t), intent(in), optional :: solid
+    class(ice_solid_view_t), intent(in), optional :: solid
     integer :: i, j, k, m, it, n
     real(wp) :: p, p_full, rho_m, porosity
     logical :: active(state%nfluids), converged, full_converged, with_solid
@@ -117,7 +117,7 @@ contains
     type(grid_t), intent(in) :: grid        !< block geometry
     integer, intent(in) :: failed           !< cells of this rank that failed
     integer, intent(in) :: c(3)             !< the first of them
-    type(solid_phase_t), intent(in), optional :: solid !< solid phase of a coupled scene
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     character(len=:), allocatable :: text
     integer :: d, m
     if (failed <= 0) return

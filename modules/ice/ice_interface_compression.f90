@@ -27,7 +27,7 @@ module ice_interface_compression
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
-  use exchange_solid_phase, only: solid_phase_t
+  use ice_solid_view, only: ice_solid_view_t
   implicit none
   private
 
@@ -42,7 +42,7 @@ contains
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: coefficient        !< C [-]
     !> the solid phase of a coupled scene: no compression next to it
-    type(solid_phase_t), intent(in), optional :: solid
+    class(ice_solid_view_t), intent(in), optional :: solid
     integer :: i, j, k, d, m, o(3), nd, side, c(3), donor(3)
     real(wp) :: vol, cap, flux, dm, sgn, mass
 
@@ -156,7 +156,7 @@ contains
     real(wp), intent(in) :: dt              !< time step [s]
     real(wp), intent(in) :: coefficient     !< C [-]
     real(wp), intent(in) :: cap             !< 0.8 / (2 n_dim)
-    type(solid_phase_t), intent(in), optional :: solid !< solid phase of a coupled scene
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     real(wp), parameter :: trace = 1.0e-9_wp  !< smallest fraction jump compressed
     integer :: e, l(3)
     real(wp) :: a_lo, a_hi, grad(3), speed, normal

@@ -28,7 +28,7 @@ module ice_lagrangian
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
-  use exchange_solid_phase, only: solid_phase_t
+  use ice_solid_view, only: ice_solid_view_t
   use ice_advection, only: potential_gravity
   implicit none
   private
@@ -48,7 +48,7 @@ contains
     !! (i, j, k, 4, fluid), from `ice_viscous_sources`
     real(wp), intent(in) :: sources(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :, :)
     !> the solid phase of a coupled scene (no mixture-energy correction with it)
-    type(solid_phase_t), intent(in), optional :: solid
+    class(ice_solid_view_t), intent(in), optional :: solid
     integer :: d, m, i, j, k, o(3)
     real(wp) :: mass, vol, mom, work, phi, uh, ul, g_kinetic(3)
     logical :: mixture

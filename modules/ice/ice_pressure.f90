@@ -14,7 +14,7 @@ module ice_pressure
   use mpmice_errors, only: real_short_text
   use grid_layout, only: grid_t, cell_centre
   use ice_state, only: ice_state_t
-  use exchange_solid_phase, only: solid_phase_t
+  use ice_solid_view, only: ice_solid_view_t
   use ice_face_velocity, only: face_range
   implicit none
   private
@@ -39,7 +39,7 @@ contains
     real(wp), intent(in) :: theta              !< implicit weight of the pressure change
     !> the solid phase of a coupled scene: its face specific volume joins the coefficients, a
     !! loading platen the diagonal
-    type(solid_phase_t), intent(in), optional :: solid
+    class(ice_solid_view_t), intent(in), optional :: solid
     integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3), c(3)
     real(wp) :: area, w_lo, w_hi
 
@@ -140,7 +140,7 @@ contains
     real(wp), intent(in) :: dt                 !< time step [s]
     !> the solid phase of a coupled scene: its volume flux (phi_s,f u_s,f and the rigid
     !! bodies' prescribed flux) and its fraction source join the right-hand side
-    type(solid_phase_t), intent(in), optional :: solid
+    class(ice_solid_view_t), intent(in), optional :: solid
     real(wp) :: residual
     integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3), c(3)
     real(wp) :: area, flux
@@ -227,7 +227,7 @@ contains
     type(ice_state_t), intent(in) :: state  !< fields after the last outer iteration
     type(grid_t), intent(in) :: grid        !< block geometry
     real(wp), intent(in) :: residual        !< global max |rhs|/V
-    type(solid_phase_t), intent(in), optional :: solid !< solid phase of a coupled scene
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     character(len=:), allocatable :: text
     integer :: c(3), d, m
     c = maxloc(abs(state%rhs(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), &
@@ -260,7 +260,7 @@ contains
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: theta              !< implicit weight of the pressure change
     !> the solid phase of a coupled scene: its face velocity corrected as well
-    type(solid_phase_t), intent(inout), optional :: solid
+    class(ice_solid_view_t), intent(inout), optional :: solid
     integer :: d, m, i, j, k, o(3), r(2, 3), side, plo(3), phi(3), c(3)
     real(wp) :: g
 
@@ -325,7 +325,7 @@ contains
     call platen_fluid_faces(state, grid, solid)
   end subroutine ice_pressure_correct
 
-  !> Fluid face velocities of the loading platens (`solid_phase_t%platen`: a closed domain
+  !> Fluid face velocities of the loading platens (`ice_solid_view_t%platen`: a closed domain
   !! face where the skeleton carries a surface load). The platen is impermeable and moves with
   !! the skeleton (no relative flow through it), so the mixture's outward volume flux there is
   !! the solid's face velocity u_s. The solid crosses the plane with its own flux phi_s,f u_s
@@ -335,7 +335,7 @@ contains
   subroutine platen_fluid_faces(state, grid, solid)
     type(ice_state_t), intent(inout) :: state  !< fluids (uface on platen faces written)
     type(grid_t), intent(in) :: grid           !< block geometry
-    type(solid_phase_t), intent(in), optional :: solid !< solid phase of a coupled scene
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3)
     real(wp) :: us, phi_up, u
     if (.not. present(solid)) return
@@ -371,9 +371,9 @@ contains
   end subroutine platen_fluid_faces
 
   !> True when the domain plane of direction `d` on `side` (1 low, 2 high) is a loading platen
-  !! (`solid_phase_t%platen`) that this rank holds; `lo`, `hi`: its faces.
+  !! (`ice_solid_view_t%platen`) that this rank holds; `lo`, `hi`: its faces.
   logical function platen_plane(solid, grid, d, r, side, lo, hi)
-    type(solid_phase_t), intent(in) :: solid !< solid phase
+    class(ice_solid_view_t), intent(in) :: solid !< solid phase
     type(grid_t), intent(in) :: grid        !< block geometry
     integer, intent(in) :: d                !< face direction
     integer, intent(in) :: r(2, 3)          !< face range of this rank
@@ -394,7 +394,7 @@ contains
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
     !> the solid phase of a coupled scene: the weights per pore volume
-    type(solid_phase_t), intent(in), optional :: solid
+    class(ice_solid_view_t), intent(in), optional :: solid
     integer :: d, i, j, k, o(3), r(2, 3), inner(2, 3), side, idx
     real(wp) :: rl, rr
 
@@ -451,7 +451,7 @@ contains
   !! actually crosses the face: zero where a free surface of the soil moves away from the face,
   !! the full fraction inside a body (a cell-averaged upwind value is wrong at such a surface).
   pure real(wp) function solid_face_fraction(solid, d, o, i, j, k) result(phi)
-    type(solid_phase_t), intent(in) :: solid !< solid phase
+    class(ice_solid_view_t), intent(in) :: solid !< solid phase
     integer, intent(in) :: d                !< face direction
     integer, intent(in) :: o(3)             !< unit offset along d (unused: kept for symmetry)
     integer, intent(in) :: i, j, k          !< face index (low face of cell i,j,k)
@@ -471,7 +471,7 @@ contains
     integer, intent(in) :: i, j, k          !< face index (low face of cell i,j,k)
     integer, intent(in) :: o(3)             !< unit offset along the face normal
     real(wp), intent(out) :: rl, rr         !< low and high cell weights [kg/m^3]
-    type(solid_phase_t), intent(in), optional :: solid !< solid phase of a coupled scene
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     integer :: m
     rl = 0.0_wp
     rr = 0.0_wp

@@ -28,7 +28,7 @@ module ice_scene
   use ice_bc, only: ice_bc_init
   use ice_initial, only: ice_initial_state
   use ice_viscous, only: ice_viscous_dt
-  use exchange_solid_phase, only: solid_phase_t
+  use ice_solid_view, only: ice_solid_view_t
   use ice_stages, only: ice_fluids_t, ice_stage_equilibrate, ice_stage_face_velocities, &
     ice_stage_face_exchange, ice_stage_pressure, ice_stage_lagrangian, ice_stage_cell_exchange, &
     ice_stage_advect, ice_step_begin, ice_step_reject, exchange_primitives
@@ -158,7 +158,7 @@ contains
     type(domain_t), intent(in) :: dom          !< decomposition
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: cfl                !< Courant number
-    type(solid_phase_t), intent(in), optional :: solid !< solid phase of a coupled scene
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     real(wp) :: dt
     integer :: m, d, i, j, k
     real(wp) :: c, speed, rate, dt_viscous

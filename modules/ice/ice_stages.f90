@@ -25,7 +25,7 @@ module ice_stages
   use solver_pressure, only: struct_solver_t, struct_solver_set_operator, struct_solver_solve
   use scene_interface, only: scene_t
   use ice_state, only: ice_state_t
-  use exchange_solid_phase, only: solid_phase_t
+  use ice_solid_view, only: ice_solid_view_t
   use ice_equilibration, only: ice_equilibrate, report_equilibration_failure
   use ice_face_velocity, only: ice_face_velocities
   use ice_pressure, only: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, &
@@ -122,7 +122,7 @@ contains
     type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: time                 !< time at the start of the step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
-    type(solid_phase_t), intent(in), optional :: solid !< solid phase of a coupled scene
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     integer :: its, failed, bad_cell(3)
     call timer_start(timers, self%t_equil)
     call ice_equilibrate(self%state, grid, self%eq_tolerance, self%eq_max, its, failed, bad_cell, &
@@ -151,17 +151,21 @@ contains
     call timer_stop(timers, self%t_face)
   end subroutine ice_stage_face_velocities
 
-  !> Implicit momentum exchange at the faces over face_time dt (eq. 34; with a solid phase its
-  !! drag)
-  !! and, with loading platens, the fluids' face velocities there.
+  !> Implicit momentum exchange at the faces over face_time dt (eq. 34; with a solid phase the
+  !! exchange layer's, `ice_solid_view_t%exchange_faces`, with its drag) and, with loading
+  !! platens, the fluids' face velocities there.
   subroutine ice_stage_face_exchange(self, grid, dt, timers, solid)
     class(ice_fluids_t), intent(inout) :: self   !< fluids
     type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
-    type(solid_phase_t), intent(inout), optional :: solid !< solid phase of a coupled scene
+    class(ice_solid_view_t), intent(inout), optional :: solid !< solid phase of a coupled scene
     call timer_start(timers, self%t_face)
-    call ice_exchange_faces(self%state, grid, self%face_time * dt, self%k_exchange, solid)
+    if (present(solid)) then
+      call solid%exchange_faces(self%state, grid, self%face_time * dt, self%k_exchange)
+    else
+      call ice_exchange_faces(self%state, grid, self%face_time * dt, self%k_exchange)
+    end if
     call platen_fluid_faces(self%state, grid, solid)
     call timer_stop(timers, self%t_face)
   end subroutine ice_stage_face_exchange
@@ -179,7 +183,7 @@ contains
     real(wp), intent(in) :: time                 !< time at the start of the step [s]
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
-    type(solid_phase_t), intent(inout), optional :: solid !< solid phase of a coupled scene
+    class(ice_solid_view_t), intent(inout), optional :: solid !< solid phase of a coupled scene
     integer :: outer, pcg
     real(wp) :: residual, relres, weight
     logical :: converged
@@ -258,7 +262,7 @@ contains
     type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
-    type(solid_phase_t), intent(in), optional :: solid !< solid phase of a coupled scene
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     integer :: m
     if (self%theta /= 1.0_wp) self%state%pressure = self%state%p_eq + &
       self%theta * self%state%dp_total
@@ -278,16 +282,21 @@ contains
     call timer_stop(timers, self%t_lagrange)
   end subroutine ice_stage_lagrangian
 
-  !> Implicit momentum and heat exchange in the cells (eqs. 50-51; with a solid phase its drag
-  !! and heat, eqs. 52-55), then the end-of-step pressure p_eq + dp_total again.
+  !> Implicit momentum and heat exchange in the cells (eqs. 50-51; with a solid phase the
+  !! exchange layer's, `ice_solid_view_t%exchange_cells`, with its drag and heat, eqs. 52-55),
+  !! then the end-of-step pressure p_eq + dp_total again.
   subroutine ice_stage_cell_exchange(self, grid, dt, timers, solid)
     class(ice_fluids_t), intent(inout) :: self   !< fluids
     type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
-    type(solid_phase_t), intent(inout), optional :: solid !< solid phase of a coupled scene
+    class(ice_solid_view_t), intent(inout), optional :: solid !< solid phase of a coupled scene
     call timer_start(timers, self%t_lagrange)
-    call ice_exchange_cells(self%state, grid, dt, self%k_exchange, self%h_exchange, solid)
+    if (present(solid)) then
+      call solid%exchange_cells(self%state, grid, dt, self%k_exchange, self%h_exchange)
+    else
+      call ice_exchange_cells(self%state, grid, dt, self%k_exchange, self%h_exchange)
+    end if
     if (self%theta /= 1.0_wp) self%state%pressure = self%state%p_eq + self%state%dp_total
     call timer_stop(timers, self%t_lagrange)
   end subroutine ice_stage_cell_exchange
@@ -304,7 +313,7 @@ contains
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
     logical, intent(in), optional :: traces      !< tame the fluids' traces
-    type(solid_phase_t), intent(in), optional :: solid !< solid phase of a coupled scene
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     integer :: negative
     logical :: tame
     tame = .false.

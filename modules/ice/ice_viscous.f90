@@ -27,7 +27,7 @@ module ice_viscous
   use mpmice_errors, only: fatal
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
-  use exchange_solid_phase, only: solid_phase_t
+  use ice_solid_view, only: ice_solid_view_t
   implicit none
   private
 
@@ -220,7 +220,7 @@ contains
     real(wp), intent(out) :: dt             !< the limit [s]
     real(wp), intent(in), optional :: smagorinsky  !< Smagorinsky constant C_s [-] (<= 0: none)
     !> the solid phase of a coupled scene: its cells do not limit the momentum diffusion
-    type(solid_phase_t), intent(in), optional :: solid
+    class(ice_solid_view_t), intent(in), optional :: solid
     real(wp) :: diffusivity, s_all, s_free, rho_min, cs, nu_max
     logical :: with_solid
     integer :: m, i, j, k

@@ -309,8 +309,7 @@ contains
               if (sum(frac(c(1), c(2), c(3), :)) >= wall_fraction) cycle
             end if
             rho = 0.0_wp
-            porosity = 1.0_wp
-            if (solid%present) porosity = 1.0_wp - solid%vfrac(c(1), c(2), c(3))
+            porosity = 1.0_wp - solid%vfrac(c(1), c(2), c(3))
             if (porosity > 0.0_wp) then
               do m = 1, state%nfluids
                 rho = rho + state%fluid(m)%rho(c(1), c(2), c(3))

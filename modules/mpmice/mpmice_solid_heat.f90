@@ -9,7 +9,7 @@
 !!   phi_s k_s of the two cells (zero where either has no solid), the same stencil and ghost
 !!   conditions as the fluid's conduction (`ice_viscous`), so that at local thermal equilibrium
 !!   the mixture conducts with k_m = sum_f phi_f k_f + phi_s k_s;
-!! * the fluid-solid exchange (eqs. 52-55) is implicit, in `ice_exchange_cells`;
+!! * the fluid-solid exchange (eqs. 52-55) is implicit, in `exchange_fluid_solid`;
 !! * the particles receive the cell increments with the deposit's weights,
 !!   T_p += sum_c w_pc dT_c (eqs. 68, 73), so sum_p m_p c_s dT_p = sum_c C_c dT_c exactly.
 !! Departure from the paper (docs/mpmice.md): the solid's conduction is done on the cells, not on
