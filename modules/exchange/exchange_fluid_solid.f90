@@ -4,16 +4,17 @@
 !! face_time dt, with the face drag coefficient of `solid_face_partner`; a prescribed (rigid)
 !! face velocity keeps its value (its row zero). In the cells the solid's final velocity is
 !! known, so its row is held fixed and only the fluids are dragged toward it; the drag's
-!! dissipation heats the fluids. The heat exchange takes the solid as the fluids' partner
-!! (`ice_exchange%exchange_heat`). The option `&coupling drag_scheme = 'explicit'` replaces the
-!! implicit solves by forward Euler (`exchange_explicit`), for comparison.
+!! dissipation heats the fluids. Where the solid takes no part the fluids' own exchange of
+!! `ice_exchange` runs (the faces and cells are independent, so the order is free), and its heat
+!! exchange takes the solid as the fluids' partner. The option
+!! `&coupling drag_scheme = 'explicit'` replaces the implicit solves by forward Euler
+!! (`exchange_explicit`), for comparison.
 submodule (exchange_solid_phase) exchange_fluid_solid
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
   use ice_face_velocity, only: closed_face, face_range, boundary_face
-  use ice_exchange, only: max_n, fill_beta, exchange_solve, pair_face_exchange, &
-    exchange_cell_fluids, exchange_heat
+  use ice_exchange, only: max_n, fill_beta, exchange_solve, exchange_faces_two, ice_exchange_cells
   implicit none
 
   real(wp), parameter :: ratio_max = 1.0e12_wp  !< cap of phi_up / phi_f in the face drag
@@ -24,20 +25,15 @@ contains
   !! fluids and, where the face holds solid (`solid_face_partner`), the solid exchange their
   !! face velocities (u_f += du) and specific volumes (v_f := A^-1 v_f, the solid's `vface`,
   !! zero at a face without solid).
-  module subroutine solid_phase_exchange_faces(solid, state, grid, dt, k_exchange)
-    class(solid_phase_t), intent(inout) :: solid  !< solid phase (uface, vface updated)
-    type(ice_state_t), intent(inout) :: state     !< fluids (uface, vface updated)
-    type(grid_t), intent(in) :: grid              !< block geometry
-    real(wp), intent(in) :: dt                    !< exchange time [s]
-    real(wp), intent(in) :: k_exchange            !< fluid-fluid K [kg/m^3/s]
+  module procedure solid_phase_exchange_faces
     integer :: d, m, i, j, k, o(3), r(2, 3), nf, nm, side
     real(wp) :: beta(max_n, max_n), rhs(max_n, 2), phi(max_n), v(max_n), w(max_n), c(max_n)
     logical :: with_solid, rigid, pair
 
     nf = state%nfluids
     ! two fluids beside a solid phase: at an inner face with no solid in either cell the general
-    ! path below reduces to the closed-form 2 x 2 solve of exchange_solve; taken directly (the
-    ! same arithmetic) without the solid partner's drag and the general set-up
+    ! path below reduces to the closed-form 2 x 2 solve of exchange_solve, which
+    ! `exchange_faces_two` takes directly (the same arithmetic)
     pair = nf == 2 .and. k_exchange > 0.0_wp .and. .not. solid%sliding .and. &
       .not. solid%explicit_drag
     do d = 1, 3
@@ -49,6 +45,15 @@ contains
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
             if (closed_face(state, grid, d, [i, j, k])) cycle
+            side = boundary_side(grid, d, [i, j, k])
+            if (pair .and. side == 0) then
+              ! the fluids' closed-form exchange, `exchange_faces_two` below
+              if (solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
+                solid%vfrac(i, j, k) <= 0.0_wp) then
+                solid%vface(i, j, k, d) = 0.0_wp
+                cycle
+              end if
+            end if
             do m = 1, nf
               phi(m) = 0.5_wp * (state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)) + &
                 state%fluid(m)%vfrac(i, j, k))
@@ -56,18 +61,6 @@ contains
               rhs(m, 1) = state%fluid(m)%uface(i, j, k, d)
             end do
             nm = nf
-            side = boundary_side(grid, d, [i, j, k])
-            if (pair .and. side == 0) then
-              if (solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
-                solid%vfrac(i, j, k) <= 0.0_wp) then
-                call pair_face_exchange(dt * v(1) * phi(2) * k_exchange, &
-                  dt * v(2) * phi(1) * k_exchange, state%fluid(1)%uface(i, j, k, d), &
-                  state%fluid(2)%uface(i, j, k, d), state%fluid(1)%vface(i, j, k, d), &
-                  state%fluid(2)%vface(i, j, k, d))
-                solid%vface(i, j, k, d) = 0.0_wp
-                cycle
-              end if
-            end if
             ! a domain face's control volume is the inner half cell: the fluids' fractions
             ! there (not the mean with the ghost, a reservoir beyond an open face)
             select case (side)
@@ -118,7 +111,9 @@ contains
         end do
       end do
     end do
-  end subroutine solid_phase_exchange_faces
+    ! two fluids beside a solid phase: the inner faces with no solid in either cell
+    if (pair) call exchange_faces_two(state, grid, dt, k_exchange, solid%vfrac)
+  end procedure solid_phase_exchange_faces
 
   !> The solid phase at the low face of cell (i,j,k) in direction d: mean volume fraction,
   !! grain specific volume, whether its velocity is prescribed there, and per fluid m the
@@ -253,75 +248,65 @@ contains
   !> Cell exchange with the solid (eqs. 50-55) in the owned cells: where a cell holds solid the
   !! fluids' Lagrangian velocities are dragged toward its final cell velocity (its row held
   !! fixed), the drag's dissipation D |du|^2 dt heating the fluids; elsewhere the fluids'
-  !! exchange alone (`exchange_cell_fluids`). Then the heat exchange with the solid as the
-  !! fluids' partner (`exchange_heat`: `lag(i,j,k,4)` and the solid's `temp`).
-  module subroutine solid_phase_exchange_cells(solid, state, grid, dt, k_exchange, h_exchange)
-    class(solid_phase_t), intent(inout) :: solid  !< solid phase (temp updated)
-    type(ice_state_t), intent(inout) :: state     !< fluids (lag updated)
-    type(grid_t), intent(in) :: grid              !< block geometry
-    real(wp), intent(in) :: dt                    !< time step [s]
-    real(wp), intent(in) :: k_exchange            !< fluid-fluid K [kg/m^3/s]
-    real(wp), intent(in) :: h_exchange            !< fluid-fluid H [W/m^3/K]
+  !! exchange alone, and the heat exchange with the solid as the fluids' partner in every cell
+  !! (`ice_exchange_cells`: `lag(i,j,k,4)` and the solid's `temp`).
+  module procedure solid_phase_exchange_cells
     integer :: m, n, i, j, k, nf, nm
     real(wp) :: beta(max_n, max_n), rhs(max_n, 3), phi(max_n), v(max_n), mass(max_n), c(max_n)
     real(wp) :: heat
 
     nf = state%nfluids
+    nm = nf + 1
     do k = grid%lo(3), grid%hi(3)
       do j = grid%lo(2), grid%hi(2)
         do i = grid%lo(1), grid%hi(1)
+          if (.not. (solid%vfrac(i, j, k) > 0.0_wp)) cycle
           do m = 1, nf
             phi(m) = state%fluid(m)%vfrac(i, j, k)
             v(m) = state%fluid(m)%spvol(i, j, k)
             mass(m) = state%fluid(m)%rho(i, j, k)
+            rhs(m, 1:3) = state%fluid(m)%lag(i, j, k, 1:3)
           end do
-          if (solid%vfrac(i, j, k) > 0.0_wp) then
-            nm = nf + 1
-            phi(nm) = solid%vfrac(i, j, k)
-            ! sliding rigid bodies: the fluids' partner is the deformable solid where the cell
-            ! holds any, the rigid body elsewhere (`drag` is per the partner's fraction)
-            if (solid%sliding) phi(nm) = solid%xfrac(i, j, k)
-            v(nm) = solid%spvol(i, j, k)
-            mass(nm) = solid%rho(i, j, k)
-            c(1:nf) = solid%drag(i, j, k, 1:nf)
-            do m = 1, nf
-              rhs(m, 1:3) = state%fluid(m)%lag(i, j, k, 1:3)
-            end do
-            ! the solid's final cell velocity is known (mpmice_solid_cells), so its row is held
-            ! fixed and only the fluids are dragged toward it
-            call fill_beta_solid(nf, nm, dt, v, phi, k_exchange, c, .true., beta)
-            rhs(nm, 1:3) = solid%vel(i, j, k, 1:3)
-            if (solid%explicit_drag) then
-              call exchange_explicit(nm, beta, rhs, 3)
-            else
-              call exchange_solve(nm, beta, rhs, 3)
-            end if
-            do m = 1, nf
-              state%fluid(m)%lag(i, j, k, 1:3) = rhs(m, 1:3)
-            end do
-            ! the drag's dissipation D |du|^2 dt of every pair at the new velocities
-            ! (D = rho_bar_m beta_mn / dt), fluid pairs shared by mass, the fluid-solid part to
-            ! the fluid (the solid's velocity comes from the faces, so a kinetic-energy
-            ! difference here would not be a dissipation)
-            do m = 1, nf
-              if (mass(m) <= 0.0_wp) cycle
-              heat = beta(m, nm) * sum((rhs(nm, 1:3) - rhs(m, 1:3))**2)
-              do n = 1, nf
-                if (n == m .or. mass(n) <= 0.0_wp) cycle
-                heat = heat + beta(m, n) * sum((rhs(n, 1:3) - rhs(m, 1:3))**2) * mass(m) / &
-                  (mass(m) + mass(n))
-              end do
-              state%fluid(m)%lag(i, j, k, 4) = state%fluid(m)%lag(i, j, k, 4) + heat
-            end do
-          else if (k_exchange > 0.0_wp) then
-            call exchange_cell_fluids(state, i, j, k, dt, k_exchange, phi, v, mass)
+          phi(nm) = solid%vfrac(i, j, k)
+          ! sliding rigid bodies: the fluids' partner is the deformable solid where the cell
+          ! holds any, the rigid body elsewhere (`drag` is per the partner's fraction)
+          if (solid%sliding) phi(nm) = solid%xfrac(i, j, k)
+          v(nm) = solid%spvol(i, j, k)
+          mass(nm) = solid%rho(i, j, k)
+          c(1:nf) = solid%drag(i, j, k, 1:nf)
+          ! the solid's final cell velocity is known (mpmice_solid_cells), so its row is held
+          ! fixed and only the fluids are dragged toward it
+          call fill_beta_solid(nf, nm, dt, v, phi, k_exchange, c, .true., beta)
+          rhs(nm, 1:3) = solid%vel(i, j, k, 1:3)
+          if (solid%explicit_drag) then
+            call exchange_explicit(nm, beta, rhs, 3)
+          else
+            call exchange_solve(nm, beta, rhs, 3)
           end if
-          call exchange_heat(state, i, j, k, dt, h_exchange, phi, v, solid%h_exchange, &
-            solid%vfrac(i, j, k), solid%heat_cap(i, j, k), solid%temp(i, j, k))
+          do m = 1, nf
+            state%fluid(m)%lag(i, j, k, 1:3) = rhs(m, 1:3)
+          end do
+          ! the drag's dissipation D |du|^2 dt of every pair at the new velocities
+          ! (D = rho_bar_m beta_mn / dt), fluid pairs shared by mass, the fluid-solid part to the
+          ! fluid (the solid's velocity comes from the faces, so a kinetic-energy difference
+          ! here would not be a dissipation)
+          do m = 1, nf
+            if (mass(m) <= 0.0_wp) cycle
+            heat = beta(m, nm) * sum((rhs(nm, 1:3) - rhs(m, 1:3))**2)
+            do n = 1, nf
+              if (n == m .or. mass(n) <= 0.0_wp) cycle
+              heat = heat + beta(m, n) * sum((rhs(n, 1:3) - rhs(m, 1:3))**2) * mass(m) / &
+                (mass(m) + mass(n))
+            end do
+            state%fluid(m)%lag(i, j, k, 4) = state%fluid(m)%lag(i, j, k, 4) + heat
+          end do
         end do
       end do
     end do
-  end subroutine solid_phase_exchange_cells
+    ! the cells without solid, and the heat exchange with the solid in every cell
+    call ice_exchange_cells(state, grid, dt, k_exchange, h_exchange, solid%vfrac, &
+      solid%h_exchange, solid%heat_cap, solid%temp)
+  end procedure solid_phase_exchange_cells
 
 
   !> Explicit (forward Euler) exchange: x_m += sum_n beta_mn (x_n - x_m), for the comparison

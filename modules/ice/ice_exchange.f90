@@ -15,8 +15,10 @@
 !!
 !! The fluids alone: the exchange with a solid phase (one more material, `ice_solid_view_t`) is
 !! the exchange layer's (`exchange_solid_phase`), which builds on the pieces made public here
-!! (`fill_beta`, `exchange_solve`, `pair_face_exchange`, `exchange_cell_fluids`,
-!! `exchange_heat`).
+!! (`fill_beta`, `exchange_solve`) and leaves to this module the fluids' own exchange at the faces
+!! and cells where the solid takes no part (`exchange_faces_two` and `ice_exchange_cells` with the
+!! solid's fraction as their partner's) and the heat exchange with the solid as the fluids'
+!! partner.
 module ice_exchange
   use mpmice_kinds, only: wp
   use mpmice_errors, only: fatal
@@ -28,7 +30,7 @@ module ice_exchange
   private
 
   public :: ice_exchange_faces, ice_exchange_cells, exchange_solve, max_n
-  public :: fill_beta, pair_face_exchange, exchange_cell_fluids, exchange_heat
+  public :: fill_beta, exchange_faces_two
 
   integer, parameter :: max_n = 9  !< most materials: config_materials%max_fluids + the solid
 
@@ -84,11 +86,16 @@ contains
   !> `ice_exchange_faces` for two fluids without a solid phase: the closed-form 2 x 2 solve of
   !! `exchange_solve` (the same arithmetic) as one branch-free sweep per direction over the
   !! open faces (closed domain faces are whole planes, left out of the range).
-  subroutine exchange_faces_two(state, grid, dt, k_exchange)
+  !! With `partner_fraction` (the solid fraction of a coupled scene, cell field): only the inner
+  !! faces where neither cell holds any; the others are the exchange layer's
+  !! (`exchange_fluid_solid`).
+  subroutine exchange_faces_two(state, grid, dt, k_exchange, partner_fraction)
     type(ice_state_t), intent(inout) :: state  !< two fluids (uface, vface updated)
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: k_exchange         !< K [kg/m^3/s]
+    !> volume fraction of a partner material sharing the cells [-]
+    real(wp), intent(in), optional :: partner_fraction(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)
     integer :: d, i, j, k, o(3), r(2, 3)
     real(wp) :: phi1, phi2
 
@@ -98,6 +105,10 @@ contains
       o(d) = 1
       r = face_range(grid, d)
       if (.not. grid%periodic(d)) then
+        if (present(partner_fraction)) then
+          r(1, d) = max(r(1, d), 2)
+          r(2, d) = min(r(2, d), grid%ncells(d))
+        end if
         if (state%closed(2 * d - 1) .and. r(1, d) == 1) r(1, d) = 2
         if (state%closed(2 * d) .and. r(2, d) == grid%ncells(d) + 1) r(2, d) = grid%ncells(d)
       end if
@@ -105,6 +116,10 @@ contains
         do k = r(1, 3), r(2, 3)
           do j = r(1, 2), r(2, 2)
             do i = r(1, 1), r(2, 1)
+              if (present(partner_fraction)) then
+                if (.not. (partner_fraction(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
+                  partner_fraction(i, j, k) <= 0.0_wp)) cycle
+              end if
               phi1 = 0.5_wp * (f1%vfrac(i - o(1), j - o(2), k - o(3)) + f1%vfrac(i, j, k))
               phi2 = 0.5_wp * (f2%vfrac(i - o(1), j - o(2), k - o(3)) + f2%vfrac(i, j, k))
               call pair_face_exchange(dt * f1%vface(i, j, k, d) * phi2 * k_exchange, &
@@ -199,21 +214,38 @@ contains
   end subroutine fill_beta
 
   !> Exchange of the Lagrangian velocities (and temperatures when h_exchange > 0) in the owned
-  !! cells, `lag(:,:,:,1:4)` updated. No-op for one fluid.
-  subroutine ice_exchange_cells(state, grid, dt, k_exchange, h_exchange)
+  !! cells, `lag(:,:,:,1:4)` updated. No-op for one fluid. With a heat partner (the solid of a
+  !! coupled scene: its fraction, heat capacity per volume and temperature, and H_fs): the
+  !! velocities only where the cell holds none of it (the exchange layer drags the fluids toward
+  !! the solid elsewhere, `exchange_fluid_solid`), the heat with it in every cell
+  !! (`exchange_heat`).
+  subroutine ice_exchange_cells(state, grid, dt, k_exchange, h_exchange, partner_fraction, &
+      h_partner, partner_capacity, partner_temperature)
     type(ice_state_t), intent(inout) :: state  !< fluids (lag updated)
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: k_exchange         !< K [kg/m^3/s]
     real(wp), intent(in) :: h_exchange         !< H [W/m^3/K]
+    !> the partner's volume fraction [-]
+    real(wp), intent(in), optional :: partner_fraction(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)
+    real(wp), intent(in), optional :: h_partner !< fluid-partner H_fs [W/m^3/K]
+    !> the partner's heat capacity per volume [J/m^3/K]
+    real(wp), intent(in), optional :: partner_capacity(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)
+    !> the partner's temperature [K] (updated)
+    real(wp), intent(inout), optional :: &
+      partner_temperature(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)
     integer :: m, i, j, k, nf
     real(wp) :: phi(max_n), v(max_n), mass(max_n)
+    logical :: with_partner
 
     nf = state%nfluids
-    if (nf < 2) return
-    if (nf == 2 .and. h_exchange <= 0.0_wp) then
-      if (k_exchange > 0.0_wp) call exchange_cells_two(state, grid, dt, k_exchange)
-      return
+    with_partner = present(partner_temperature)
+    if (.not. with_partner) then
+      if (nf < 2) return
+      if (nf == 2 .and. h_exchange <= 0.0_wp) then
+        if (k_exchange > 0.0_wp) call exchange_cells_two(state, grid, dt, k_exchange)
+        return
+      end if
     end if
     do k = grid%lo(3), grid%hi(3)
       do j = grid%lo(2), grid%hi(2)
@@ -223,9 +255,19 @@ contains
             v(m) = state%fluid(m)%spvol(i, j, k)
             mass(m) = state%fluid(m)%rho(i, j, k)
           end do
-          if (k_exchange > 0.0_wp) call exchange_cell_fluids(state, i, j, k, dt, k_exchange, &
-            phi, v, mass)
-          call exchange_heat(state, i, j, k, dt, h_exchange, phi, v)
+          if (with_partner) then
+            ! a cell with the partner (and only such: NaN counts as none) is the exchange
+            ! layer's
+            if (k_exchange > 0.0_wp .and. .not. (partner_fraction(i, j, k) > 0.0_wp)) then
+              call exchange_cell_fluids(state, i, j, k, dt, k_exchange, phi, v, mass)
+            end if
+            call exchange_heat(state, i, j, k, dt, h_exchange, phi, v, h_partner, &
+              partner_fraction(i, j, k), partner_capacity(i, j, k), partner_temperature(i, j, k))
+          else
+            if (k_exchange > 0.0_wp) call exchange_cell_fluids(state, i, j, k, dt, k_exchange, &
+              phi, v, mass)
+            call exchange_heat(state, i, j, k, dt, h_exchange, phi, v)
+          end if
         end do
       end do
     end do
