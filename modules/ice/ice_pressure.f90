@@ -7,7 +7,7 @@
 !! adds it to p and dp_total (eq. 36) and corrects the face velocities
 !! u_m,f -= dt v_m,f (dp_R - dp_L)/dx, until max |rhs|/V (the volume-fraction constraint
 !! sum phi = 1 at the end of the step) is below the outer tolerance.
-!! Face pressure (eq. 37): p_f = (p_L rho_R + p_R rho_L)/(rho_L + rho_R), rho = sum_m rho_bar_m.
+!! The face pressures of eq. 37: `ice_face_pressures`.
 module ice_pressure
   use mpmice_log, only: log_repeated
   use mpmice_kinds, only: wp
@@ -19,10 +19,11 @@ module ice_pressure
   implicit none
   private
 
-  public :: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, ice_face_pressure
+  public :: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, pore_min
   public :: solid_face_fraction, platen_fluid_faces, report_pressure_failure
 
-  real(wp), parameter :: pore_min = 1.0e-3_wp  !< smallest pore fraction in the face weights
+  !> smallest pore fraction in the face weights (platen faces, `ice_face_pressures`)
+  real(wp), parameter :: pore_min = 1.0e-3_wp
 
 contains
 
@@ -77,11 +78,23 @@ contains
           end do
         end do
       end if
+      if (present(solid)) then
+        ! the solid's phi_s,f v_s,f (phi_s,f the fraction that crosses, `solid_face_fraction`)
+        associate (us => solid%uface, low => solid%face_fraction, &
+          high => solid%face_fraction_hi, vs => solid%vface)
+          do k = r(1, 3), r(2, 3)
+            do j = r(1, 2), r(2, 2)
+              do i = r(1, 1), r(2, 1)
+                state%coef(i, j, k, d) = state%coef(i, j, k, d) + flux_fraction(us(i, j, k, d), &
+                  low(i, j, k, d), high(i, j, k, d)) * vs(i, j, k, d)
+              end do
+            end do
+          end do
+        end associate
+      end if
       do k = r(1, 3), r(2, 3)
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
-            if (present(solid)) state%coef(i, j, k, d) = state%coef(i, j, k, d) + &
-              solid_face_fraction(solid, d, o, i, j, k) * solid%vface(i, j, k, d)
             state%coef(i, j, k, d) = theta * dt**2 * area / grid%dx(d) * state%coef(i, j, k, d)
           end do
         end do
@@ -191,27 +204,40 @@ contains
         end do
       end if
       if (present(solid)) then
+        ! the solid's volume flux phi_s,f u_s,f and the rigid bodies' prescribed one
+        associate (us => solid%uface, low => solid%face_fraction, &
+          high => solid%face_fraction_hi, rigid => solid%rigid_flux)
+          do k = grid%lo(3), grid%hi(3)
+            do j = grid%lo(2), grid%hi(2)
+              do i = grid%lo(1), grid%hi(1)
+                state%rhs(i, j, k) = state%rhs(i, j, k) - dt * area * ( &
+                  flux_fraction(us(i + o(1), j + o(2), k + o(3), d), &
+                  low(i + o(1), j + o(2), k + o(3), d), high(i + o(1), j + o(2), k + o(3), d)) * &
+                  us(i + o(1), j + o(2), k + o(3), d) - &
+                  flux_fraction(us(i, j, k, d), low(i, j, k, d), high(i, j, k, d)) * &
+                  us(i, j, k, d) + rigid(i + o(1), j + o(2), k + o(3), d) - rigid(i, j, k, d))
+              end do
+            end do
+          end do
+        end associate
+      end if
+    end do
+    if (present(solid)) then
+      ! a coupled scene: solid volume the particles hold beyond the tracked fraction
+      associate (source => solid%source)
         do k = grid%lo(3), grid%hi(3)
           do j = grid%lo(2), grid%hi(2)
             do i = grid%lo(1), grid%hi(1)
-              state%rhs(i, j, k) = state%rhs(i, j, k) - dt * area * ( &
-                solid_face_fraction(solid, d, o, i + o(1), j + o(2), k + o(3)) * &
-                solid%uface(i + o(1), j + o(2), k + o(3), d) - &
-                solid_face_fraction(solid, d, o, i, j, k) * solid%uface(i, j, k, d) + &
-                solid%rigid_flux(i + o(1), j + o(2), k + o(3), d) - &
-                solid%rigid_flux(i, j, k, d))
+              state%rhs(i, j, k) = state%rhs(i, j, k) + grid%cell_volume * source(i, j, k)
             end do
           end do
         end do
-      end if
-    end do
+      end associate
+    end if
     residual = 0.0_wp
     do k = grid%lo(3), grid%hi(3)
       do j = grid%lo(2), grid%hi(2)
         do i = grid%lo(1), grid%hi(1)
-          ! a coupled scene: solid volume the particles hold beyond the tracked fraction
-          if (present(solid)) state%rhs(i, j, k) = state%rhs(i, j, k) + &
-            grid%cell_volume * solid%source(i, j, k)
           residual = max(residual, abs(state%rhs(i, j, k)) / grid%cell_volume)
         end do
       end do
@@ -383,68 +409,6 @@ contains
     if (platen_plane) platen_plane = solid%platen(2 * d - 2 + side)
   end function platen_plane
 
-  !> Face pressures of eq. 37 (weights: total bulk density of the fluids of the two cells, per
-  !! pore volume 1 - phi_s where a solid phase is present); a wall face takes the pressure of its
-  !! inner cell extrapolated hydrostatically, p_c -+ rho_c g dx/2 with the same density, so that
-  !! the wall carries the weight of a fluid at rest (in a porous cell the fluid's intrinsic
-  !! density: the bulk one left the wall cells of a porous cavity 0.3 g out of balance, whose drag
-  !! heated the water by 0.03 K per day). Needs the pressure valid in one ghost layer.
-  subroutine ice_face_pressure(state, grid, gravity, solid)
-    type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
-    type(grid_t), intent(in) :: grid           !< block geometry
-    real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
-    !> the solid phase of a coupled scene: the weights per pore volume
-    class(ice_solid_view_t), intent(in), optional :: solid
-    integer :: d, i, j, k, o(3), r(2, 3), inner(2, 3), side, idx
-    real(wp) :: rl, rr
-
-    do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
-      r = face_range(grid, d)
-      ! inner faces: the faces on a non-periodic domain boundary are done below
-      inner = r
-      if (.not. grid%periodic(d)) then
-        inner(1, d) = max(r(1, d), 2)
-        inner(2, d) = min(r(2, d), grid%ncells(d))
-      end if
-      do k = inner(1, 3), inner(2, 3)
-        do j = inner(1, 2), inner(2, 2)
-          do i = inner(1, 1), inner(2, 1)
-            call face_densities(state, i, j, k, o, rl, rr, solid)
-            state%pface(i, j, k, d) = (state%pressure(i - o(1), j - o(2), k - o(3)) * rr + &
-              state%pressure(i, j, k) * rl) / (rl + rr)
-          end do
-        end do
-      end do
-      if (grid%periodic(d)) cycle
-      do side = 1, 2
-        idx = merge(1, grid%ncells(d) + 1, side == 1)
-        if (idx < r(1, d) .or. idx > r(2, d)) cycle
-        inner = r
-        inner(:, d) = idx
-        do k = inner(1, 3), inner(2, 3)
-          do j = inner(1, 2), inner(2, 2)
-            do i = inner(1, 1), inner(2, 1)
-              if (.not. state%closed(2 * d - 2 + side)) then
-                state%pface(i, j, k, d) = state%p_boundary(2 * d - 2 + side)
-              else if (side == 1) then
-                call face_densities(state, i, j, k, o, rl, rr, solid)
-                state%pface(i, j, k, d) = state%pressure(i, j, k) - 0.5_wp * rr * gravity(d) * &
-                  grid%dx(d)
-              else
-                call face_densities(state, i, j, k, o, rl, rr, solid)
-                state%pface(i, j, k, d) = state%pressure(i - o(1), j - o(2), k - o(3)) + &
-                  0.5_wp * rl * gravity(d) * grid%dx(d)
-              end if
-            end do
-          end do
-        end do
-      end do
-    end do
-  end subroutine ice_face_pressure
-
   !> Solid volume fraction of the low face of cell (i,j,k) in direction d for the solid's
   !! volume flux of eq. 35: the grain fraction the particles place on the upwind side of the face
   !! plane (`mpmice_solid_cells`), so that the flux phi_s,f u_s,f is the grain volume that
@@ -456,34 +420,22 @@ contains
     integer, intent(in) :: o(3)             !< unit offset along d (unused: kept for symmetry)
     integer, intent(in) :: i, j, k          !< face index (low face of cell i,j,k)
     if (.false.) phi = real(o(1), wp)
-    if (solid%uface(i, j, k, d) >= 0.0_wp) then
-      phi = solid%face_fraction(i, j, k, d)
-    else
-      phi = solid%face_fraction_hi(i, j, k, d)
-    end if
+    phi = flux_fraction(solid%uface(i, j, k, d), solid%face_fraction(i, j, k, d), &
+      solid%face_fraction_hi(i, j, k, d))
   end function solid_face_fraction
-  !> Weights of the face pressure of eq. 37 at the low face of cell (i,j,k) in direction o: the
-  !! fluids' total bulk density of the low (`rl`) and high (`rr`) cell, per pore volume where a
-  !! solid phase is present (the pore pressure at rest carries the weight of the fluid alone,
-  !! rho_f g; the skeleton's weight is borne by its stress).
-  pure subroutine face_densities(state, i, j, k, o, rl, rr, solid)
-    type(ice_state_t), intent(in) :: state  !< fluids and solid phase
-    integer, intent(in) :: i, j, k          !< face index (low face of cell i,j,k)
-    integer, intent(in) :: o(3)             !< unit offset along the face normal
-    real(wp), intent(out) :: rl, rr         !< low and high cell weights [kg/m^3]
-    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
-    integer :: m
-    rl = 0.0_wp
-    rr = 0.0_wp
-    do m = 1, state%nfluids
-      rl = rl + state%fluid(m)%rho(i - o(1), j - o(2), k - o(3))
-      rr = rr + state%fluid(m)%rho(i, j, k)
-    end do
-    if (present(solid)) then
-      rl = rl / max(1.0_wp - solid%vfrac(i - o(1), j - o(2), k - o(3)), pore_min)
-      rr = rr / max(1.0_wp - solid%vfrac(i, j, k), pore_min)
+
+  !> The solid fraction that crosses a face with solid velocity `u`: the one on the face plane's
+  !! low side (`low`) for u >= 0, on its high side (`high`) otherwise.
+  elemental real(wp) function flux_fraction(u, low, high) result(phi)
+    real(wp), intent(in) :: u     !< solid face velocity [m/s]
+    real(wp), intent(in) :: low   !< fraction on the low side of the face plane [-]
+    real(wp), intent(in) :: high  !< fraction on its high side [-]
+    if (u >= 0.0_wp) then
+      phi = low
+    else
+      phi = high
     end if
-  end subroutine face_densities
+  end function flux_fraction
 
   !> True when face `idx` (global index along d) lies on a non-periodic domain boundary
   !! (`boundary_face` for one index, without the index vector).

@@ -29,7 +29,8 @@ module ice_stages
   use ice_equilibration, only: ice_equilibrate, report_equilibration_failure
   use ice_face_velocity, only: ice_face_velocities
   use ice_pressure, only: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, &
-    ice_face_pressure, report_pressure_failure, platen_fluid_faces
+    report_pressure_failure, platen_fluid_faces
+  use ice_face_pressures, only: ice_face_pressure
   use ice_lagrangian, only: ice_lagrangian_values
   use ice_advection, only: ice_advect
   use ice_trace_fluids, only: tame_trace_fluids
