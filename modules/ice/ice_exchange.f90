@@ -23,7 +23,7 @@ module ice_exchange
   use mpmice_kinds, only: wp
   use mpmice_errors, only: fatal
   use grid_layout, only: grid_t
-  use ice_state, only: ice_state_t
+  use ice_state, only: ice_state_t, ice_fluid_t
   use ice_face_velocity, only: closed_face, face_range
   use solver_dense, only: solve_3, solve_pivoted
   implicit none
@@ -97,7 +97,6 @@ contains
     !> volume fraction of a partner material sharing the cells [-]
     real(wp), intent(in), optional :: partner_fraction(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)
     integer :: d, i, j, k, o(3), r(2, 3)
-    real(wp) :: phi1, phi2
 
     do d = 1, 3
       if (.not. grid%active(d)) cycle
@@ -113,41 +112,58 @@ contains
         if (state%closed(2 * d) .and. r(2, d) == grid%ncells(d) + 1) r(2, d) = grid%ncells(d)
       end if
       associate (f1 => state%fluid(1), f2 => state%fluid(2))
-        do k = r(1, 3), r(2, 3)
-          do j = r(1, 2), r(2, 2)
-            do i = r(1, 1), r(2, 1)
-              if (present(partner_fraction)) then
+        if (present(partner_fraction)) then
+          do k = r(1, 3), r(2, 3)
+            do j = r(1, 2), r(2, 2)
+              do i = r(1, 1), r(2, 1)
                 if (.not. (partner_fraction(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
                   partner_fraction(i, j, k) <= 0.0_wp)) cycle
-              end if
-              phi1 = 0.5_wp * (f1%vfrac(i - o(1), j - o(2), k - o(3)) + f1%vfrac(i, j, k))
-              phi2 = 0.5_wp * (f2%vfrac(i - o(1), j - o(2), k - o(3)) + f2%vfrac(i, j, k))
-              call pair_face_exchange(dt * f1%vface(i, j, k, d) * phi2 * k_exchange, &
-                dt * f2%vface(i, j, k, d) * phi1 * k_exchange, f1%uface(i, j, k, d), &
-                f2%uface(i, j, k, d), f1%vface(i, j, k, d), f2%vface(i, j, k, d))
+                call pair_face_exchange(f1, f2, i, j, k, d, o, dt, k_exchange)
+              end do
             end do
           end do
-        end do
+        else
+          ! branch-free: the sweep vectorises
+          do k = r(1, 3), r(2, 3)
+            do j = r(1, 2), r(2, 2)
+              do i = r(1, 1), r(2, 1)
+                call pair_face_exchange(f1, f2, i, j, k, d, o, dt, k_exchange)
+              end do
+            end do
+          end do
+        end if
       end associate
     end do
   end subroutine exchange_faces_two
 
-  !> The closed-form 2 x 2 face exchange of `exchange_solve` (A = [1 + b12, -b12; -b21, 1 + b21])
-  !! applied to the face velocities u and the face specific volumes v of two fluids, in place.
-  pure subroutine pair_face_exchange(b12, b21, u1, u2, v1, v2)
-    real(wp), intent(in) :: b12, b21          !< beta_12, beta_21
-    real(wp), intent(inout) :: u1, u2         !< face velocities [m/s]
-    real(wp), intent(inout) :: v1, v2         !< face specific volumes [m^3/kg]
-    real(wp) :: det, x1, x2
+  !> The closed-form 2 x 2 face exchange of `exchange_solve` (A = [1 + b12, -b12; -b21, 1 + b21],
+  !! beta_mn = dt v_m,f phi_n,f K with the face mean fractions) applied in place to the face
+  !! velocities u and the face specific volumes v of two fluids at the low face of cell (i,j,k)
+  !! in direction d.
+  pure subroutine pair_face_exchange(f1, f2, i, j, k, d, o, dt, k_exchange)
+    type(ice_fluid_t), intent(inout) :: f1, f2 !< the two fluids (uface, vface updated)
+    integer, intent(in) :: i, j, k             !< face (low face of cell i,j,k)
+    integer, intent(in) :: d                   !< face direction
+    integer, intent(in) :: o(3)                !< unit offset along d
+    real(wp), intent(in) :: dt                 !< time step [s]
+    real(wp), intent(in) :: k_exchange         !< K [kg/m^3/s]
+    real(wp) :: phi1, phi2, b12, b21, det, x1, x2
+    phi1 = 0.5_wp * (f1%vfrac(i - o(1), j - o(2), k - o(3)) + f1%vfrac(i, j, k))
+    phi2 = 0.5_wp * (f2%vfrac(i - o(1), j - o(2), k - o(3)) + f2%vfrac(i, j, k))
+    b12 = dt * f1%vface(i, j, k, d) * phi2 * k_exchange
+    b21 = dt * f2%vface(i, j, k, d) * phi1 * k_exchange
     det = 1.0_wp + b12 + b21
-    x1 = u1
-    x2 = u2
-    u1 = ((1.0_wp + b21) * x1 + b12 * x2) / det
-    u2 = (b21 * x1 + (1.0_wp + b12) * x2) / det
-    x1 = v1
-    x2 = v2
-    v1 = ((1.0_wp + b21) * x1 + b12 * x2) / det
-    v2 = (b21 * x1 + (1.0_wp + b12) * x2) / det
+    associate (u1 => f1%uface(i, j, k, d), u2 => f2%uface(i, j, k, d), &
+      v1 => f1%vface(i, j, k, d), v2 => f2%vface(i, j, k, d))
+      x1 = u1
+      x2 = u2
+      u1 = ((1.0_wp + b21) * x1 + b12 * x2) / det
+      u2 = (b21 * x1 + (1.0_wp + b12) * x2) / det
+      x1 = v1
+      x2 = v2
+      v1 = ((1.0_wp + b21) * x1 + b12 * x2) / det
+      v2 = (b21 * x1 + (1.0_wp + b12) * x2) / det
+    end associate
   end subroutine pair_face_exchange
 
   !> `ice_exchange_cells` for two fluids, no solid and no heat exchange: the closed-form 2 x 2
