@@ -88,36 +88,15 @@ contains
     uf = grid%ubc + 1
     call solid_phase_free(solid)
     associate (s => solid)
+      ! every field zero: the cell fields take the zeros of vfrac, the face fields those of uface
       allocate(s%vfrac(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
       allocate(s%source, s%rho, s%spvol, s%kappa, s%heat_cap, s%conductance, s%temp, &
-        mold=s%vfrac)
-      s%heat_cap = 0.0_wp
-      s%conductance = 0.0_wp
-      s%temp = 0.0_wp
-      s%source = 0.0_wp
-      s%rho = 0.0_wp
-      s%spvol = 0.0_wp
-      s%kappa = 0.0_wp
+        s%frac_def, s%xfrac, s%frac_rigid, source=s%vfrac)
       allocate(s%vel(l(1):u(1), l(2):u(2), l(3):u(3), 3), source=0.0_wp)
       allocate(s%drag(l(1):u(1), l(2):u(2), l(3):u(3), max(nfluids, 1)), source=0.0_wp)
       allocate(s%uface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
       allocate(s%uface0, s%vface, s%rigid_face, s%face_fraction, s%face_fraction_hi, &
-        mold=s%uface)
-      s%face_fraction = 0.0_wp
-      s%face_fraction_hi = 0.0_wp
-      allocate(s%rigid_flux, s%rigid_fraction, s%rigid_fraction_hi, s%platen_coef, &
-        mold=s%uface)
-      s%platen_coef = 0.0_wp
-      s%rigid_flux = 0.0_wp
-      s%rigid_fraction = 0.0_wp
-      s%rigid_fraction_hi = 0.0_wp
-      allocate(s%frac_def, s%xfrac, s%frac_rigid, mold=s%vfrac)
-      s%frac_def = 0.0_wp
-      s%frac_rigid = 0.0_wp
-      s%xfrac = 0.0_wp
-      s%uface0 = 0.0_wp
-      s%vface = 0.0_wp
-      s%rigid_face = 0.0_wp
+        s%rigid_flux, s%rigid_fraction, s%rigid_fraction_hi, s%platen_coef, source=s%uface)
     end associate
   end subroutine solid_phase_alloc
 
