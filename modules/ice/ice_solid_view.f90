@@ -2,9 +2,9 @@
 !! its compressibility and its face volume flux (the solid's terms of the pressure equation,
 !! paper eq. 35, and of the equilibration, eqs. 1 and 10-11), and the implicit exchange with it
 !! (eqs. 34 and 50-55) as two deferred procedures. ICE's stages and kernels take it as an
-!! optional argument and, without it, solve the fluids alone; the exchange layer
-!! (`exchange_solid_phase%solid_phase_t`) extends it with the drag, heat and contact fields of a
-!! coupled scene and implements the exchange. Face fields use the layout of
+!! optional argument and, without it, solve the fluids alone; the exchange layer's
+!! `solid_phase_t` (module `exchange_solid_phase`) extends it with the drag, heat and contact
+!! fields of a coupled scene and implements the exchange. Face fields use the layout of
 !! `ice_fluid_t%uface` (cells lbc..ubc, faces up to ubc + 1); the owner allocates every field.
 module ice_solid_view
   use mpmice_kinds, only: wp
