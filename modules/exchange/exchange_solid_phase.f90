@@ -1,46 +1,34 @@
-!> The solid phase of a coupled scene on the fluid grid: what the fluids' pressure equation,
-!! equilibration, advection and the fluid-solid exchange see of the solids (all solid materials
-!! of a cell together), with its platens, sliding contact with rigid bodies and the rigid
-!! bodies' volume fluxes. Filled by the coupling (`mpmice_solid_cells`) each step; absent
-!! (`present = .false.`) in ICE-only runs, where `ice_state_t%solid` stays unallocated.
+!> The solid phase of a coupled scene on the fluid grid (all solid materials of a cell
+!! together) and the implicit fluid-solid exchange: what ICE's stages see of it
+!! (`ice_solid_view_t`: fraction, compressibility, face volume flux, platens) extended with the
+!! drag, heat and sliding-contact fields of the exchange, which the submodule
+!! `exchange_fluid_solid` implements (paper eqs. 34 and 50-55). Filled by the coupling
+!! (`mpmice_solid_cells`) each step and handed by the coupled scene to ICE's stages; an ICE-only
+!! run has none.
 module exchange_solid_phase
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
+  use ice_state, only: ice_state_t
+  use ice_solid_view, only: ice_solid_view_t
   implicit none
   private
 
   public :: solid_phase_t, solid_phase_alloc, solid_phase_free
 
   !> The solid phase of a coupled (MPMICE) scene as the pressure equation and the exchange see it:
-  !! all solid materials of a cell together (they share one MPM velocity field). Filled by the
-  !! coupling (`mpmice_solid_cells`) each step; absent (`present = .false.`) in ICE-only runs.
-  !! Face fields use the layout of `ice_fluid_t%uface` (cells lbc..ubc, faces up to ubc + 1).
-  type :: solid_phase_t
-    logical :: present = .false.                !< a solid phase takes part
-    real(wp), allocatable :: vfrac(:, :, :)     !< solid volume fraction phi_s the fluids see [-]
-    real(wp), allocatable :: source(:, :, :)    !< phi_s(particles) - phi_s this step [-]
+  !! all solid materials of a cell together (they share one MPM velocity field). Face fields use
+  !! the layout of `ice_fluid_t%uface` (cells lbc..ubc, faces up to ubc + 1).
+  type, extends(ice_solid_view_t) :: solid_phase_t
     real(wp), allocatable :: rho(:, :, :)       !< solid bulk density m_s / V [kg/m^3]
     real(wp), allocatable :: spvol(:, :, :)     !< grain specific volume phi_s / rho_bar_s [m^3/kg]
-    real(wp), allocatable :: kappa(:, :, :)     !< grain compressibility 1/K_s [1/Pa] (0: rigid
-                                                !! grains)
     real(wp), allocatable :: vel(:, :, :, :)    !< cell velocity of the solid (i,j,k,component)
                                                 !! [m/s]
     real(wp), allocatable :: drag(:, :, :, :)   !< reduced drag coefficient c per fluid (i,j,k,m):
                                                 !! drag per volume phi_m phi_s c du [kg/m^3/s]
-    real(wp), allocatable :: uface(:, :, :, :)  !< face-normal solid velocity [m/s]
-    real(wp), allocatable :: uface0(:, :, :, :) !< the same from the MPM nodal velocities alone
-    real(wp), allocatable :: vface(:, :, :, :)  !< exchange-modified face specific volume [m^3/kg]
+    real(wp), allocatable :: uface0(:, :, :, :) !< face-normal solid velocity from the MPM nodal
+                                                !! velocities alone [m/s]
     real(wp), allocatable :: rigid_face(:, :, :, :) !< 1 where the face velocity is prescribed
-    real(wp), allocatable :: face_fraction(:, :, :, :) !< solid fraction on the low side of the
-                                                       !! face plane [-]
-    real(wp), allocatable :: face_fraction_hi(:, :, :, :) !< the same on its high side [-]
     logical :: explicit_drag = .false.          !< explicit (forward Euler) drag, for comparison
-    !> loading platen per domain face: a closed face where the skeleton carries a surface load
-    !! (`&boundary fluid = 'wall'` or 'free_slip' with `solid = 'traction'`); it is impermeable
-    !! and moves with the skeleton (`ice_pressure`, platen_fluid_faces)
-    logical :: platen(6) = .false.
-    real(wp), allocatable :: platen_coef(:, :, :, :) !< on a platen face: face area over the
-                                                     !! face nodes' mean solid mass [m^2/kg]
     real(wp), allocatable :: heat_cap(:, :, :)  !< heat capacity per volume rho_bar_s c_s [J/m^3/K]
     real(wp), allocatable :: conductance(:, :, :) !< phi_s k_s of the grains [W/m/K]
     real(wp), allocatable :: temp(:, :, :)      !< solid cell temperature [K]: m c T / m c at the
@@ -56,17 +44,40 @@ module exchange_solid_phase
     real(wp), allocatable :: frac_rigid(:, :, :) !< the rigid bodies' fraction (particles) [-]
     real(wp), allocatable :: xfrac(:, :, :)     !< the fluids' exchange partner's fraction [-]
                                                 !! (`drag` is per this fraction)
-    real(wp), allocatable :: rigid_flux(:, :, :, :) !< rigid bodies' volume flux per face area
-                                                    !! phi_r,f u_r,f [m/s] (prescribed)
     real(wp), allocatable :: rigid_fraction(:, :, :, :)    !< rigid fraction on the low side of
                                                            !! the face plane [-]
     real(wp), allocatable :: rigid_fraction_hi(:, :, :, :) !< the same on its high side [-]
+  contains
+    procedure :: exchange_faces => solid_phase_exchange_faces
+    procedure :: exchange_cells => solid_phase_exchange_cells
   end type solid_phase_t
+
+  interface
+    !> Implicit momentum exchange at the faces of the owned cells with the solid as one more
+    !! material (eq. 34; `exchange_fluid_solid`).
+    module subroutine solid_phase_exchange_faces(solid, state, grid, dt, k_exchange)
+      class(solid_phase_t), intent(inout) :: solid  !< solid phase (uface, vface updated)
+      type(ice_state_t), intent(inout) :: state     !< fluids (uface, vface updated)
+      type(grid_t), intent(in) :: grid              !< block geometry
+      real(wp), intent(in) :: dt                    !< exchange time [s]
+      real(wp), intent(in) :: k_exchange            !< fluid-fluid K [kg/m^3/s]
+    end subroutine solid_phase_exchange_faces
+
+    !> Implicit momentum and heat exchange of the fluids with the solid in the owned cells
+    !! (eqs. 50-55; `exchange_fluid_solid`).
+    module subroutine solid_phase_exchange_cells(solid, state, grid, dt, k_exchange, h_exchange)
+      class(solid_phase_t), intent(inout) :: solid  !< solid phase (temp updated)
+      type(ice_state_t), intent(inout) :: state     !< fluids (lag updated)
+      type(grid_t), intent(in) :: grid              !< block geometry
+      real(wp), intent(in) :: dt                    !< time step [s]
+      real(wp), intent(in) :: k_exchange            !< fluid-fluid K [kg/m^3/s]
+      real(wp), intent(in) :: h_exchange            !< fluid-fluid H [W/m^3/K]
+    end subroutine solid_phase_exchange_cells
+  end interface
 
 contains
 
-  !> Allocate the solid-phase fields on `grid` for `nfluids` fluids (values zero) and mark the
-  !! phase present.
+  !> Allocate the solid-phase fields on `grid` for `nfluids` fluids (values zero).
   subroutine solid_phase_alloc(solid, grid, nfluids)
     type(solid_phase_t), intent(inout) :: solid  !< solid phase (freed first)
     type(grid_t), intent(in) :: grid             !< block geometry
@@ -77,41 +88,19 @@ contains
     uf = grid%ubc + 1
     call solid_phase_free(solid)
     associate (s => solid)
-      s%present = .true.
+      ! every field zero: the cell fields take the zeros of vfrac, the face fields those of uface
       allocate(s%vfrac(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
       allocate(s%source, s%rho, s%spvol, s%kappa, s%heat_cap, s%conductance, s%temp, &
-        mold=s%vfrac)
-      s%heat_cap = 0.0_wp
-      s%conductance = 0.0_wp
-      s%temp = 0.0_wp
-      s%source = 0.0_wp
-      s%rho = 0.0_wp
-      s%spvol = 0.0_wp
-      s%kappa = 0.0_wp
+        s%frac_def, s%xfrac, s%frac_rigid, source=s%vfrac)
       allocate(s%vel(l(1):u(1), l(2):u(2), l(3):u(3), 3), source=0.0_wp)
       allocate(s%drag(l(1):u(1), l(2):u(2), l(3):u(3), max(nfluids, 1)), source=0.0_wp)
       allocate(s%uface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
       allocate(s%uface0, s%vface, s%rigid_face, s%face_fraction, s%face_fraction_hi, &
-        mold=s%uface)
-      s%face_fraction = 0.0_wp
-      s%face_fraction_hi = 0.0_wp
-      allocate(s%rigid_flux, s%rigid_fraction, s%rigid_fraction_hi, s%platen_coef, &
-        mold=s%uface)
-      s%platen_coef = 0.0_wp
-      s%rigid_flux = 0.0_wp
-      s%rigid_fraction = 0.0_wp
-      s%rigid_fraction_hi = 0.0_wp
-      allocate(s%frac_def, s%xfrac, s%frac_rigid, mold=s%vfrac)
-      s%frac_def = 0.0_wp
-      s%frac_rigid = 0.0_wp
-      s%xfrac = 0.0_wp
-      s%uface0 = 0.0_wp
-      s%vface = 0.0_wp
-      s%rigid_face = 0.0_wp
+        s%rigid_flux, s%rigid_fraction, s%rigid_fraction_hi, s%platen_coef, source=s%uface)
     end associate
   end subroutine solid_phase_alloc
 
-  !> Release every field; the phase is then absent.
+  !> Release every field.
   subroutine solid_phase_free(solid)
     type(solid_phase_t), intent(inout) :: solid  !< solid phase
     if (allocated(solid%vfrac)) deallocate(solid%vfrac, solid%source, solid%rho, solid%spvol, &
@@ -119,6 +108,5 @@ contains
       solid%rigid_face, solid%face_fraction, solid%face_fraction_hi, solid%heat_cap, &
       solid%conductance, solid%temp, solid%rigid_flux, solid%rigid_fraction, &
       solid%rigid_fraction_hi, solid%frac_def, solid%xfrac, solid%frac_rigid, solid%platen_coef)
-    solid%present = .false.
   end subroutine solid_phase_free
 end module exchange_solid_phase

@@ -23,6 +23,7 @@ module ice_advection
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t, cell_centre
   use ice_state, only: ice_state_t
+  use ice_solid_view, only: ice_solid_view_t
   use ice_face_velocity, only: face_range
   implicit none
   private
@@ -34,13 +35,16 @@ contains
   !> Advect every fluid: new rho, vel, temp and spvol on the owned cells. `negative`: the number
   !! of owned cells whose mass became negative (0 on success; a caller that judges the masses
   !! itself leaves it out). `gravity`: carried as potential energy (module header; absent: none).
-  subroutine ice_advect(state, grid, dt, order, negative, gravity)
+  subroutine ice_advect(state, grid, dt, order, negative, gravity, solid)
     type(ice_state_t), intent(inout) :: state  !< fluids (rho, lag, uface read; primitives written)
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     integer, intent(in) :: order               !< 1 first order, 2 limited second order
     integer, intent(out), optional :: negative !< owned cells with negative new mass
     real(wp), intent(in), optional :: gravity(3) !< gravitational acceleration [m/s^2]
+    !> the solid phase of a coupled scene: cv T advected, porous stencils upwind, the open faces'
+    !! inflow through the pores
+    class(ice_solid_view_t), intent(in), optional :: solid
     integer :: d, m, n, i, j, k, o(3), r(2, 3), i1, i2, cu(3), negative_cells
     real(wp) :: area, u, vol, g(3), pot_lo, pot_hi
     logical :: total
@@ -56,7 +60,7 @@ contains
 
     vol = grid%cell_volume
     negative_cells = 0
-    total = .not. state%solid%present
+    total = .not. present(solid)
     g = 0.0_wp
     if (present(gravity) .and. total) g = potential_gravity(grid, gravity)
     do i = grid%lbc(1), grid%ubc(1)
@@ -109,14 +113,14 @@ contains
               ! porosity's slope (the soil's surface, and the varying porosity inside a moving
               ! soil), so the pore water's volume differed from it and the stiff water kept the
               ! difference as pressure (docs/mpmice.md, departure 16)
-              if (state%solid%present .and. order > 1) then
+              if (.not. total .and. order > 1) then
                 do i = i1, i2
                   if (pos(i)) then
                     cu = [i - o(1), j - o(2), k - o(3)]
                   else
                     cu = [i, j, k]
                   end if
-                  if (porous_stencil(state%solid%vfrac, grid, cu, o, d)) then
+                  if (porous_stencil(solid%vfrac, grid, cu, o, d)) then
                     qf(i) = f%rho(cu(1), cu(2), cu(3))
                   end if
                 end do
@@ -125,7 +129,8 @@ contains
                 u = f%uface(i, j, k, d)
                 mflux(i) = merge(qf(i) * (u * dt * area), 0.0_wp, u /= 0.0_wp)
               end do
-              call open_face_inflow(state, grid, m, d, o, i1, i2, j, k, dt, area, mflux)
+              call open_face_inflow(state, grid, m, d, o, i1, i2, j, k, dt, area, .not. total, &
+                mflux)
               call row_update(c(:, :, :, 1), grid%lbc, i1, i2, j, k, o, mflux)
               do n = 1, 5
                 call row_face_values(f%lag(:, :, :, n), grid%lbc, i1, i2, j, k, o, order, urow, &
@@ -290,7 +295,7 @@ contains
   !!   density, i.e. it enters through the inner cell's pores, consistent with the inner-cell
   !!   face fraction of the pressure equation there (departure 11).
   !! - Elsewhere the reconstructed flux stands.
-  subroutine open_face_inflow(state, grid, m, d, o, i1, i2, j, k, dt, area, mflux)
+  subroutine open_face_inflow(state, grid, m, d, o, i1, i2, j, k, dt, area, porous, mflux)
     type(ice_state_t), intent(in) :: state     !< fluids (closed faces, inflow fluids)
     type(grid_t), intent(in) :: grid           !< block geometry
     integer, intent(in) :: m                   !< the fluid advected
@@ -299,6 +304,7 @@ contains
     integer, intent(in) :: i1, i2, j, k        !< the row of faces
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: area               !< face area [m^2]
+    logical, intent(in) :: porous              !< a solid phase is present (coupled scene)
     real(wp), intent(inout) :: mflux(grid%lbc(1):) !< mass flux along +d per face of the row [kg]
     integer :: i, n, r, face, idx(3), c(3)
     real(wp) :: inward, volume_in, u
@@ -323,7 +329,7 @@ contains
       r = state%inflow_fluid(face)
       u = inward * state%fluid(m)%uface(i, j, k, d)
       if (r == 0) then
-        if (state%solid%present .and. .not. state%closed(face) .and. u > 0.0_wp) then
+        if (porous .and. .not. state%closed(face) .and. u > 0.0_wp) then
           mflux(i) = state%fluid(m)%rho(c(1), c(2), c(3)) * (inward * u * dt * area)
         end if
         cycle

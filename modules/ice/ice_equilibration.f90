@@ -9,6 +9,7 @@ module ice_equilibration
   use grid_layout, only: grid_t, cell_centre
   use ice_eos, only: eos_pressure, eos_density, eos_dp_drho, eos_sound_speed2
   use ice_state, only: ice_state_t
+  use ice_solid_view, only: ice_solid_view_t
   use mpmice_errors, only: real_short_text
   implicit none
   private
@@ -26,7 +27,7 @@ contains
   !! equilibrium pressure on exit. `max_iterations_used` is the largest Newton count over the
   !! cells and `failed` the number of cells that missed `tolerance` on sum phi - 1.
   subroutine ice_equilibrate(state, grid, tolerance, max_iterations, max_iterations_used, failed, &
-      first_failed)
+      first_failed, solid)
     type(ice_state_t), intent(inout) :: state      !< fluids and pressure
     type(grid_t), intent(in) :: grid               !< block geometry
     real(wp), intent(in) :: tolerance              !< |sum phi - 1| to reach
@@ -34,10 +35,14 @@ contains
     integer, intent(out) :: max_iterations_used    !< largest iteration count
     integer, intent(out) :: failed                 !< cells that did not converge
     integer, intent(out), optional :: first_failed(3) !< the first such cell (0 when none)
+    !> the solid phase of a coupled scene: the fluids fill its pores, its compressibility joins
+    !! sum_kappa
+    class(ice_solid_view_t), intent(in), optional :: solid
     integer :: i, j, k, m, it, n
     real(wp) :: p, p_full, rho_m, porosity
-    logical :: active(state%nfluids), converged, full_converged
+    logical :: active(state%nfluids), converged, full_converged, with_solid
 
+    with_solid = present(solid)
     n = state%nfluids
     max_iterations_used = 0
     failed = 0
@@ -48,7 +53,7 @@ contains
         do i = grid%lbc(1), grid%ubc(1)
           ! the fluids fill the pore space n = 1 - phi_s of a coupled scene (eq. 1)
           porosity = 1.0_wp
-          if (state%solid%present) porosity = 1.0_wp - state%solid%vfrac(i, j, k)
+          if (with_solid) porosity = 1.0_wp - solid%vfrac(i, j, k)
           if (n == 1) then
             associate (fl => state%fluid(1))
               p = eos_pressure(fl%eos, fl%rho(i, j, k) / porosity, fl%temp(i, j, k))
@@ -95,8 +100,8 @@ contains
                 fl%vfrac(i, j, k) * fl%kappa(i, j, k)
             end associate
           end do
-          if (state%solid%present) state%sum_kappa(i, j, k) = state%sum_kappa(i, j, k) + &
-            state%solid%vfrac(i, j, k) * state%solid%kappa(i, j, k)
+          if (with_solid) state%sum_kappa(i, j, k) = state%sum_kappa(i, j, k) + &
+            solid%vfrac(i, j, k) * solid%kappa(i, j, k)
         end do
       end do
     end do
@@ -107,11 +112,12 @@ contains
   !! a coupled scene, each fluid's bulk density [kg/m^3] and temperature [K], and the pressure
   !! the iteration reached, which the step's rejection otherwise leaves to guess. Every rank
   !! reports its own cell; nothing when `failed` is 0.
-  subroutine report_equilibration_failure(state, grid, failed, c)
+  subroutine report_equilibration_failure(state, grid, failed, c, solid)
     type(ice_state_t), intent(in) :: state  !< fluids
     type(grid_t), intent(in) :: grid        !< block geometry
     integer, intent(in) :: failed           !< cells of this rank that failed
     integer, intent(in) :: c(3)             !< the first of them
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     character(len=:), allocatable :: text
     integer :: d, m
     if (failed <= 0) return
@@ -120,8 +126,8 @@ contains
       text = text // ' ' // real_short_text(cell_centre(grid, d, c(d)))
     end do
     text = text // ' m:'
-    if (state%solid%present) text = text // ' solid fraction ' // &
-      real_short_text(state%solid%vfrac(c(1), c(2), c(3))) // ','
+    if (present(solid)) text = text // ' solid fraction ' // &
+      real_short_text(solid%vfrac(c(1), c(2), c(3))) // ','
     do m = 1, state%nfluids
       text = text // ' ' // trim(state%fluid(m)%name) // ' rho_bar ' // &
         real_short_text(state%fluid(m)%rho(c(1), c(2), c(3))) // ' kg/m^3 T ' // &

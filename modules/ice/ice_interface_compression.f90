@@ -27,6 +27,7 @@ module ice_interface_compression
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
+  use ice_solid_view, only: ice_solid_view_t
   implicit none
   private
 
@@ -35,11 +36,13 @@ module ice_interface_compression
 contains
 
   !> Exchange the compression volumes (module header) between fluids 1 (a) and 2 (b).
-  subroutine compress_interface(state, grid, dt, coefficient)
+  subroutine compress_interface(state, grid, dt, coefficient, solid)
     type(ice_state_t), intent(inout) :: state  !< fluids (primitives updated on owned cells)
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: coefficient        !< C [-]
+    !> the solid phase of a coupled scene: no compression next to it
+    class(ice_solid_view_t), intent(in), optional :: solid
     integer :: i, j, k, d, m, o(3), nd, side, c(3), donor(3)
     real(wp) :: vol, cap, flux, dm, sgn, mass
 
@@ -61,7 +64,7 @@ contains
         do j = grid%lo(2), grid%hi(2) + o(2)
           do i = grid%lo(1), grid%hi(1) + o(1)
             state%cons(i, j, k, d) = face_volume(state, grid, [i, j, k], d, o, dt, &
-              coefficient, cap) * vol
+              coefficient, cap, solid) * vol
           end do
         end do
       end do
@@ -143,7 +146,8 @@ contains
   !> The compression volume of the low face of cell c along d, over the cell volume (module
   !! header): > 0 moves fluid 1 from c - o to c. 0 at a domain face, next to solid, or where
   !! either cell is pure.
-  real(wp) function face_volume(state, grid, c, d, o, dt, coefficient, cap) result(share)
+  real(wp) function face_volume(state, grid, c, d, o, dt, coefficient, cap, solid) &
+    result(share)
     type(ice_state_t), intent(in) :: state  !< fluids
     type(grid_t), intent(in) :: grid        !< block geometry
     integer, intent(in) :: c(3)             !< the face's high cell
@@ -152,15 +156,16 @@ contains
     real(wp), intent(in) :: dt              !< time step [s]
     real(wp), intent(in) :: coefficient     !< C [-]
     real(wp), intent(in) :: cap             !< 0.8 / (2 n_dim)
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     real(wp), parameter :: trace = 1.0e-9_wp  !< smallest fraction jump compressed
     integer :: e, l(3)
     real(wp) :: a_lo, a_hi, grad(3), speed, normal
     share = 0.0_wp
     l = c - o
     if (.not. grid%periodic(d) .and. (c(d) == 1 .or. c(d) == grid%ncells(d) + 1)) return
-    if (state%solid%present) then
-      if (state%solid%vfrac(l(1), l(2), l(3)) > 0.0_wp .or. &
-        state%solid%vfrac(c(1), c(2), c(3)) > 0.0_wp) return
+    if (present(solid)) then
+      if (solid%vfrac(l(1), l(2), l(3)) > 0.0_wp .or. &
+        solid%vfrac(c(1), c(2), c(3)) > 0.0_wp) return
     end if
     a_lo = fraction_of(state, 1, l)
     a_hi = fraction_of(state, 1, c)

@@ -28,6 +28,7 @@ module ice_lagrangian
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
+  use ice_solid_view, only: ice_solid_view_t
   use ice_advection, only: potential_gravity
   implicit none
   private
@@ -38,7 +39,7 @@ contains
 
   !> Fill `lag(:,:,:,1:5)` = (u, v, w, cv T, v) after the Lagrangian sources, owned cells.
   !! Needs the face pressures and face velocities of the owned cells.
-  subroutine ice_lagrangian_values(state, grid, dt, gravity, sources)
+  subroutine ice_lagrangian_values(state, grid, dt, gravity, sources, solid)
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
@@ -46,13 +47,15 @@ contains
     !> viscous momentum (1:3) [kg m/s] and conducted heat (4) [J] of the step per fluid,
     !! (i, j, k, 4, fluid), from `ice_viscous_sources`
     real(wp), intent(in) :: sources(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :, :)
+    !> the solid phase of a coupled scene (no mixture-energy correction with it)
+    class(ice_solid_view_t), intent(in), optional :: solid
     integer :: d, m, i, j, k, o(3)
     real(wp) :: mass, vol, mom, work, phi, uh, ul, g_kinetic(3)
     logical :: mixture
 
     vol = grid%cell_volume
     ! the conservative mixture-energy correction (module header), not with a solid phase
-    mixture = .not. state%solid%present
+    mixture = .not. present(solid)
     ! gravity work that stays kinetic: the components not carried as potential energy
     g_kinetic = gravity - potential_gravity(grid, gravity)
     ! energy defect and cell mass of the mixture correction: preallocated work storage

@@ -7,21 +7,23 @@
 !! adds it to p and dp_total (eq. 36) and corrects the face velocities
 !! u_m,f -= dt v_m,f (dp_R - dp_L)/dx, until max |rhs|/V (the volume-fraction constraint
 !! sum phi = 1 at the end of the step) is below the outer tolerance.
-!! Face pressure (eq. 37): p_f = (p_L rho_R + p_R rho_L)/(rho_L + rho_R), rho = sum_m rho_bar_m.
+!! The face pressures of eq. 37: `ice_face_pressures`.
 module ice_pressure
   use mpmice_log, only: log_repeated
   use mpmice_kinds, only: wp
   use mpmice_errors, only: real_short_text
   use grid_layout, only: grid_t, cell_centre
   use ice_state, only: ice_state_t
+  use ice_solid_view, only: ice_solid_view_t
   use ice_face_velocity, only: face_range
   implicit none
   private
 
-  public :: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, ice_face_pressure
+  public :: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, pore_min
   public :: solid_face_fraction, platen_fluid_faces, report_pressure_failure
 
-  real(wp), parameter :: pore_min = 1.0e-3_wp  !< smallest pore fraction in the face weights
+  !> smallest pore fraction in the face weights (platen faces, `ice_face_pressures`)
+  real(wp), parameter :: pore_min = 1.0e-3_wp
 
 contains
 
@@ -31,11 +33,14 @@ contains
   !! theta dt^2 A c to its inner cell's diagonal, `platen_fluid_faces`). Written as one sweep per
   !! direction and material over the faces (branch-free, no calls per face) with the sums in
   !! the same order as a per-face loop over the materials.
-  subroutine ice_pressure_assemble(state, grid, dt, theta)
+  subroutine ice_pressure_assemble(state, grid, dt, theta, solid)
     type(ice_state_t), intent(inout) :: state  !< fluids (uface, vface, vfrac read)
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: theta              !< implicit weight of the pressure change
+    !> the solid phase of a coupled scene: its face specific volume joins the coefficients, a
+    !! loading platen the diagonal
+    class(ice_solid_view_t), intent(in), optional :: solid
     integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3), c(3)
     real(wp) :: area, w_lo, w_hi
 
@@ -60,7 +65,7 @@ contains
           end do
         end associate
       end do
-      if (state%solid%present) then
+      if (present(solid)) then
         do side = 1, 2
           if (.not. open_plane(state, grid, d, r, side, lo, hi)) cycle
           do k = lo(3), hi(3)
@@ -73,11 +78,23 @@ contains
           end do
         end do
       end if
+      if (present(solid)) then
+        ! the solid's phi_s,f v_s,f (phi_s,f the fraction that crosses, `solid_face_fraction`)
+        associate (us => solid%uface, low => solid%face_fraction, &
+          high => solid%face_fraction_hi, vs => solid%vface)
+          do k = r(1, 3), r(2, 3)
+            do j = r(1, 2), r(2, 2)
+              do i = r(1, 1), r(2, 1)
+                state%coef(i, j, k, d) = state%coef(i, j, k, d) + flux_fraction(us(i, j, k, d), &
+                  low(i, j, k, d), high(i, j, k, d)) * vs(i, j, k, d)
+              end do
+            end do
+          end do
+        end associate
+      end if
       do k = r(1, 3), r(2, 3)
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
-            if (state%solid%present) state%coef(i, j, k, d) = state%coef(i, j, k, d) + &
-              solid_face_fraction(state, d, o, i, j, k) * state%solid%vface(i, j, k, d)
             state%coef(i, j, k, d) = theta * dt**2 * area / grid%dx(d) * state%coef(i, j, k, d)
           end do
         end do
@@ -108,17 +125,17 @@ contains
       end do
       ! a loading platen: dp of the inner cell pushes the platen and the skeleton behind it
       ! outward by theta dt c dp (`solid_face_predictor`), and the outward volume flux with it
-      if (.not. state%solid%present) cycle
+      if (.not. present(solid)) cycle
       r = face_range(grid, d)
       area = grid%cell_volume / grid%dx(d)
       do side = 1, 2
-        if (.not. platen_plane(state, grid, d, r, side, lo, hi)) cycle
+        if (.not. platen_plane(solid, grid, d, r, side, lo, hi)) cycle
         do k = lo(3), hi(3)
           do j = lo(2), hi(2)
             do i = lo(1), hi(1)
               c = [i, j, k] - merge(o, 0, side == 2)
               state%diag(c(1), c(2), c(3)) = state%diag(c(1), c(2), c(3)) + theta * dt**2 * &
-                area * state%solid%platen_coef(i, j, k, d)
+                area * solid%platen_coef(i, j, k, d)
             end do
           end do
         end do
@@ -130,10 +147,13 @@ contains
   !! rank's max |rhs|/V (the volume-fraction constraint residual). One sweep per direction and
   !! material (no calls per face), each cell's sum in the order of a per-cell loop over the
   !! directions and materials.
-  function ice_pressure_rhs(state, grid, dt) result(residual)
+  function ice_pressure_rhs(state, grid, dt, solid) result(residual)
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
+    !> the solid phase of a coupled scene: its volume flux (phi_s,f u_s,f and the rigid
+    !! bodies' prescribed flux) and its fraction source join the right-hand side
+    class(ice_solid_view_t), intent(in), optional :: solid
     real(wp) :: residual
     integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3), c(3)
     real(wp) :: area, flux
@@ -166,7 +186,7 @@ contains
           end do
         end associate
       end do
-      if (state%solid%present) then
+      if (present(solid)) then
         r = face_range(grid, d)
         do side = 1, 2
           if (.not. open_plane(state, grid, d, r, side, lo, hi)) cycle
@@ -183,28 +203,41 @@ contains
           end do
         end do
       end if
-      if (state%solid%present) then
+      if (present(solid)) then
+        ! the solid's volume flux phi_s,f u_s,f and the rigid bodies' prescribed one
+        associate (us => solid%uface, low => solid%face_fraction, &
+          high => solid%face_fraction_hi, rigid => solid%rigid_flux)
+          do k = grid%lo(3), grid%hi(3)
+            do j = grid%lo(2), grid%hi(2)
+              do i = grid%lo(1), grid%hi(1)
+                state%rhs(i, j, k) = state%rhs(i, j, k) - dt * area * ( &
+                  flux_fraction(us(i + o(1), j + o(2), k + o(3), d), &
+                  low(i + o(1), j + o(2), k + o(3), d), high(i + o(1), j + o(2), k + o(3), d)) * &
+                  us(i + o(1), j + o(2), k + o(3), d) - &
+                  flux_fraction(us(i, j, k, d), low(i, j, k, d), high(i, j, k, d)) * &
+                  us(i, j, k, d) + rigid(i + o(1), j + o(2), k + o(3), d) - rigid(i, j, k, d))
+              end do
+            end do
+          end do
+        end associate
+      end if
+    end do
+    if (present(solid)) then
+      ! a coupled scene: solid volume the particles hold beyond the tracked fraction
+      associate (source => solid%source)
         do k = grid%lo(3), grid%hi(3)
           do j = grid%lo(2), grid%hi(2)
             do i = grid%lo(1), grid%hi(1)
-              state%rhs(i, j, k) = state%rhs(i, j, k) - dt * area * ( &
-                solid_face_fraction(state, d, o, i + o(1), j + o(2), k + o(3)) * &
-                state%solid%uface(i + o(1), j + o(2), k + o(3), d) - &
-                solid_face_fraction(state, d, o, i, j, k) * state%solid%uface(i, j, k, d) + &
-                state%solid%rigid_flux(i + o(1), j + o(2), k + o(3), d) - &
-                state%solid%rigid_flux(i, j, k, d))
+              state%rhs(i, j, k) = state%rhs(i, j, k) + grid%cell_volume * source(i, j, k)
             end do
           end do
         end do
-      end if
-    end do
+      end associate
+    end if
     residual = 0.0_wp
     do k = grid%lo(3), grid%hi(3)
       do j = grid%lo(2), grid%hi(2)
         do i = grid%lo(1), grid%hi(1)
-          ! a coupled scene: solid volume the particles hold beyond the tracked fraction
-          if (state%solid%present) state%rhs(i, j, k) = state%rhs(i, j, k) + &
-            grid%cell_volume * state%solid%source(i, j, k)
           residual = max(residual, abs(state%rhs(i, j, k)) / grid%cell_volume)
         end do
       end do
@@ -216,10 +249,11 @@ contains
   !! residual, the fractions of the solid (tracked, and the particles' excess as `source`) and
   !! of each fluid, the pressure [Pa], dp_total [Pa] and the operator's diagonal: where and why
   !! the volume constraint could not be met.
-  subroutine report_pressure_failure(state, grid, residual)
+  subroutine report_pressure_failure(state, grid, residual, solid)
     type(ice_state_t), intent(in) :: state  !< fields after the last outer iteration
     type(grid_t), intent(in) :: grid        !< block geometry
     real(wp), intent(in) :: residual        !< global max |rhs|/V
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     character(len=:), allocatable :: text
     integer :: c(3), d, m
     c = maxloc(abs(state%rhs(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), &
@@ -230,9 +264,9 @@ contains
       text = text // ' ' // real_short_text(cell_centre(grid, d, c(d)))
     end do
     text = text // ' m: |rhs|/V ' // real_short_text(residual) // ','
-    if (state%solid%present) text = text // ' solid fraction ' // &
-      real_short_text(state%solid%vfrac(c(1), c(2), c(3))) // ' source ' // &
-      real_short_text(state%solid%source(c(1), c(2), c(3))) // ','
+    if (present(solid)) text = text // ' solid fraction ' // &
+      real_short_text(solid%vfrac(c(1), c(2), c(3))) // ' source ' // &
+      real_short_text(solid%source(c(1), c(2), c(3))) // ','
     do m = 1, state%nfluids
       text = text // ' ' // trim(state%fluid(m)%name) // ' fraction ' // &
         real_short_text(state%fluid(m)%vfrac(c(1), c(2), c(3))) // ','
@@ -246,11 +280,13 @@ contains
   !> After a solve (dp valid in one ghost layer): p += dp, dp_total += dp on the owned cells and
   !! u_m,f -= dt v_m,f (dp_R - dp_L)/dx on the faces of the owned cells; on a loading platen the
   !! solid's u_s,f += theta dt c dp (outward, c = `platen_coef`) and the fluids' follow it.
-  subroutine ice_pressure_correct(state, grid, dt, theta)
+  subroutine ice_pressure_correct(state, grid, dt, theta, solid)
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: theta              !< implicit weight of the pressure change
+    !> the solid phase of a coupled scene: its face velocity corrected as well
+    class(ice_solid_view_t), intent(inout), optional :: solid
     integer :: d, m, i, j, k, o(3), r(2, 3), side, plo(3), phi(3), c(3)
     real(wp) :: g
 
@@ -285,13 +321,13 @@ contains
           end do
         end associate
       end do
-      if (.not. state%solid%present) cycle
+      if (.not. present(solid)) cycle
       do k = r(1, 3), r(2, 3)
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
             g = theta * (state%dp(i, j, k) - state%dp(i - o(1), j - o(2), k - o(3))) / grid%dx(d)
-            state%solid%uface(i, j, k, d) = state%solid%uface(i, j, k, d) - &
-              dt * state%solid%vface(i, j, k, d) * g
+            solid%uface(i, j, k, d) = solid%uface(i, j, k, d) - &
+              dt * solid%vface(i, j, k, d) * g
           end do
         end do
       end do
@@ -299,47 +335,48 @@ contains
       ! dp > 0), the fluids' from it
       r = face_range(grid, d)
       do side = 1, 2
-        if (.not. platen_plane(state, grid, d, r, side, plo, phi)) cycle
+        if (.not. platen_plane(solid, grid, d, r, side, plo, phi)) cycle
         do k = plo(3), phi(3)
           do j = plo(2), phi(2)
             do i = plo(1), phi(1)
               c = [i, j, k] - merge(o, 0, side == 2)
-              state%solid%uface(i, j, k, d) = state%solid%uface(i, j, k, d) + &
+              solid%uface(i, j, k, d) = solid%uface(i, j, k, d) + &
                 merge(1.0_wp, -1.0_wp, side == 2) * theta * dt * &
-                state%solid%platen_coef(i, j, k, d) * state%dp(c(1), c(2), c(3))
+                solid%platen_coef(i, j, k, d) * state%dp(c(1), c(2), c(3))
             end do
           end do
         end do
       end do
     end do
-    call platen_fluid_faces(state, grid)
+    call platen_fluid_faces(state, grid, solid)
   end subroutine ice_pressure_correct
 
-  !> Fluid face velocities of the loading platens (`solid_phase_t%platen`: a closed domain
+  !> Fluid face velocities of the loading platens (`ice_solid_view_t%platen`: a closed domain
   !! face where the skeleton carries a surface load). The platen is impermeable and moves with
   !! the skeleton (no relative flow through it), so the mixture's outward volume flux there is
   !! the solid's face velocity u_s. The solid crosses the plane with its own flux phi_s,f u_s
   !! (`solid_face_fraction`: none while the skeleton moves inward, its particles staying inside
   !! the domain); the fluids fill the rest: each gets u = (1 - phi_s,f) u_s / sum_m phi_m,up,
   !! phi_m,up the upwind fractions of eq. 35. Without solid at the face (u_s = 0) a plain wall.
-  subroutine platen_fluid_faces(state, grid)
+  subroutine platen_fluid_faces(state, grid, solid)
     type(ice_state_t), intent(inout) :: state  !< fluids (uface on platen faces written)
     type(grid_t), intent(in) :: grid           !< block geometry
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3)
     real(wp) :: us, phi_up, u
-    if (.not. state%solid%present) return
-    if (.not. any(state%solid%platen)) return
+    if (.not. present(solid)) return
+    if (.not. any(solid%platen)) return
     do d = 1, 3
       if (.not. grid%active(d)) cycle
       o = 0
       o(d) = 1
       r = face_range(grid, d)
       do side = 1, 2
-        if (.not. platen_plane(state, grid, d, r, side, lo, hi)) cycle
+        if (.not. platen_plane(solid, grid, d, r, side, lo, hi)) cycle
         do k = lo(3), hi(3)
           do j = lo(2), hi(2)
             do i = lo(1), hi(1)
-              us = state%solid%uface(i, j, k, d)
+              us = solid%uface(i, j, k, d)
               phi_up = 0.0_wp
               do m = 1, state%nfluids
                 phi_up = phi_up + merge(state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)), &
@@ -347,7 +384,7 @@ contains
               end do
               u = 0.0_wp
               if (phi_up > pore_min) then
-                u = (1.0_wp - solid_face_fraction(state, d, o, i, j, k)) * us / phi_up
+                u = (1.0_wp - solid_face_fraction(solid, d, o, i, j, k)) * us / phi_up
               end if
               do m = 1, state%nfluids
                 state%fluid(m)%uface(i, j, k, d) = u
@@ -360,117 +397,45 @@ contains
   end subroutine platen_fluid_faces
 
   !> True when the domain plane of direction `d` on `side` (1 low, 2 high) is a loading platen
-  !! (`solid_phase_t%platen`) that this rank holds; `lo`, `hi`: its faces.
-  logical function platen_plane(state, grid, d, r, side, lo, hi)
-    type(ice_state_t), intent(in) :: state  !< fluids and solid phase
+  !! (`ice_solid_view_t%platen`) that this rank holds; `lo`, `hi`: its faces.
+  logical function platen_plane(solid, grid, d, r, side, lo, hi)
+    class(ice_solid_view_t), intent(in) :: solid !< solid phase
     type(grid_t), intent(in) :: grid        !< block geometry
     integer, intent(in) :: d                !< face direction
     integer, intent(in) :: r(2, 3)          !< face range of this rank
     integer, intent(in) :: side             !< 1: low plane, 2: high plane
     integer, intent(out) :: lo(3), hi(3)    !< face range of the plane
     platen_plane = held_plane(grid, d, r, side, lo, hi)
-    if (.not. state%solid%present) platen_plane = .false.
-    if (platen_plane) platen_plane = state%solid%platen(2 * d - 2 + side)
+    if (platen_plane) platen_plane = solid%platen(2 * d - 2 + side)
   end function platen_plane
-
-  !> Face pressures of eq. 37 (weights: total bulk density of the fluids of the two cells, per
-  !! pore volume 1 - phi_s where a solid phase is present); a wall face takes the pressure of its
-  !! inner cell extrapolated hydrostatically, p_c -+ rho_c g dx/2 with the same density, so that
-  !! the wall carries the weight of a fluid at rest (in a porous cell the fluid's intrinsic
-  !! density: the bulk one left the wall cells of a porous cavity 0.3 g out of balance, whose drag
-  !! heated the water by 0.03 K per day). Needs the pressure valid in one ghost layer.
-  subroutine ice_face_pressure(state, grid, gravity)
-    type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
-    type(grid_t), intent(in) :: grid           !< block geometry
-    real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
-    integer :: d, i, j, k, o(3), r(2, 3), inner(2, 3), side, idx
-    real(wp) :: rl, rr
-
-    do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
-      r = face_range(grid, d)
-      ! inner faces: the faces on a non-periodic domain boundary are done below
-      inner = r
-      if (.not. grid%periodic(d)) then
-        inner(1, d) = max(r(1, d), 2)
-        inner(2, d) = min(r(2, d), grid%ncells(d))
-      end if
-      do k = inner(1, 3), inner(2, 3)
-        do j = inner(1, 2), inner(2, 2)
-          do i = inner(1, 1), inner(2, 1)
-            call face_densities(state, i, j, k, o, rl, rr)
-            state%pface(i, j, k, d) = (state%pressure(i - o(1), j - o(2), k - o(3)) * rr + &
-              state%pressure(i, j, k) * rl) / (rl + rr)
-          end do
-        end do
-      end do
-      if (grid%periodic(d)) cycle
-      do side = 1, 2
-        idx = merge(1, grid%ncells(d) + 1, side == 1)
-        if (idx < r(1, d) .or. idx > r(2, d)) cycle
-        inner = r
-        inner(:, d) = idx
-        do k = inner(1, 3), inner(2, 3)
-          do j = inner(1, 2), inner(2, 2)
-            do i = inner(1, 1), inner(2, 1)
-              if (.not. state%closed(2 * d - 2 + side)) then
-                state%pface(i, j, k, d) = state%p_boundary(2 * d - 2 + side)
-              else if (side == 1) then
-                call face_densities(state, i, j, k, o, rl, rr)
-                state%pface(i, j, k, d) = state%pressure(i, j, k) - 0.5_wp * rr * gravity(d) * &
-                  grid%dx(d)
-              else
-                call face_densities(state, i, j, k, o, rl, rr)
-                state%pface(i, j, k, d) = state%pressure(i - o(1), j - o(2), k - o(3)) + &
-                  0.5_wp * rl * gravity(d) * grid%dx(d)
-              end if
-            end do
-          end do
-        end do
-      end do
-    end do
-  end subroutine ice_face_pressure
 
   !> Solid volume fraction of the low face of cell (i,j,k) in direction d for the solid's
   !! volume flux of eq. 35: the grain fraction the particles place on the upwind side of the face
   !! plane (`mpmice_solid_cells`), so that the flux phi_s,f u_s,f is the grain volume that
   !! actually crosses the face: zero where a free surface of the soil moves away from the face,
   !! the full fraction inside a body (a cell-averaged upwind value is wrong at such a surface).
-  pure real(wp) function solid_face_fraction(state, d, o, i, j, k) result(phi)
-    type(ice_state_t), intent(in) :: state  !< solid phase
+  pure real(wp) function solid_face_fraction(solid, d, o, i, j, k) result(phi)
+    class(ice_solid_view_t), intent(in) :: solid !< solid phase
     integer, intent(in) :: d                !< face direction
     integer, intent(in) :: o(3)             !< unit offset along d (unused: kept for symmetry)
     integer, intent(in) :: i, j, k          !< face index (low face of cell i,j,k)
     if (.false.) phi = real(o(1), wp)
-    if (state%solid%uface(i, j, k, d) >= 0.0_wp) then
-      phi = state%solid%face_fraction(i, j, k, d)
-    else
-      phi = state%solid%face_fraction_hi(i, j, k, d)
-    end if
+    phi = flux_fraction(solid%uface(i, j, k, d), solid%face_fraction(i, j, k, d), &
+      solid%face_fraction_hi(i, j, k, d))
   end function solid_face_fraction
-  !> Weights of the face pressure of eq. 37 at the low face of cell (i,j,k) in direction o: the
-  !! fluids' total bulk density of the low (`rl`) and high (`rr`) cell, per pore volume where a
-  !! solid phase is present (the pore pressure at rest carries the weight of the fluid alone,
-  !! rho_f g; the skeleton's weight is borne by its stress).
-  pure subroutine face_densities(state, i, j, k, o, rl, rr)
-    type(ice_state_t), intent(in) :: state  !< fluids and solid phase
-    integer, intent(in) :: i, j, k          !< face index (low face of cell i,j,k)
-    integer, intent(in) :: o(3)             !< unit offset along the face normal
-    real(wp), intent(out) :: rl, rr         !< low and high cell weights [kg/m^3]
-    integer :: m
-    rl = 0.0_wp
-    rr = 0.0_wp
-    do m = 1, state%nfluids
-      rl = rl + state%fluid(m)%rho(i - o(1), j - o(2), k - o(3))
-      rr = rr + state%fluid(m)%rho(i, j, k)
-    end do
-    if (state%solid%present) then
-      rl = rl / max(1.0_wp - state%solid%vfrac(i - o(1), j - o(2), k - o(3)), pore_min)
-      rr = rr / max(1.0_wp - state%solid%vfrac(i, j, k), pore_min)
+
+  !> The solid fraction that crosses a face with solid velocity `u`: the one on the face plane's
+  !! low side (`low`) for u >= 0, on its high side (`high`) otherwise.
+  elemental real(wp) function flux_fraction(u, low, high) result(phi)
+    real(wp), intent(in) :: u     !< solid face velocity [m/s]
+    real(wp), intent(in) :: low   !< fraction on the low side of the face plane [-]
+    real(wp), intent(in) :: high  !< fraction on its high side [-]
+    if (u >= 0.0_wp) then
+      phi = low
+    else
+      phi = high
     end if
-  end subroutine face_densities
+  end function flux_fraction
 
   !> True when face `idx` (global index along d) lies on a non-periodic domain boundary
   !! (`boundary_face` for one index, without the index vector).

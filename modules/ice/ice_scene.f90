@@ -28,13 +28,14 @@ module ice_scene
   use ice_bc, only: ice_bc_init
   use ice_initial, only: ice_initial_state
   use ice_viscous, only: ice_viscous_dt
+  use ice_solid_view, only: ice_solid_view_t
   use ice_stages, only: ice_fluids_t, ice_stage_equilibrate, ice_stage_face_velocities, &
     ice_stage_face_exchange, ice_stage_pressure, ice_stage_lagrangian, ice_stage_cell_exchange, &
     ice_stage_advect, ice_step_begin, ice_step_reject, exchange_primitives
   implicit none
   private
 
-  public :: ice_scene_t
+  public :: ice_scene_t, ice_fluids_stable_dt
 
   !> Multi-fluid ICE with implicit pressure: the fluids of `ice_fluids_t` and the scene
   !! interface; its step is the sequence of `ice_stages`.
@@ -138,14 +139,26 @@ contains
       int_text(failed) // ' cells')
   end subroutine ice_scene_setup
 
-  !> CFL limit: cfl * min over cells, directions and fluids of dx / (|u| + f c), f the
-  !! sound-speed factor (0: the advective limit of the implicit scheme), and cfl times the
-  !! explicit viscosity/conduction limit (`ice_viscous_dt`, with the Smagorinsky eddy viscosity).
+  !> The ICE scene's stable step: `ice_fluids_stable_dt` without a solid phase.
   function ice_scene_stable_dt(self, dom, grid, cfl) result(dt)
     class(ice_scene_t), intent(inout) :: self  !< scene
     type(domain_t), intent(in) :: dom          !< decomposition
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: cfl                !< Courant number
+    real(wp) :: dt
+    dt = ice_fluids_stable_dt(self, dom, grid, cfl)
+  end function ice_scene_stable_dt
+
+  !> CFL limit: cfl * min over cells, directions and fluids of dx / (|u| + f c), f the
+  !! sound-speed factor (0: the advective limit of the implicit scheme), and cfl times the
+  !! explicit viscosity/conduction limit (`ice_viscous_dt`, with the Smagorinsky eddy viscosity;
+  !! with the solid phase of a coupled scene, the momentum limit of its free fluid only).
+  function ice_fluids_stable_dt(self, dom, grid, cfl, solid) result(dt)
+    class(ice_fluids_t), intent(inout) :: self !< fluids
+    type(domain_t), intent(in) :: dom          !< decomposition
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: cfl                !< Courant number
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     real(wp) :: dt
     integer :: m, d, i, j, k
     real(wp) :: c, speed, rate, dt_viscous
@@ -177,9 +190,9 @@ contains
       dt = huge(1.0_wp)
     end if
     ! explicit viscosity and conduction
-    call ice_viscous_dt(self%state, grid, dt_viscous, self%smagorinsky)
+    call ice_viscous_dt(self%state, grid, dt_viscous, self%smagorinsky, solid)
     dt = min(dt, cfl * global_min(dom, dt_viscous))
-  end function ice_scene_stable_dt
+  end function ice_fluids_stable_dt
 
   !> One ICE step, the stages of `ice_stages` in order; rejected (state unchanged) when the
   !! equilibration or the outer iteration does not converge. A NaN or Inf in the pressure

@@ -7,8 +7,9 @@
 !!  sources eqs. 23-25, Lagrangian values eqs. 42-46) -> `ice_stage_cell_exchange`
 !!  (eqs. 50-51) -> `ice_stage_advect` (eqs. 58-65, interface compression).
 !!
-!! Each stage runs its own stage timer. The solid phase of a coupled scene (`ice_state_t%solid`)
-!! is seen by the kernels when present; the coupled scene adds the solid's own stages between
+!! Each stage runs its own stage timer. The solid phase of a coupled scene is an optional
+!! argument of the stages it changes, handed on to the kernels; the coupled scene adds the
+!! solid's own stages between
 !! these (`mpmice_scene`). `ice_fluids_t` holds what the stages need: the fluids, halos, the
 !! pressure solver, the face conditions and the numerical parameters.
 module ice_stages
@@ -24,10 +25,12 @@ module ice_stages
   use solver_pressure, only: struct_solver_t, struct_solver_set_operator, struct_solver_solve
   use scene_interface, only: scene_t
   use ice_state, only: ice_state_t
+  use ice_solid_view, only: ice_solid_view_t
   use ice_equilibration, only: ice_equilibrate, report_equilibration_failure
   use ice_face_velocity, only: ice_face_velocities
   use ice_pressure, only: ice_pressure_assemble, ice_pressure_rhs, ice_pressure_correct, &
-    ice_face_pressure, report_pressure_failure, platen_fluid_faces
+    report_pressure_failure, platen_fluid_faces
+  use ice_face_pressures, only: ice_face_pressure
   use ice_lagrangian, only: ice_lagrangian_values
   use ice_advection, only: ice_advect
   use ice_trace_fluids, only: tame_trace_fluids
@@ -114,18 +117,20 @@ contains
 
   !> Pressure equilibration of every cell (eqs. 10-11; with a solid phase sum phi_f = n).
   !! False (with a warning, the step rejected by `ice_step_reject`) when a cell fails.
-  logical function ice_stage_equilibrate(self, dom, grid, time, timers) result(ok)
+  logical function ice_stage_equilibrate(self, dom, grid, time, timers, solid) result(ok)
     class(ice_fluids_t), intent(inout) :: self   !< fluids
     type(domain_t), intent(in) :: dom            !< decomposition
     type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: time                 !< time at the start of the step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     integer :: its, failed, bad_cell(3)
     call timer_start(timers, self%t_equil)
-    call ice_equilibrate(self%state, grid, self%eq_tolerance, self%eq_max, its, failed, bad_cell)
+    call ice_equilibrate(self%state, grid, self%eq_tolerance, self%eq_max, its, failed, bad_cell, &
+      solid)
     call ice_bc_fill(grid, self%bc, self%state%pressure, bc_pressure)
     call timer_stop(timers, self%t_equil)
-    call report_equilibration_failure(self%state, grid, failed, bad_cell)
+    call report_equilibration_failure(self%state, grid, failed, bad_cell, solid)
     ok = global_sum(dom, failed) == 0
     if (ok) return
     call log_warning(trim(self%label) // ' equilibration failed at t = ' // &
@@ -147,17 +152,22 @@ contains
     call timer_stop(timers, self%t_face)
   end subroutine ice_stage_face_velocities
 
-  !> Implicit momentum exchange at the faces over face_time dt (eq. 34; with a solid phase its
-  !! drag)
-  !! and, with loading platens, the fluids' face velocities there.
-  subroutine ice_stage_face_exchange(self, grid, dt, timers)
+  !> Implicit momentum exchange at the faces over face_time dt (eq. 34; with a solid phase the
+  !! exchange layer's, `ice_solid_view_t%exchange_faces`, with its drag) and, with loading
+  !! platens, the fluids' face velocities there.
+  subroutine ice_stage_face_exchange(self, grid, dt, timers, solid)
     class(ice_fluids_t), intent(inout) :: self   !< fluids
     type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
+    class(ice_solid_view_t), intent(inout), optional :: solid !< solid phase of a coupled scene
     call timer_start(timers, self%t_face)
-    call ice_exchange_faces(self%state, grid, self%face_time * dt, self%k_exchange)
-    call platen_fluid_faces(self%state, grid)
+    if (present(solid)) then
+      call solid%exchange_faces(self%state, grid, self%face_time * dt, self%k_exchange)
+    else
+      call ice_exchange_faces(self%state, grid, self%face_time * dt, self%k_exchange)
+    end if
+    call platen_fluid_faces(self%state, grid, solid)
     call timer_stop(timers, self%t_face)
   end subroutine ice_stage_face_exchange
 
@@ -167,27 +177,28 @@ contains
   !! max |rhs|/V <= outer tolerance; at least one solve. False (with a warning) when it does not
   !! converge: the caller rejects the step. False with `nonfinite` set when a NaN or Inf met
   !! the system: the caller takes the step as it is, so the run fails with its state dumped.
-  logical function ice_stage_pressure(self, dom, grid, time, dt, timers) result(ok)
+  logical function ice_stage_pressure(self, dom, grid, time, dt, timers, solid) result(ok)
     class(ice_fluids_t), intent(inout) :: self   !< fluids
     type(domain_t), intent(in) :: dom            !< decomposition
     type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: time                 !< time at the start of the step [s]
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
+    class(ice_solid_view_t), intent(inout), optional :: solid !< solid phase of a coupled scene
     integer :: outer, pcg
     real(wp) :: residual, relres, weight
     logical :: converged
     weight = self%theta * self%face_time
     call timer_start(timers, self%t_pressure)
     self%state%dp_total = 0.0_wp
-    residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt))
+    residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt, solid))
     outer = 0
     ! at least one solve: skipping it when the constraint residual is small would make the step
     ! explicit in the acoustics (unstable at dt > dx/c) and let round-off grow
     do while ((residual > self%outer_tolerance .or. outer == 0) .and. outer < self%max_outer)
       outer = outer + 1
       call timer_start(timers, self%t_operator)
-      call ice_pressure_assemble(self%state, grid, dt, weight)
+      call ice_pressure_assemble(self%state, grid, dt, weight, solid)
       call struct_solver_set_operator(self%solver, grid, self%state%diag, &
         self%state%coef(:, :, :, 1), self%state%coef(:, :, :, 2), self%state%coef(:, :, :, 3))
       call timer_stop(timers, self%t_operator)
@@ -215,11 +226,11 @@ contains
       self%max_pcg_seen = max(self%max_pcg_seen, pcg)
       call halo_exchange_cell(self%halo, dom, grid, self%state%dp, 1)
       call ice_bc_fill(grid, self%bc, self%state%dp, bc_dp)
-      call ice_pressure_correct(self%state, grid, dt, weight)
+      call ice_pressure_correct(self%state, grid, dt, weight, solid)
       ! a NaN or Inf in the system (the solver's residual is then NaN on every rank): no retry
       ! with a shorter step can help; the pressure keeps the NaN in the cells concerned
       if (.not. ieee_is_finite(relres)) exit
-      residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt))
+      residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt, solid))
     end do
     call timer_stop(timers, self%t_pressure)
     if (.not. ieee_is_finite(relres)) then
@@ -232,7 +243,7 @@ contains
     end if
     ok = residual <= self%outer_tolerance
     if (.not. ok) then
-      call report_pressure_failure(self%state, grid, residual)
+      call report_pressure_failure(self%state, grid, residual, solid)
       call log_warning('ICE pressure outer iteration: max |rhs|/V = ' // &
         real_short_text(residual) // ' after ' // int_text(outer) // ' iterations at t = ' // &
         real_short_text(time) // ' s')
@@ -246,12 +257,13 @@ contains
   !! Euler; ghosts filled): face pressures (eq. 37), viscous and Smagorinsky sources
   !! (eqs. 23-25), Lagrangian values (eqs. 42-46). The pressure stays at p_eq + theta dp_total
   !! until `ice_stage_cell_exchange`.
-  subroutine ice_stage_lagrangian(self, dom, grid, dt, timers)
+  subroutine ice_stage_lagrangian(self, dom, grid, dt, timers, solid)
     class(ice_fluids_t), intent(inout) :: self   !< fluids
     type(domain_t), intent(in) :: dom            !< decomposition
     type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     integer :: m
     if (self%theta /= 1.0_wp) self%state%pressure = self%state%p_eq + &
       self%theta * self%state%dp_total
@@ -261,25 +273,31 @@ contains
     call timer_stop(timers, self%t_halo)
 
     call timer_start(timers, self%t_lagrange)
-    call ice_face_pressure(self%state, grid, self%gravity)
+    call ice_face_pressure(self%state, grid, self%gravity, solid)
     do m = 1, self%state%nfluids
       self%sources(:, :, :, :, m) = 0.0_wp
       call ice_viscous_sources(self%state, grid, m, dt, self%sources(:, :, :, 1:3, m), &
         self%sources(:, :, :, 4, m), self%smagorinsky)
     end do
-    call ice_lagrangian_values(self%state, grid, dt, self%gravity, self%sources)
+    call ice_lagrangian_values(self%state, grid, dt, self%gravity, self%sources, solid)
     call timer_stop(timers, self%t_lagrange)
   end subroutine ice_stage_lagrangian
 
-  !> Implicit momentum and heat exchange in the cells (eqs. 50-51; with a solid phase its drag
-  !! and heat, eqs. 52-55), then the end-of-step pressure p_eq + dp_total again.
-  subroutine ice_stage_cell_exchange(self, grid, dt, timers)
+  !> Implicit momentum and heat exchange in the cells (eqs. 50-51; with a solid phase the
+  !! exchange layer's, `ice_solid_view_t%exchange_cells`, with its drag and heat, eqs. 52-55),
+  !! then the end-of-step pressure p_eq + dp_total again.
+  subroutine ice_stage_cell_exchange(self, grid, dt, timers, solid)
     class(ice_fluids_t), intent(inout) :: self   !< fluids
     type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
+    class(ice_solid_view_t), intent(inout), optional :: solid !< solid phase of a coupled scene
     call timer_start(timers, self%t_lagrange)
-    call ice_exchange_cells(self%state, grid, dt, self%k_exchange, self%h_exchange)
+    if (present(solid)) then
+      call solid%exchange_cells(self%state, grid, dt, self%k_exchange, self%h_exchange)
+    else
+      call ice_exchange_cells(self%state, grid, dt, self%k_exchange, self%h_exchange)
+    end if
     if (self%theta /= 1.0_wp) self%state%pressure = self%state%p_eq + self%state%dp_total
     call timer_stop(timers, self%t_lagrange)
   end subroutine ice_stage_cell_exchange
@@ -288,7 +306,7 @@ contains
   !! `traces` (default false): traces of a fluid take the cell's mixture values
   !! (`tame_trace_fluids`, the coupled scene). Then the interface compression. Logs the cells
   !! left with a negative mass.
-  subroutine ice_stage_advect(self, dom, grid, time, dt, timers, traces)
+  subroutine ice_stage_advect(self, dom, grid, time, dt, timers, traces, solid)
     class(ice_fluids_t), intent(inout) :: self   !< fluids
     type(domain_t), intent(in) :: dom            !< decomposition
     type(grid_t), intent(in) :: grid             !< block geometry
@@ -296,6 +314,7 @@ contains
     real(wp), intent(in) :: dt                   !< step [s]
     type(timer_set_t), intent(inout) :: timers   !< stage timers
     logical, intent(in), optional :: traces      !< tame the fluids' traces
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     integer :: negative
     logical :: tame
     tame = .false.
@@ -305,7 +324,7 @@ contains
     call timer_stop(timers, self%t_halo)
 
     call timer_start(timers, self%t_advect)
-    call ice_advect(self%state, grid, dt, self%order, negative, self%gravity)
+    call ice_advect(self%state, grid, dt, self%order, negative, self%gravity, solid)
     call timer_stop(timers, self%t_advect)
     if (tame) call tame_trace_fluids(self%state, grid, negative)
     negative = global_sum(dom, negative)
@@ -318,7 +337,7 @@ contains
     if (self%compression > 0.0_wp) then
       ! the free surface's compression (free fluid only; ice_interface_compression)
       call timer_start(timers, self%t_advect)
-      call compress_interface(self%state, grid, dt, self%compression)
+      call compress_interface(self%state, grid, dt, self%compression, solid)
       call timer_stop(timers, self%t_advect)
       call timer_start(timers, self%t_halo)
       call exchange_primitives(self, dom, grid)

@@ -8,7 +8,6 @@ module ice_state
   use mpmice_kinds, only: wp, name_len
   use grid_layout, only: grid_t
   use ice_eos, only: eos_t
-  use exchange_solid_phase, only: solid_phase_t, solid_phase_free
   implicit none
   private
 
@@ -54,7 +53,6 @@ module ice_state
     real(wp) :: p_boundary(6) = 0.0_wp              !< pressure of an open face [Pa]
     integer :: inflow_fluid(6) = 0                  !< fluid filling a face's inflow (0: the
                                                     !< inner cell's composition)
-    type(solid_phase_t) :: solid                    !< solid phase of a coupled scene
   end type ice_state_t
 
 contains
@@ -115,7 +113,6 @@ contains
     if (allocated(state%cons)) deallocate(state%cons)
     if (allocated(state%lag_work)) deallocate(state%lag_work)
     if (allocated(state%eddy_viscosity)) deallocate(state%eddy_viscosity)
-    call solid_phase_free(state%solid)
     state%nfluids = 0
   end subroutine ice_state_free
 end module ice_state

@@ -27,6 +27,7 @@ module ice_viscous
   use mpmice_errors, only: fatal
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
+  use ice_solid_view, only: ice_solid_view_t
   implicit none
   private
 
@@ -213,15 +214,17 @@ contains
   !! Smagorinsky eddy viscosity of the fluid when `smagorinsky` > 0) or k v / cv (heat), over
   !! fluids and owned cells (momentum: without the cells holding solid of a coupled scene); huge
   !! when there is no diffusion.
-  subroutine ice_viscous_dt(state, grid, dt, smagorinsky)
+  subroutine ice_viscous_dt(state, grid, dt, smagorinsky, solid)
     type(ice_state_t), intent(inout) :: state  !< fluids (`eddy_viscosity`: work)
     type(grid_t), intent(in) :: grid        !< block geometry
     real(wp), intent(out) :: dt             !< the limit [s]
     real(wp), intent(in), optional :: smagorinsky  !< Smagorinsky constant C_s [-] (<= 0: none)
+    !> the solid phase of a coupled scene: its cells do not limit the momentum diffusion
+    class(ice_solid_view_t), intent(in), optional :: solid
     real(wp) :: diffusivity, s_all, s_free, rho_min, cs, nu_max
     logical :: with_solid
     integer :: m, i, j, k
-    with_solid = state%solid%present
+    with_solid = present(solid)
     cs = 0.0_wp
     if (present(smagorinsky)) cs = smagorinsky
     diffusivity = 0.0_wp
@@ -247,7 +250,7 @@ contains
               if (f%rho(i, j, k) <= rho_min) cycle
               s_all = max(s_all, f%spvol(i, j, k))
               if (with_solid) then
-                if (state%solid%vfrac(i, j, k) > 0.0_wp) cycle
+                if (solid%vfrac(i, j, k) > 0.0_wp) cycle
               end if
               s_free = max(s_free, f%spvol(i, j, k))
               if (cs > 0.0_wp) nu_max = max(nu_max, state%eddy_viscosity(i, j, k))

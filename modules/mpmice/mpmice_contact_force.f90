@@ -9,6 +9,7 @@ module mpmice_contact_force
   use grid_layout, only: grid_t
   use io_files, only: io_open_series
   use ice_state, only: ice_state_t
+  use exchange_solid_phase, only: solid_phase_t
   use mpm_scene, only: mpm_scene_t
   use mpm_constitutive, only: model_rigid
   use mpm_rigid, only: rigid_is_static
@@ -61,11 +62,12 @@ contains
   !! `<solid>_fluid_fx, _fluid_fy, _fluid_fz` per rigid solid [N] (per the grid's depth in an
   !! inactive dimension). Like the owner map, the bodies' cell fractions are computed once when
   !! none of the bodies moves.
-  subroutine contact_force_write(self, so, state, halo, dom, grid, time, dep, contact_f, &
+  subroutine contact_force_write(self, so, state, solid, halo, dom, grid, time, dep, contact_f, &
     gravity)
     type(contact_force_t), intent(inout) :: self  !< series and owner map
     type(mpm_scene_t), intent(in) :: so           !< the solids
     type(ice_state_t), intent(in) :: state        !< fluids (pressure) and solid phase
+    type(solid_phase_t), intent(in) :: solid !< solid phase
     type(halo_t), intent(inout) :: halo           !< cell halo buffers (one component)
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
@@ -112,7 +114,7 @@ contains
     fluid = 0.0_wp
     do s = 1, so%nsolids
       if (so%mats(s)%model /= model_rigid) cycle
-      fluid(:, s) = fluid_pressure_force(state, grid, self%body_frac, s, gravity)
+      fluid(:, s) = fluid_pressure_force(state, solid, grid, self%body_frac, s, gravity)
     end do
     do s = 1, so%nsolids
       force(:, s) = global_sum(dom, force(:, s))

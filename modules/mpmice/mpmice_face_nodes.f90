@@ -17,6 +17,7 @@ module mpmice_face_nodes
   use parallel_halo, only: halo_t, halo_exchange_node_vec
   use mpm_nodes, only: mpm_nodes_t, node_mass, node_rigid_mass, node_rigid_momentum
   use ice_state, only: ice_state_t
+  use exchange_solid_phase, only: solid_phase_t
   use ice_face_velocity, only: face_range, closed_face, face_index
   use mpmice_rigid_contact, only: body_face
   implicit none
@@ -36,8 +37,9 @@ contains
   !! bodies' volume flux phi_r,f u_r,f (upwind plane fraction, rigid momentum over mass at the
   !! face's nodes) is kept apart in `rigid_flux`. On a loading platen
   !! (`solid_phase_t%platen`) the face nodes get the pore fluid's share of the load.
-  subroutine solid_face_predictor(state, grid, nodes, dt, min_mass)
+  subroutine solid_face_predictor(state, solid, grid, nodes, dt, min_mass)
     type(ice_state_t), intent(inout) :: state   !< solid phase face fields written
+    type(solid_phase_t), intent(inout) :: solid !< solid phase
     type(grid_t), intent(in) :: grid            !< block geometry
     type(mpm_nodes_t), intent(in) :: nodes      !< node fields (vel_l = v^{L-})
     real(wp), intent(in) :: dt                  !< time step [s]
@@ -45,7 +47,7 @@ contains
     integer :: d, i, j, k, o(3), r(2, 3), span(3), a, b, e, n(3), face, inner(3)
     real(wp) :: m, mv, mi, vl, vr, v, mr, mvr, ur
     logical :: rigid
-    associate (sp => state%solid)
+    associate (sp => solid)
       do d = 1, 3
         if (.not. grid%active(d)) cycle
         o = 0
@@ -185,8 +187,8 @@ contains
   !! faces included. The caller applies the boundary conditions and eq. 69 afterwards. With
   !! sliding rigid bodies the nodes touching one (contact nodes) take the increments too, and
   !! faces that carry the rigid body (prescribed, flag in du(3 + d)) do not count in the mean.
-  subroutine solid_face_to_nodes(state, grid, dom, halo, nodes, du, min_mass)
-    type(ice_state_t), intent(in) :: state      !< solid phase face velocities
+  subroutine solid_face_to_nodes(solid, grid, dom, halo, nodes, du, min_mass)
+    type(solid_phase_t), intent(in) :: solid !< solid phase
     type(grid_t), intent(in) :: grid            !< block geometry
     type(domain_t), intent(in) :: dom           !< decomposition
     type(halo_t), intent(inout) :: halo         !< halo buffers (>= 3 components)
@@ -197,7 +199,7 @@ contains
     integer :: d, i, j, k, r(2, 3), span(3), a, b, e, c(3), cnt
     real(wp) :: s
     logical :: sliding
-    sliding = state%solid%sliding
+    sliding = solid%sliding
     du = 0.0_wp
     do d = 1, 3
       if (.not. grid%active(d)) cycle
@@ -205,8 +207,8 @@ contains
       do k = r(1, 3), r(2, 3)
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
-            du(d, i, j, k) = state%solid%uface(i, j, k, d) - state%solid%uface0(i, j, k, d)
-            du(3 + d, i, j, k) = state%solid%rigid_face(i, j, k, d)
+            du(d, i, j, k) = solid%uface(i, j, k, d) - solid%uface0(i, j, k, d)
+            du(3 + d, i, j, k) = solid%rigid_face(i, j, k, d)
           end do
         end do
       end do

@@ -7,6 +7,7 @@ module mpmice_porous_fluid
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
+  use exchange_solid_phase, only: solid_phase_t
   use ice_face_velocity, only: face_range, closed_face, upwind
   implicit none
   private
@@ -24,8 +25,9 @@ contains
   !! Darcy column had a 7 % too fast pore velocity and an odd-even velocity pattern in the free
   !! water) and lags in a consolidating column. The drag makes the face inertia negligible
   !! there, so the face momentum is not advected. The pressure and gravity terms stay.
-  subroutine fluid_face_predictor_porous(state, grid, previous)
+  subroutine fluid_face_predictor_porous(state, solid, grid, previous)
     type(ice_state_t), intent(inout) :: state   !< fluids (uface updated)
+    type(solid_phase_t), intent(in) :: solid !< solid phase
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(in) :: previous(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :) !< last
                                                 !! step's final face velocities (3, cells, fluid)
@@ -40,8 +42,8 @@ contains
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
             if (closed_face(state, grid, d, [i, j, k])) cycle
-            if (state%solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
-              state%solid%vfrac(i, j, k) <= 0.0_wp) cycle
+            if (solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
+              solid%vfrac(i, j, k) <= 0.0_wp) cycle
             do m = 1, state%nfluids
               associate (f => state%fluid(m))
                 rl = f%rho(i - o(1), j - o(2), k - o(3))
@@ -69,13 +71,14 @@ contains
   !! at a free surface next to the bed the fluid's fraction jumps from a full cell to a partly
   !! filled one, and n_up u / (2 phi_c) with phi_c < n_up / 2 amplified the face velocity (the
   !! 40 mm debris flow's water over the shelf edge: ten-fold per millisecond, then failure).
-  subroutine fluid_face_blend(state, grid)
+  subroutine fluid_face_blend(state, solid, grid)
     type(ice_state_t), intent(inout) :: state   !< fluids (lag(:,:,:,1:3) updated, owned cells)
+    type(solid_phase_t), intent(in) :: solid !< solid phase
     type(grid_t), intent(in) :: grid            !< block geometry
     integer :: m, i, j, k, d, o(3)
     real(wp) :: flo, fhi, ulo, uhi
     do m = 1, state%nfluids
-      associate (f => state%fluid(m), phi_s => state%solid%vfrac)
+      associate (f => state%fluid(m), phi_s => solid%vfrac)
         do d = 1, 3
           if (.not. grid%active(d)) cycle
           o = 0
@@ -84,7 +87,7 @@ contains
             do j = grid%lo(2), grid%hi(2)
               do i = grid%lo(1), grid%hi(1)
                 if (f%rho(i, j, k) <= 0.0_wp .or. f%vfrac(i, j, k) <= 0.0_wp) cycle
-                if (.not. near_solid(state, grid, [i, j, k])) cycle
+                if (.not. near_solid(solid, grid, [i, j, k])) cycle
                 ulo = f%uface(i, j, k, d)
                 uhi = f%uface(i + o(1), j + o(2), k + o(3), d)
                 flo = 1.0_wp - upwind(ulo, phi_s(i - o(1), j - o(2), k - o(3)), phi_s(i, j, k))
@@ -99,19 +102,19 @@ contains
   end subroutine fluid_face_blend
 
   !> True when cell c or one of its face neighbours holds solid.
-  pure logical function near_solid(state, grid, c) result(near)
-    type(ice_state_t), intent(in) :: state  !< solid phase
+  pure logical function near_solid(solid, grid, c) result(near)
+    type(solid_phase_t), intent(in) :: solid !< solid phase
     type(grid_t), intent(in) :: grid        !< block geometry
     integer, intent(in) :: c(3)             !< cell
     integer :: d, o(3)
-    near = state%solid%vfrac(c(1), c(2), c(3)) > 0.0_wp
+    near = solid%vfrac(c(1), c(2), c(3)) > 0.0_wp
     do d = 1, 3
       if (near) return
       if (.not. grid%active(d)) cycle
       o = 0
       o(d) = 1
-      near = state%solid%vfrac(c(1) - o(1), c(2) - o(2), c(3) - o(3)) > 0.0_wp .or. &
-        state%solid%vfrac(c(1) + o(1), c(2) + o(2), c(3) + o(3)) > 0.0_wp
+      near = solid%vfrac(c(1) - o(1), c(2) - o(2), c(3) - o(3)) > 0.0_wp .or. &
+        solid%vfrac(c(1) + o(1), c(2) + o(2), c(3) + o(3)) > 0.0_wp
     end do
   end function near_solid
 end module mpmice_porous_fluid

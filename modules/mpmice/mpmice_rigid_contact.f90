@@ -125,8 +125,9 @@ contains
   !! of those cells was frozen and sealed the corner a sliding block leaves behind (the pore
   !! water was sucked backwards through the block: over 0.12 s it reached 0.554 instead of 0.581
   !! of the drained block's acceleration).
-  subroutine partner_fields(state, grid, dep, solids, max_fraction, c)
+  subroutine partner_fields(state, solid, grid, dep, solids, max_fraction, c)
     type(ice_state_t), intent(inout) :: state   !< solid phase (spvol, drag, frac_def, xfrac)
+    type(solid_phase_t), intent(inout) :: solid !< solid phase
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(in) :: dep(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< deposits
     type(solid_coupling_t), intent(in) :: solids(:) !< coupling parameters per solid
@@ -153,7 +154,7 @@ contains
     phi_r = min(vol_r / grid%cell_volume, max_fraction)
     deformable = vol_d > 0.0_wp .and. phi_r < wall_fraction
     if (.not. deformable) phi_d = 0.0_wp
-    associate (sp => state%solid)
+    associate (sp => solid)
       sp%frac_def(c(1), c(2), c(3)) = phi_d
       sp%frac_rigid(c(1), c(2), c(3)) = phi_r
       if (deformable) then
@@ -202,8 +203,9 @@ contains
   !! zero elsewhere: grad p the mean of the cell differences around the node, v_s the mean grain
   !! specific volume of the surrounding cells with deformable solid. `nodal_solve` judges the
   !! contact on v + dt a, so that the face velocities of the pressure equation obey it.
-  subroutine contact_pressure_accel(state, grid, nodes, min_mass, accel)
+  subroutine contact_pressure_accel(state, solid, grid, nodes, min_mass, accel)
     type(ice_state_t), intent(in) :: state      !< pressure (ghosts filled) and solid phase
+    type(solid_phase_t), intent(in) :: solid !< solid phase
     type(grid_t), intent(in) :: grid            !< block geometry
     type(mpm_nodes_t), intent(in) :: nodes      !< node fields (after P2G)
     real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
@@ -212,7 +214,7 @@ contains
     real(wp) :: g(3), vs, wsum, w
     top = merge(1, 0, grid%active)
     accel = 0.0_wp
-    associate (sp => state%solid)
+    associate (sp => solid)
       do k = grid%lbn(3) + top(3), grid%ubn(3) - top(3)
         do j = grid%lbn(2) + top(2), grid%ubn(2) - top(2)
           do i = grid%lbn(1) + top(1), grid%ubn(1) - top(1)
@@ -265,8 +267,9 @@ contains
   !! domain face get no force (no fluid beyond). Absolute pressure: a body on the floor carries
   !! the full load p A of the fluid above it. Faces of the owned cells (the low face of each;
   !! needs `frac` and the pressure in two ghost layers); the caller sums over the ranks.
-  pure function fluid_pressure_force(state, grid, frac, s, gravity) result(force)
+  pure function fluid_pressure_force(state, solid, grid, frac, s, gravity) result(force)
     type(ice_state_t), intent(in) :: state      !< pressure (ghosts filled) and fluids
+    type(solid_phase_t), intent(in) :: solid !< solid phase
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(in) :: frac(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :) !< each solid's
                                                 !! cell fraction (zero for deformable solids)
@@ -306,8 +309,7 @@ contains
               if (sum(frac(c(1), c(2), c(3), :)) >= wall_fraction) cycle
             end if
             rho = 0.0_wp
-            porosity = 1.0_wp
-            if (state%solid%present) porosity = 1.0_wp - state%solid%vfrac(c(1), c(2), c(3))
+            porosity = 1.0_wp - solid%vfrac(c(1), c(2), c(3))
             if (porosity > 0.0_wp) then
               do m = 1, state%nfluids
                 rho = rho + state%fluid(m)%rho(c(1), c(2), c(3))

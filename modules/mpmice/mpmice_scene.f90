@@ -42,8 +42,8 @@ module mpmice_scene
   use io_xdmf, only: xdmf_particles_t
   use io_files, only: io_join_path
   use scene_interface, only: scene_t, scene_health_t
-  use exchange_solid_phase, only: solid_phase_alloc
-  use ice_scene, only: ice_scene_t
+  use exchange_solid_phase, only: solid_phase_t, solid_phase_alloc, solid_phase_free
+  use ice_scene, only: ice_scene_t, ice_fluids_stable_dt
   use ice_stages, only: exchange_primitives, ice_step_begin, ice_step_reject, &
     ice_stage_equilibrate, ice_stage_face_velocities, ice_stage_face_exchange, &
     ice_stage_pressure, ice_stage_lagrangian, ice_stage_cell_exchange, ice_stage_advect
@@ -86,6 +86,8 @@ module mpmice_scene
   type, extends(scene_t) :: mpmice_scene_t
     type(ice_scene_t) :: fl                               !< the fluids (ICE)
     type(mpm_scene_t) :: so                               !< the solids (MPM)
+    !> the solid phase on the fluid grid, handed to ICE's stages (`ice_stages`)
+    type(solid_phase_t) :: solid
     type(solid_coupling_t), allocatable :: coupling(:)    !< coupling parameters per solid
     type(surface_load_t), allocatable :: loads(:)         !< surface load per solid
     type(halo_t) :: halo                                  !< buffers for the cell deposits
@@ -181,14 +183,14 @@ contains
           c%traction_ramp_time, grid)
       end associate
     end do
-    call solid_phase_alloc(self%fl%state%solid, grid, self%fl%state%nfluids)
+    call solid_phase_alloc(self%solid, grid, self%fl%state%nfluids)
     self%fl%label = 'MPMICE'
     ! end-of-step face velocities for fluids and solid (docs/mpmice.md, "theta and Smagorinsky")
     self%fl%face_time = 1.0_wp
     ! frictional contact with rigid bodies: they keep their own velocity (docs/mpmice.md)
-    self%fl%state%solid%sliding = self%so%bc%friction_contact .and. &
+    self%solid%sliding = self%so%bc%friction_contact .and. &
       any(self%so%mats(:)%model == model_rigid)
-    self%fl%state%solid%explicit_drag = trim(par%coupling%drag_scheme) == 'explicit'
+    self%solid%explicit_drag = trim(par%coupling%drag_scheme) == 'explicit'
     ! a wall where the skeleton carries a surface load is a loading platen: impermeable, moving
     ! with the skeleton; the load beyond the face's `pressure` is shared with the pore fluid
     do face = 1, 6
@@ -197,10 +199,10 @@ contains
       if (self%so%bc%kind(face) /= bc_traction) cycle
       if (self%fl%bc%fluid(face) /= bc_wall .and. self%fl%bc%fluid(face) /= bc_free_slip) cycle
       b = par%mpm%faces(face)
-      self%fl%state%solid%platen(face) = .true.
+      self%solid%platen(face) = .true.
       self%fl%state%p_boundary(face) = b%pressure
     end do
-    self%fl%state%solid%h_exchange = par%coupling%heat_exchange_coefficient
+    self%solid%h_exchange = par%coupling%heat_exchange_coefficient
     allocate(self%dep(deposit_size(ns), grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
     if (any(self%so%static)) allocate(self%static_dep, mold=self%dep)
@@ -211,7 +213,7 @@ contains
     allocate(self%contact_acc, self%contact_f, mold=self%contact_dv)
     self%contact_acc = 0.0_wp
     self%contact_f = 0.0_wp
-    if (self%fl%state%solid%sliding) call contact_force_init(self%forces, self%so, grid, &
+    if (self%solid%sliding) call contact_force_init(self%forces, self%so, grid, &
       io_join_path(trim(par%mpm%run%output_dir), trim(par%mpm%run%name) // '_contact_force.csv'))
     allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
       grid%lbc(3):grid%ubc(3)), source=0.0_wp)
@@ -227,20 +229,21 @@ contains
     ! the initial solid fraction; the fluids fill the pores (their fractions scaled by n); with
     ! sliding rigid bodies a second deposit knows their wall cells (solid_deposit)
     call deposit_solids(self, dom, grid)
-    if (self%fl%state%solid%sliding) call deposit_solids(self, dom, grid)
-    self%fl%state%solid%vfrac = self%phi_p
+    if (self%solid%sliding) call deposit_solids(self, dom, grid)
+    self%solid%vfrac = self%phi_p
     ! ghosts beyond a domain face mirror the inner cell, like the fluids' bulk densities
-    call ice_bc_fill(grid, self%fl%bc, self%fl%state%solid%vfrac, bc_scalar)
-    self%phi_p = self%fl%state%solid%vfrac
-    self%fl%state%solid%source = 0.0_wp
+    call ice_bc_fill(grid, self%fl%bc, self%solid%vfrac, bc_scalar)
+    self%phi_p = self%solid%vfrac
+    self%solid%source = 0.0_wp
     do m = 1, self%fl%state%nfluids
       associate (f => self%fl%state%fluid(m))
         f%rho = f%rho * (1.0_wp - self%phi_p)
       end associate
     end do
     call exchange_primitives(self%fl, dom, grid)
-    call open_face_reservoirs(self%fl%state, grid)
-    call ice_equilibrate(self%fl%state, grid, self%fl%eq_tolerance, self%fl%eq_max, its, failed)
+    call open_face_reservoirs(self%fl%state, self%solid, grid)
+    call ice_equilibrate(self%fl%state, grid, self%fl%eq_tolerance, self%fl%eq_max, its, failed, &
+      solid=self%solid)
     if (global_sum(dom, failed) > 0) call fatal('mpmice scene: initial pressure equilibration ' &
       // 'with the solid failed')
     ! geostatic stress: the skeleton carries the grains' submerged weight (a restart has it)
@@ -272,7 +275,7 @@ contains
         self%static_dep = 0.0_wp
         do s = 1, ns
           if (self%so%static(s)) call solid_deposit(self%so%parts(s), s, ns, &
-            self%coupling(s), grid, self%static_dep, self%fl%state%solid%sliding)
+            self%coupling(s), grid, self%static_dep, self%solid%sliding)
         end do
         self%static_dep_ready = .true.
       end if
@@ -283,14 +286,14 @@ contains
     do s = 1, ns
       if (self%so%static(s)) cycle
       call solid_deposit(self%so%parts(s), s, ns, self%coupling(s), grid, self%dep, &
-        self%fl%state%solid%sliding, self%fl%state%solid%frac_rigid, dt)
+        self%solid%sliding, self%solid%frac_rigid, dt)
     end do
     call halo_reverse_cell_vec(self%halo, dom, grid, self%dep)
-    call solid_cell_fields(self%fl%state, grid, self%dep, self%coupling, self%max_fraction, &
-      self%phi_p)
+    call solid_cell_fields(self%fl%state, self%solid, grid, self%dep, self%coupling, &
+      self%max_fraction, self%phi_p)
     ! the solid's conduction sees the fluid's thermal conditions at the domain faces
-    call ice_bc_fill(grid, self%fl%bc, self%fl%state%solid%conductance, bc_scalar)
-    call ice_bc_fill(grid, self%fl%bc, self%fl%state%solid%temp, bc_temperature)
+    call ice_bc_fill(grid, self%fl%bc, self%solid%conductance, bc_scalar)
+    call ice_bc_fill(grid, self%fl%bc, self%solid%temp, bc_temperature)
   end subroutine deposit_solids
 
   !> The smallest of the fluid (advective CFL, viscosity, conduction), solid (wave speed) and
@@ -304,8 +307,8 @@ contains
     real(wp) :: dt
     real(wp) :: limits(size(limit_names))
     integer :: which
-    limits = [self%fl%stable_dt(dom, grid, cfl), self%so%stable_dt(dom, grid, cfl), &
-      cfl * global_min(dom, solid_conduction_dt(self%fl%state, grid))]
+    limits = [ice_fluids_stable_dt(self%fl, dom, grid, cfl, self%solid), &
+      self%so%stable_dt(dom, grid, cfl), cfl * global_min(dom, solid_conduction_dt(self%solid, grid))]
     which = minloc(limits, dim=1)
     dt = limits(which)
     self%limit_steps(which) = self%limit_steps(which) + 1
@@ -342,8 +345,8 @@ contains
       ramp = 1.0_wp
       if (so%ramp_time > 0.0_wp) ramp = min(1.0_wp, (time + dt) / so%ramp_time)
       call nodal_bc_at_time(so%bc, time + dt)
-      if (st%solid%sliding) then
-        call contact_pressure_accel(st, grid, so%nodes, so%min_mass, self%contact_acc)
+      if (self%solid%sliding) then
+        call contact_pressure_accel(st, self%solid, grid, so%nodes, so%min_mass, self%contact_acc)
         call nodal_solve(so%nodes, grid, ramp * so%gravity, so%damping, dt, so%bc, so%min_mass, &
           self%contact_dv, self%contact_acc)
       else
@@ -354,16 +357,17 @@ contains
       ! solid phase on the grid; the particles' fraction beyond the tracked one is a source
       call timer_start(timers, self%t_cells)
       call deposit_solids(self, dom, grid, dt)
-      st%solid%source = self%relaxation * (self%phi_p - st%solid%vfrac)
+      self%solid%source = self%relaxation * (self%phi_p - self%solid%vfrac)
       ! a residual where the particles have left goes at once (docs/mpmice.md departure 18)
-      where (self%phi_p <= 0.0_wp .and. st%solid%vfrac < residual_fraction) &
-        st%solid%source = -st%solid%vfrac
+      where (self%phi_p <= 0.0_wp .and. self%solid%vfrac < residual_fraction) &
+        self%solid%source = -self%solid%vfrac
       ! sliding rigid bodies: the wall cells keep their tracked fraction (a soil's overlap with
       ! them is not seen, mpmice_rigid_contact%partner_fields)
-      if (st%solid%sliding) where (st%solid%frac_rigid >= wall_fraction) st%solid%source = 0.0_wp
+      if (self%solid%sliding) where (self%solid%frac_rigid >= wall_fraction) &
+        self%solid%source = 0.0_wp
       call timer_stop(timers, self%t_cells)
 
-      if (.not. ice_stage_equilibrate(fl, dom, grid, time, timers)) return
+      if (.not. ice_stage_equilibrate(fl, dom, grid, time, timers, self%solid)) return
 
       ! face velocities of the fluids and of the solid, face exchange with drag
       call timer_start(timers, fl%t_face)
@@ -376,13 +380,13 @@ contains
       call timer_stop(timers, fl%t_face)
       call ice_stage_face_velocities(fl, grid, dt, timers)
       call timer_start(timers, fl%t_face)
-      call fluid_face_predictor_porous(st, grid, self%uprev)
-      call solid_face_predictor(st, grid, so%nodes, dt, so%min_mass)
+      call fluid_face_predictor_porous(st, self%solid, grid, self%uprev)
+      call solid_face_predictor(st, self%solid, grid, so%nodes, dt, so%min_mass)
       call timer_stop(timers, fl%t_face)
-      call ice_stage_face_exchange(fl, grid, dt, timers)
+      call ice_stage_face_exchange(fl, grid, dt, timers, self%solid)
 
       ! eq. 35 with the solid's volume flux and coefficient (ice_pressure)
-      if (.not. ice_stage_pressure(fl, dom, grid, time, dt, timers)) then
+      if (.not. ice_stage_pressure(fl, dom, grid, time, dt, timers, self%solid)) then
         ! non-finite: taken as it is, so the run loop's check fails the run and dumps the state
         if (fl%nonfinite) then
           accepted = .true.
@@ -399,12 +403,12 @@ contains
         return
       end if
 
-      call ice_stage_lagrangian(fl, dom, grid, dt, timers)
+      call ice_stage_lagrangian(fl, dom, grid, dt, timers, self%solid)
 
       ! the solid's pressure force and drag, from the faces back to the nodes
       call timer_start(timers, self%t_nodes)
-      call solid_face_to_nodes(st, grid, dom, self%halo, so%nodes, self%du, so%min_mass)
-      if (st%solid%sliding) then
+      call solid_face_to_nodes(self%solid, grid, dom, self%halo, so%nodes, self%du, so%min_mass)
+      if (self%solid%sliding) then
         call nodal_finish(so%nodes, grid, dt, so%bc, so%min_mass, self%contact_dv, &
           self%contact_f)
       else
@@ -414,16 +418,16 @@ contains
 
       ! the fluids' drag toward the solid's final velocity (eqs. 50-51)
       call timer_start(timers, fl%t_lagrange)
-      call solid_cell_velocity(st, grid, so%nodes, so%min_mass)
+      call solid_cell_velocity(self%solid, grid, so%nodes, so%min_mass)
       ! the solid's heat: conduction (38-39), then the exchange with the fluids (52-55) in
       ! the cell exchange, the increments back to the particles (68, 73)
-      self%temp_old = st%solid%temp
-      call solid_conduction(st, grid, dt, self%dtemp)
+      self%temp_old = self%solid%temp
+      call solid_conduction(self%solid, grid, dt, self%dtemp)
       call timer_stop(timers, fl%t_lagrange)
-      call ice_stage_cell_exchange(fl, grid, dt, timers)
+      call ice_stage_cell_exchange(fl, grid, dt, timers, self%solid)
       call timer_start(timers, fl%t_lagrange)
-      call fluid_face_blend(st, grid)
-      self%dtemp = st%solid%temp - self%temp_old
+      call fluid_face_blend(st, self%solid, grid)
+      self%dtemp = self%solid%temp - self%temp_old
       call halo_exchange_cell(fl%halo, dom, grid, self%dtemp)
       ! isothermal scenes: nothing to add, skip the per-particle overlap weights
       if (any(self%dtemp /= 0.0_wp)) then
@@ -435,13 +439,13 @@ contains
       call timer_stop(timers, fl%t_lagrange)
 
       ! fluid advection; traces of a fluid in the pores take the cell's mixture values
-      call ice_stage_advect(fl, dom, grid, time, dt, timers, traces=.true.)
+      call ice_stage_advect(fl, dom, grid, time, dt, timers, traces=.true., solid=self%solid)
 
       call timer_start(timers, self%t_cells)
-      call solid_track_fraction(st, grid, dt, self%max_fraction)
-      call halo_exchange_cell(fl%halo, dom, grid, st%solid%vfrac)
-      call ice_bc_fill(grid, fl%bc, st%solid%vfrac, bc_scalar)
-      call open_face_reservoirs(st, grid)
+      call solid_track_fraction(st, self%solid, grid, dt, self%max_fraction)
+      call halo_exchange_cell(fl%halo, dom, grid, self%solid%vfrac)
+      call ice_bc_fill(grid, fl%bc, self%solid%vfrac, bc_scalar)
+      call open_face_reservoirs(st, self%solid, grid)
       call timer_stop(timers, self%t_cells)
 
       call timer_start(timers, so%t_g2p)
@@ -458,8 +462,8 @@ contains
       call mpm_migrate_all(so, dom, grid, time + dt)
       call timer_stop(timers, so%t_migrate)
       fl%steps = fl%steps + 1
-      if (st%solid%sliding) call contact_force_write(self%forces, so, st, fl%halo, dom, grid, &
-        time + dt, self%dep, self%contact_f, fl%gravity)
+      if (self%solid%sliding) call contact_force_write(self%forces, so, st, self%solid, fl%halo, &
+        dom, grid, time + dt, self%dep, self%contact_f, fl%gravity)
     end associate
     accepted = .true.
   end subroutine mpmice_step
@@ -494,7 +498,7 @@ contains
     logical, intent(in) :: checkpoint             !< full restart state
     call self%fl%write_state(file, dom, grid, checkpoint)
     call self%so%write_state(file, dom, grid, checkpoint)
-    call solid_state_write(file, grid, self%fl%state, self%nbuf, self%phi_p, checkpoint)
+    call solid_state_write(file, grid, self%fl%state, self%solid, self%nbuf, self%phi_p, checkpoint)
   end subroutine mpmice_write_state
 
   !> Fluids, particles and the tracked solid fraction of a checkpoint.
@@ -506,7 +510,7 @@ contains
     call self%fl%restore(file, dom, grid)
     call self%so%restore(file, dom, grid)
     self%static_dep_ready = .false.  ! from the restored particles, as the continuing run had it
-    call solid_state_restore(file, dom, grid, self%fl, self%halo, self%nbuf)
+    call solid_state_restore(file, dom, grid, self%fl, self%solid, self%halo, self%nbuf)
   end subroutine mpmice_restore
 
   !> Datasets of both parts and of the solid phase.
@@ -535,7 +539,7 @@ contains
     solids_finite = self%so%all_finite(grid)
     finite = finite .and. solids_finite
     associate (lo => grid%lo, hi => grid%hi)
-      finite = finite .and. all(ieee_is_finite(self%fl%state%solid%vfrac(lo(1):hi(1), &
+      finite = finite .and. all(ieee_is_finite(self%solid%vfrac(lo(1):hi(1), &
         lo(2):hi(2), lo(3):hi(3))))
     end associate
   end function mpmice_all_finite
@@ -565,6 +569,7 @@ contains
     class(mpmice_scene_t), intent(inout) :: self  !< scene
     call self%fl%free()
     call self%so%free()
+    call solid_phase_free(self%solid)
     call halo_free(self%halo)
     if (allocated(self%dep)) deallocate(self%dep, self%du, self%phi_p, self%uprev, self%nbuf, &
       self%temp_old, self%dtemp, self%contact_dv, self%contact_acc, self%contact_f)

@@ -14,6 +14,7 @@ module mpmice_solid_fields
   use particles_store, only: particles_t
   use mpm_nodes, only: mpm_nodes_t, node_mass, node_rigid_mass, node_rigid_momentum
   use ice_state, only: ice_state_t
+  use exchange_solid_phase, only: solid_phase_t
   use ice_pressure, only: solid_face_fraction
   use exchange_drag, only: drag_reduced_coefficient, drag_impermeable
   use mpmice_solid_coupling, only: solid_coupling_t, surface_body_fraction
@@ -31,8 +32,9 @@ contains
   !! (capped at `max_fraction`), bulk density, grain specific volume and compressibility, and
   !! the reduced drag coefficient per fluid (slip from the velocities of time n); the heat
   !! capacity per volume, conductance phi_s k_s and mass-weighted temperature of the solid.
-  subroutine solid_cell_fields(state, grid, dep, solids, max_fraction, phi_p)
+  subroutine solid_cell_fields(state, solid, grid, dep, solids, max_fraction, phi_p)
     type(ice_state_t), intent(inout) :: state   !< fluids; solid phase written
+    type(solid_phase_t), intent(inout) :: solid !< solid phase
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(in) :: dep(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< deposits
     type(solid_coupling_t), intent(in) :: solids(:) !< coupling parameters per solid
@@ -52,7 +54,7 @@ contains
     icap = lay%heat_capacity
     iene = lay%energy
     icond = lay%conductance
-    associate (sp => state%solid)
+    associate (sp => solid)
       sp%face_fraction = 0.0_wp
       sp%face_fraction_hi = 0.0_wp
       do k = grid%lbc(3), grid%ubc(3)
@@ -92,7 +94,7 @@ contains
                 vol * solids(s)%grain_kappa
             end do
             if (sp%sliding) then
-              call partner_fields(state, grid, dep, solids, max_fraction, [i, j, k])
+              call partner_fields(state, solid, grid, dep, solids, max_fraction, [i, j, k])
               cycle
             end if
             sp%spvol(i, j, k) = vol / dep(deposit_mass, i, j, k)
@@ -149,15 +151,15 @@ contains
   !! nodes' final velocities v^L (after the pressure force and drag of the faces). The fluids are
   !! dragged toward it with the solid's row of the exchange held fixed, so the drag the fluid
   !! feels is consistent with the motion the solid actually makes.
-  subroutine solid_cell_velocity(state, grid, nodes, min_mass)
-    type(ice_state_t), intent(inout) :: state   !< solid phase vel written (owned cells)
+  subroutine solid_cell_velocity(solid, grid, nodes, min_mass)
+    type(solid_phase_t), intent(inout) :: solid !< solid phase
     type(grid_t), intent(in) :: grid            !< block geometry
     type(mpm_nodes_t), intent(in) :: nodes      !< node fields
     real(wp), intent(in) :: min_mass            !< empty-node threshold [kg]
     integer :: i, j, k, a, b, e, top(3)
     real(wp) :: m, mv(3), mi
     top = merge(1, 0, grid%active)
-    associate (sp => state%solid)
+    associate (sp => solid)
       do k = grid%lo(3), grid%hi(3)
         do j = grid%lo(2), grid%hi(2)
           do i = grid%lo(1), grid%hi(1)
@@ -199,14 +201,15 @@ contains
 
   !> Tracked solid fraction at the end of the step, with exactly the volume terms of the
   !! pressure equation: phi_s += source - dt/V sum_faces A phi_s,up u_s,f - phi_s kappa_s dp.
-  subroutine solid_track_fraction(state, grid, dt, max_fraction)
+  subroutine solid_track_fraction(state, solid, grid, dt, max_fraction)
     type(ice_state_t), intent(inout) :: state   !< solid phase (vfrac updated, owned cells)
+    type(solid_phase_t), intent(inout) :: solid !< solid phase
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(in) :: dt                  !< time step [s]
     real(wp), intent(in) :: max_fraction        !< largest solid fraction [-]
     integer :: i, j, k, d, o(3)
     real(wp) :: flux, phi_l, phi_r, area
-    associate (sp => state%solid)
+    associate (sp => solid)
       do k = grid%lo(3), grid%hi(3)
         do j = grid%lo(2), grid%hi(2)
           do i = grid%lo(1), grid%hi(1)
@@ -216,8 +219,8 @@ contains
               o = 0
               o(d) = 1
               area = grid%cell_volume / grid%dx(d)
-              phi_r = solid_face_fraction(state, d, o, i + o(1), j + o(2), k + o(3))
-              phi_l = solid_face_fraction(state, d, o, i, j, k)
+              phi_r = solid_face_fraction(solid, d, o, i + o(1), j + o(2), k + o(3))
+              phi_l = solid_face_fraction(solid, d, o, i, j, k)
               flux = flux + area * (phi_r * sp%uface(i + o(1), j + o(2), k + o(3), d) - &
                 phi_l * sp%uface(i, j, k, d) + sp%rigid_flux(i + o(1), j + o(2), k + o(3), d) - &
                 sp%rigid_flux(i, j, k, d))

@@ -9,7 +9,7 @@
 !!   phi_s k_s of the two cells (zero where either has no solid), the same stencil and ghost
 !!   conditions as the fluid's conduction (`ice_viscous`), so that at local thermal equilibrium
 !!   the mixture conducts with k_m = sum_f phi_f k_f + phi_s k_s;
-!! * the fluid-solid exchange (eqs. 52-55) is implicit, in `ice_exchange_cells`;
+!! * the fluid-solid exchange (eqs. 52-55) is implicit, in `exchange_fluid_solid`;
 !! * the particles receive the cell increments with the deposit's weights,
 !!   T_p += sum_c w_pc dT_c (eqs. 68, 73), so sum_p m_p c_s dT_p = sum_c C_c dT_c exactly.
 !! Departure from the paper (docs/mpmice.md): the solid's conduction is done on the cells, not on
@@ -18,6 +18,7 @@ module mpmice_solid_heat
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
+  use exchange_solid_phase, only: solid_phase_t
   use particles_store, only: particles_t
   use mpmice_deposit, only: overlap_weights, deformed_half_widths
   use ice_viscous, only: face_mean
@@ -28,17 +29,17 @@ module mpmice_solid_heat
 
 contains
 
-  !> Explicit conduction of the solid over dt: `state%solid%temp` of the owned cells with solid
+  !> Explicit conduction of the solid over dt: `solid%temp` of the owned cells with solid
   !! (heat capacity > 0) gets dt / (C V) sum_faces A k_face (T_nb - T) / dx. Needs `temp` and
   !! `conductance` valid in one ghost layer (domain faces: the fluid's thermal conditions).
-  subroutine solid_conduction(state, grid, dt, scratch)
-    type(ice_state_t), intent(inout) :: state   !< solid temp updated (owned cells)
+  subroutine solid_conduction(solid, grid, dt, scratch)
+    type(solid_phase_t), intent(inout) :: solid !< solid phase
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(in) :: dt                  !< time step [s]
     real(wp), intent(inout) :: scratch(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< heat [J]
     integer :: d, i, j, k, o(3)
     real(wp) :: area, k_lo, k_hi
-    associate (sp => state%solid)
+    associate (sp => solid)
       if (.not. any(sp%conductance > 0.0_wp)) return
       scratch = 0.0_wp
       do d = 1, 3
@@ -73,14 +74,14 @@ contains
   !> Stability limit [s] of `solid_conduction` on this rank: 1 / max_c sum_faces k_face /
   !! (C_c dx^2) (the forward-Euler update stays a convex combination); huge without conduction.
   !! Needs the same ghost values as `solid_conduction`.
-  function solid_conduction_dt(state, grid) result(dt)
-    type(ice_state_t), intent(in) :: state  !< solid phase
+  function solid_conduction_dt(solid, grid) result(dt)
+    type(solid_phase_t), intent(in) :: solid !< solid phase
     type(grid_t), intent(in) :: grid        !< block geometry
     real(wp) :: dt
     real(wp) :: rate, rate_max, k_lo, k_hi
     integer :: d, i, j, k, o(3)
     rate_max = 0.0_wp
-    associate (sp => state%solid)
+    associate (sp => solid)
       if (.not. any(sp%conductance > 0.0_wp)) then
         dt = huge(1.0_wp)
         return

@@ -10,6 +10,7 @@ module mpmice_solid_state
   use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field, h5_write_node_field, &
     h5_read_node_field
   use ice_state, only: ice_state_t
+  use exchange_solid_phase, only: solid_phase_t
   use ice_bc, only: ice_bc_fill, bc_scalar
   use ice_stages, only: ice_fluids_t
   implicit none
@@ -25,8 +26,9 @@ contains
   !! fluids' bulk densities of the mirrored inner cell divided by its porosity (so their
   !! intrinsic densities are the inner cell's). Beyond a wall the ghosts mirror the inner cell,
   !! solid included, so the equilibration there sees the same mixture.
-  pure subroutine open_face_reservoirs(state, grid)
+  pure subroutine open_face_reservoirs(state, solid, grid)
     type(ice_state_t), intent(inout) :: state  !< fluids and solid phase (ghosts updated)
+    type(solid_phase_t), intent(inout) :: solid !< solid phase
     type(grid_t), intent(in) :: grid           !< block geometry
     integer :: i, j, k, d, m, face, c(3)
     real(wp) :: porosity
@@ -41,12 +43,12 @@ contains
             if (c(d) > grid%ncells(d)) face = 2 * d
             if (face == 0) cycle
             if (state%closed(face)) cycle
-            porosity = 1.0_wp - state%solid%vfrac(i, j, k)
+            porosity = 1.0_wp - solid%vfrac(i, j, k)
             if (porosity <= 0.0_wp) cycle
             do m = 1, state%nfluids
               state%fluid(m)%rho(i, j, k) = state%fluid(m)%rho(i, j, k) / porosity
             end do
-            state%solid%vfrac(i, j, k) = 0.0_wp
+            solid%vfrac(i, j, k) = 0.0_wp
           end do
         end do
       end do
@@ -56,15 +58,16 @@ contains
   !> A dump: `cell/solid_volume_fraction` (the tracked phi_s) and `cell/porosity`; a
   !! checkpoint: the tracked fraction, the solid cell velocity and the fluids' final face
   !! velocities (what the next step reads).
-  subroutine solid_state_write(file, grid, state, nbuf, work, checkpoint)
+  subroutine solid_state_write(file, grid, state, solid, nbuf, work, checkpoint)
     type(h5_file_t), intent(in) :: file           !< open file
     type(grid_t), intent(in) :: grid              !< block geometry
     type(ice_state_t), intent(in) :: state        !< fluids and solid phase
+    type(solid_phase_t), intent(in) :: solid !< solid phase
     real(wp), intent(inout) :: nbuf(grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< node scratch
     real(wp), intent(inout) :: work(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell scratch
     logical, intent(in) :: checkpoint             !< full restart state
     integer :: d, m
-    associate (sp => state%solid)
+    associate (sp => solid)
       if (checkpoint) then
         call h5_write_cell_field(file, 'checkpoint/cell/solid_volume_fraction', grid, sp%vfrac)
         do d = 1, 3
@@ -91,19 +94,20 @@ contains
 
   !> Read what `solid_state_write` wrote to a checkpoint; ghosts filled (the face velocities
   !! through the node halo of `halo`).
-  subroutine solid_state_restore(file, dom, grid, fl, halo, nbuf)
+  subroutine solid_state_restore(file, dom, grid, fl, solid, halo, nbuf)
     type(h5_file_t), intent(in) :: file           !< open checkpoint
     type(domain_t), intent(in) :: dom             !< decomposition
     type(grid_t), intent(in) :: grid              !< block geometry
     class(ice_fluids_t), intent(inout) :: fl      !< the fluids (halo, face conditions, state)
+    type(solid_phase_t), intent(inout) :: solid !< solid phase
     type(halo_t), intent(inout) :: halo           !< node halo buffers
     real(wp), intent(inout) :: nbuf(grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< node scratch
     integer :: d, m
-    associate (sp => fl%state%solid)
+    associate (sp => solid)
       call h5_read_cell_field(file, 'checkpoint/cell/solid_volume_fraction', grid, sp%vfrac)
       call halo_exchange_cell(fl%halo, dom, grid, sp%vfrac)
       call ice_bc_fill(grid, fl%bc, sp%vfrac, bc_scalar)
-      call open_face_reservoirs(fl%state, grid)
+      call open_face_reservoirs(fl%state, solid, grid)
       do d = 1, 3
         call h5_read_cell_field(file, 'checkpoint/cell/solid_velocity_' // comp(d), grid, &
           sp%vel(:, :, :, d))

@@ -25,6 +25,9 @@ def test_no_folder_cycles():
     assert {"base", "parallel", "grid", "scene", "particles", "driver"} <= set(graph)
     assert deps.cycles(graph) == []
     assert "parallel" not in graph["grid"] and "driver" not in graph["mpmice"]
+    # ICE knows nothing of solids: the exchange layer (the solid phase and the fluid-solid
+    # exchange) sits above it and hands ICE's stages the solid's view (`ice_solid_view_t`)
+    assert "exchange" not in graph["ice"] and "ice" in graph["exchange"]
 
 
 def test_cycle_detection_finds_a_cycle():

@@ -1,0 +1,103 @@
+!> Face pressures of the momentum equation (paper eq. 37):
+!! p_f = (p_L rho_R + p_R rho_L)/(rho_L + rho_R), rho = sum_m rho_bar_m (per pore volume with a
+!! solid phase); the domain faces take the open face's pressure or, at a wall, the inner cell's
+!! extrapolated hydrostatically.
+module ice_face_pressures
+  use mpmice_kinds, only: wp
+  use grid_layout, only: grid_t
+  use ice_state, only: ice_state_t
+  use ice_solid_view, only: ice_solid_view_t
+  use ice_face_velocity, only: face_range
+  use ice_pressure, only: pore_min
+  implicit none
+  private
+
+  public :: ice_face_pressure
+
+contains
+
+  !> Face pressures of eq. 37 (weights: total bulk density of the fluids of the two cells, per
+  !! pore volume 1 - phi_s where a solid phase is present); a wall face takes the pressure of its
+  !! inner cell extrapolated hydrostatically, p_c -+ rho_c g dx/2 with the same density, so that
+  !! the wall carries the weight of a fluid at rest (in a porous cell the fluid's intrinsic
+  !! density: the bulk one left the wall cells of a porous cavity 0.3 g out of balance, whose drag
+  !! heated the water by 0.03 K per day). Needs the pressure valid in one ghost layer.
+  subroutine ice_face_pressure(state, grid, gravity, solid)
+    type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
+    !> the solid phase of a coupled scene: the weights per pore volume
+    class(ice_solid_view_t), intent(in), optional :: solid
+    integer :: d, i, j, k, o(3), r(2, 3), inner(2, 3), side, idx
+    real(wp) :: rl, rr
+
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      o = 0
+      o(d) = 1
+      r = face_range(grid, d)
+      ! inner faces: the faces on a non-periodic domain boundary are done below
+      inner = r
+      if (.not. grid%periodic(d)) then
+        inner(1, d) = max(r(1, d), 2)
+        inner(2, d) = min(r(2, d), grid%ncells(d))
+      end if
+      do k = inner(1, 3), inner(2, 3)
+        do j = inner(1, 2), inner(2, 2)
+          do i = inner(1, 1), inner(2, 1)
+            call face_densities(state, i, j, k, o, rl, rr, solid)
+            state%pface(i, j, k, d) = (state%pressure(i - o(1), j - o(2), k - o(3)) * rr + &
+              state%pressure(i, j, k) * rl) / (rl + rr)
+          end do
+        end do
+      end do
+      if (grid%periodic(d)) cycle
+      do side = 1, 2
+        idx = merge(1, grid%ncells(d) + 1, side == 1)
+        if (idx < r(1, d) .or. idx > r(2, d)) cycle
+        inner = r
+        inner(:, d) = idx
+        do k = inner(1, 3), inner(2, 3)
+          do j = inner(1, 2), inner(2, 2)
+            do i = inner(1, 1), inner(2, 1)
+              if (.not. state%closed(2 * d - 2 + side)) then
+                state%pface(i, j, k, d) = state%p_boundary(2 * d - 2 + side)
+              else if (side == 1) then
+                call face_densities(state, i, j, k, o, rl, rr, solid)
+                state%pface(i, j, k, d) = state%pressure(i, j, k) - 0.5_wp * rr * gravity(d) * &
+                  grid%dx(d)
+              else
+                call face_densities(state, i, j, k, o, rl, rr, solid)
+                state%pface(i, j, k, d) = state%pressure(i - o(1), j - o(2), k - o(3)) + &
+                  0.5_wp * rl * gravity(d) * grid%dx(d)
+              end if
+            end do
+          end do
+        end do
+      end do
+    end do
+  end subroutine ice_face_pressure
+
+  !> Weights of the face pressure of eq. 37 at the low face of cell (i,j,k) in direction o: the
+  !! fluids' total bulk density of the low (`rl`) and high (`rr`) cell, per pore volume where a
+  !! solid phase is present (the pore pressure at rest carries the weight of the fluid alone,
+  !! rho_f g; the skeleton's weight is borne by its stress).
+  pure subroutine face_densities(state, i, j, k, o, rl, rr, solid)
+    type(ice_state_t), intent(in) :: state  !< fluids and solid phase
+    integer, intent(in) :: i, j, k          !< face index (low face of cell i,j,k)
+    integer, intent(in) :: o(3)             !< unit offset along the face normal
+    real(wp), intent(out) :: rl, rr         !< low and high cell weights [kg/m^3]
+    class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
+    integer :: m
+    rl = 0.0_wp
+    rr = 0.0_wp
+    do m = 1, state%nfluids
+      rl = rl + state%fluid(m)%rho(i - o(1), j - o(2), k - o(3))
+      rr = rr + state%fluid(m)%rho(i, j, k)
+    end do
+    if (present(solid)) then
+      rl = rl / max(1.0_wp - solid%vfrac(i - o(1), j - o(2), k - o(3)), pore_min)
+      rr = rr / max(1.0_wp - solid%vfrac(i, j, k), pore_min)
+    end if
+  end subroutine face_densities
+end module ice_face_pressures
