@@ -28,7 +28,12 @@ fastest runs' fronts reach the toe x = 1.08 m); the same fit of the digitised ce
 model time (record - --shape-shift) lies in that window; and, where the run wrote
 <dir>/grilli_contact_force.csv, the bed's effective friction mu_eff (`bed_friction`: the time
 averages over model t = 0.1 to 0.4 s of the contact force on the bed along the slope over the
-one into it).
+one into it), and the beads' momentum budget along the slope over the same window
+(`force_budget`: inertia = weight + the bed's force + the fluids' force, the last split into
+buoyancy, the pore water the beads carry and the rest, the ambient water's resistance; each
+printed over the beads' weight along the slope) and where the water moves with them
+(`slip_by_layer`: the beads' and the water's velocity along the slope in the beads' cells next
+to the bed and in the others).
 """
 from __future__ import annotations
 
@@ -98,6 +103,76 @@ def bed_friction(folder: str, t0: float = MU_WINDOW[0], t1: float = MU_WINDOW[1]
     tangential = np.trapezoid(ALONG[0] * fx + ALONG[1] * fy, t)
     normal = np.trapezoid(into[0] * fx + into[1] * fy, t)
     return float(tangential / normal) if normal > 0.0 else None
+
+
+def force_budget(folder: str, tr: dict[str, np.ndarray], mass: float,
+                 t0: float = MU_WINDOW[0], t1: float = MU_WINDOW[1]) -> dict[str, float] | None:
+    """The beads' momentum budget along the slope, time-averaged over t0 <= t <= t1 [N, per the
+    grid's depth in 2D; down-slope positive], from the dumps' mean speed (`track`) and
+    <folder>/grilli_contact_force.csv (None without the file or the dumps at t0, t1):
+
+    * inertia M dv/dt (M the beads' mass, dv/dt from their mean speed at t0 and t1);
+    * weight M g sin b; the bed's force on the beads along the slope (minus the contact force on
+      the bed) and into the bed (the normal load);
+    * the fluids' force, the rest: inertia - weight - bed;
+    * of which buoyancy -(M / rho_s) rho_w g sin b, the pore water carried along -m_pw dv/dt
+      (m_pw = n / (1 - n) (M / rho_s) rho_w: what the beads must give the water they hold), and
+      the rest, the ambient water's resistance;
+    * the submerged normal weight M g cos b (1 - rho_w / rho_s) against the normal load.
+    """
+    path = os.path.join(folder, f"{grilli.NAME}_contact_force.csv")
+    n0, n1 = at_time(tr, t0), at_time(tr, t1)
+    if not os.path.isfile(path) or n0 is None or n1 is None:
+        return None
+    data = np.genfromtxt(path, delimiter=",", names=True)
+    sel = (data["time"] >= t0) & (data["time"] <= t1)
+    t, fx, fy = data["time"][sel], data["bed_fx"][sel], data["bed_fy"][sel]
+    span = t[-1] - t[0]
+    into = -np.array([math.sin(SLOPE), math.cos(SLOPE)])
+    bed_along = -float(np.trapezoid(ALONG[0] * fx + ALONG[1] * fy, t)) / span
+    normal = float(np.trapezoid(into[0] * fx + into[1] * fy, t)) / span
+    accel = (tr["speed"][n1] - tr["speed"][n0]) / (tr["time"][n1] - tr["time"][n0])
+    weight = mass * G * math.sin(SLOPE)
+    fluid = mass * accel - weight - bed_along
+    buoyancy = -mass / RHO_S * RHO_W * G * math.sin(SLOPE)
+    pore = -POROSITY / (1.0 - POROSITY) * mass / RHO_S * RHO_W * accel
+    return {"accel": accel, "inertia": mass * accel, "weight": weight, "bed": bed_along,
+            "normal": normal, "fluid": fluid, "buoyancy": buoyancy, "pore_water": pore,
+            "ambient": fluid - buoyancy - pore,
+            "normal_submerged": mass * G * math.cos(SLOPE) * (1.0 - RHO_W / RHO_S)}
+
+
+def slip_by_layer(dumps: list[dict], t0: float = MU_WINDOW[0],
+                  t1: float = MU_WINDOW[1]) -> dict[str, float] | None:
+    """Where the water moves with the beads: over the dumps with t0 <= t <= t1, the beads' and
+    the water's cell velocities along the slope [m/s], averaged with the beads' volume in each
+    cell, in the beads' cells next to the bed (the cell or a face neighbour holds bed) and in the
+    others; and the share of the beads' volume next to the bed."""
+    sel = [d for d in dumps if t0 - 1e-9 <= d["time"] <= t1 + 1e-9]
+    if not sel:
+        return None
+    acc = {"u_s_bed": 0.0, "u_w_bed": 0.0, "u_s_other": 0.0, "u_w_other": 0.0, "share_bed": 0.0}
+    for d in sel:
+        c = d["cell"]
+        phi_s = c[f"{grilli.BEADS}/volume_fraction"][:, :, 0]
+        touch = c["bed/volume_fraction"][:, :, 0] > 0.0
+        near = touch.copy()
+        near[1:, :] |= touch[:-1, :]
+        near[:-1, :] |= touch[1:, :]
+        near[:, 1:] |= touch[:, :-1]
+        near[:, :-1] |= touch[:, 1:]
+        vel = {m: ALONG[0] * c[f"{m}/velocity_x"][:, :, 0] + ALONG[1] * c[f"{m}/velocity_y"][:, :, 0]
+               for m in (grilli.BEADS, grilli.WATER)}
+        beads = phi_s > 1e-6
+        total = float(np.sum(phi_s[beads]))
+        for key, mask in (("bed", beads & near), ("other", beads & ~near)):
+            w = phi_s[mask]
+            if np.sum(w) <= 0.0:
+                continue
+            acc["u_s_" + key] += float(np.average(vel[grilli.BEADS][mask], weights=w)) / len(sel)
+            acc["u_w_" + key] += float(np.average(vel[grilli.WATER][mask], weights=w)) / len(sel)
+        acc["share_bed"] += float(np.sum(phi_s[beads & near])) / total / len(sel)
+    return acc
 
 
 def record_track(shapes) -> dict[str, np.ndarray]:
@@ -199,6 +274,23 @@ def main(argv=None) -> int:
               f"{np.max(tr['speed']):.3f} m/s at {tr['time'][int(np.argmax(tr['speed']))]:.2f} s"
               + ("" if (mu_eff := bed_friction(folder)) is None else
                  f"; bed mu_eff = {mu_eff:.3f} (t = {MU_WINDOW[0]:g} to {MU_WINDOW[1]:g} s)"))
+        budget = force_budget(folder, tr, float(np.sum(dumps[0]["particles"][grilli.BEADS]
+                                                      ["mass"])))
+        if budget is not None:
+            w = budget["weight"]
+            print(f"  budget along the slope, t = {MU_WINDOW[0]:g} to {MU_WINDOW[1]:g} s, / the "
+                  f"beads' weight along it ({w:.4g} N): inertia {budget['inertia'] / w:.3f} = "
+                  f"weight 1 + bed {budget['bed'] / w:.3f} + fluids {budget['fluid'] / w:.3f} "
+                  f"(buoyancy {budget['buoyancy'] / w:.3f}, pore water carried "
+                  f"{budget['pore_water'] / w:.3f}, ambient water {budget['ambient'] / w:.3f}); "
+                  f"dv/dt {budget['accel']:.3f} m/s^2; normal load / submerged normal weight "
+                  f"{budget['normal'] / budget['normal_submerged']:.3f}")
+        slip = slip_by_layer(dumps)
+        if slip is not None:
+            print(f"  along the slope, t = {MU_WINDOW[0]:g} to {MU_WINDOW[1]:g} s, in the beads' "
+                  f"cells next to the bed ({slip['share_bed']:.0%} of the beads): beads "
+                  f"{slip['u_s_bed']:.3f}, water {slip['u_w_bed']:.3f} m/s; elsewhere: beads "
+                  f"{slip['u_s_other']:.3f}, water {slip['u_w_other']:.3f} m/s")
         for n in range(tr["time"].size):
             table.append({"run": label, **{k: float(v[n]) for k, v in tr.items()}})
     plot(tracks, rec, args.shape_shift, mus, os.path.join(out, f"{args.name}.png"),
