@@ -7,7 +7,9 @@ Usage:  python -m postproc.mpmice_grilli2017_slide --dir RUN [--dir RUN2 ...] [-
 
 Per run and dump: the front (the largest x of the bead particles + a quarter cell, as
 postproc.mpmice_grilli2017.front), the beads' mass centre x, and their mass-weighted mean
-velocity along the slope (down-slope positive; the slope's unit vector (cos 35, -sin 35)).
+velocity along the slope (down-slope positive; the slope's unit vector (cos 35, -sin 35)) and
+height (the largest vertical height of a bead particle above the bed + a quarter cell; the
+digitised shapes': the largest y - bed of their points).
 Against them: the digitised front and centroid x of the six shapes (postproc.mpmice_grilli2017,
 record time = model time + --shape-shift, default 0) and two sliding-block references that start
 from rest at t = 0 and move along the slope with a constant acceleration:
@@ -20,8 +22,8 @@ from rest at t = 0 and move along the slope with a constant acceleration:
   bound of a slide that keeps its pore water.
 
 (b = 35 deg, the mass centre's x moves by cos b times the distance along the slope). Writes
-<stem>.png (front and centroid x against time) and <stem>.csv (per run and dump: time, front,
-centroid, speed) in --out and prints, per run, the values at the shapes' times and the
+<stem>.png (front, centroid x and height against time) and <stem>.csv (per run and dump: time,
+front, centroid, speed, height) in --out and prints, per run, the values at the shapes' times and the
 acceleration of a least-squares fit s = a t^2 / 2 of the centroid's path along the slope over
 the dumps up to --fit-end (default 0.4 s model time: the slide still on the slope, before the
 fastest runs' fronts reach the toe x = 1.08 m); the same fit of the digitised centroids whose
@@ -65,11 +67,15 @@ def block_acceleration(mu: float, submerged: bool) -> float:
 
 
 def track(dumps: list[dict]) -> dict[str, np.ndarray]:
-    """{time, front, centroid, speed} of the beads over the dumps (module notes)."""
-    rows = {"time": [], "front": [], "centroid": [], "speed": []}
+    """{time, front, centroid, speed, height} of the beads over the dumps (module notes; height:
+    the largest vertical height of a bead particle above the bed plus half a particle
+    spacing)."""
+    rows = {"time": [], "front": [], "centroid": [], "speed": [], "height": []}
     for d in dumps:
         p = d["particles"][grilli.BEADS]
         w = p["mass"]
+        dx = float(np.asarray(d["attrs"]["dx"]).reshape(3)[0])
+        rows["height"].append(float(np.max(p["y"] - grilli.bed_height(p["x"]))) + 0.25 * dx)
         v = np.array([np.average(p["velocity_x"], weights=w),
                       np.average(p["velocity_y"], weights=w)])
         rows["time"].append(d["time"])
@@ -176,14 +182,17 @@ def slip_by_layer(dumps: list[dict], t0: float = MU_WINDOW[0],
 
 
 def record_track(shapes) -> dict[str, np.ndarray]:
-    """{time, front, centroid} of the digitised shapes."""
-    t, fr, ce = [], [], []
+    """{time, front, centroid, height (the largest vertical height above the bed)} of the
+    digitised shapes."""
+    t, fr, ce, he = [], [], [], []
     for time, (x, y) in shapes.items():
         env = grilli.upper_envelope(x, y)
         t.append(time)
         fr.append(float(np.max(x)))
         ce.append(grilli.record_centroid(x[env], y[env])[1])
-    return {"time": np.array(t), "front": np.array(fr), "centroid": np.array(ce)}
+        he.append(float(np.max(y - grilli.bed_height(x))))
+    return {"time": np.array(t), "front": np.array(fr), "centroid": np.array(ce),
+            "height": np.array(he)}
 
 
 def at_time(tr, t):
@@ -193,7 +202,7 @@ def at_time(tr, t):
 
 def plot(tracks, rec, shape_shift, mus, path, alt_shift=None):
     plt = pyplot()
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4.8), sharex=True)
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.8), sharex=True)
     t = np.linspace(0.0, 0.8, 81)
     x0_front, x0_cent = rec["front"][0], rec["centroid"][0]
     for key, ax, x0 in (("front", axes[0], x0_front), ("centroid", axes[1], x0_cent)):
@@ -214,6 +223,17 @@ def plot(tracks, rec, shape_shift, mus, path, alt_shift=None):
         ax.set_ylabel(f"slide {key} x [m]")
         ax.set_ylim(0.74, 1.3)
         ax.grid(True, lw=0.3)
+    ax = axes[2]
+    ax.plot(rec["time"] - shape_shift, rec["height"], "ks", mfc="none", ms=7)
+    if alt_shift is not None:
+        ax.plot(rec["time"] - alt_shift, rec["height"], "k^", mfc="none", ms=7)
+    for k, (label, tr) in enumerate(tracks.items()):
+        ax.plot(tr["time"], tr["height"], "-", color=f"C{k}")
+    ax.set_xlabel(f"model time [s] (record = model + {shape_shift:g} s)")
+    ax.set_ylabel("slide height above the bed [m]")
+    ax.set_ylim(0.0, 0.1)
+    ax.set_xlim(0.0, 0.8)               # the shapes' window (longer runs are cut)
+    ax.grid(True, lw=0.3)
     axes[0].legend(fontsize=6, loc="upper left")
     fig.suptitle("Grilli et al. (2017) test 17: slide front and mass centre (scene frame)",
                  fontsize=10)
@@ -247,8 +267,9 @@ def main(argv=None) -> int:
     for mu in mus:
         print(f"block references, mu = {mu:g}: dry a = {block_acceleration(mu, False):.3f}, "
               f"submerged a = {block_acceleration(mu, True):.3f} m/s^2")
-    print("record: " + "  ".join(f"t={t:.2f}: front {f:.3f} centroid {c:.3f}" for t, f, c in
-                                 zip(rec["time"], rec["front"], rec["centroid"])))
+    print("record: " + "  ".join(f"t={t:.2f}: front {f:.3f} centroid {c:.3f} height {h:.3f}"
+                                 for t, f, c, h in zip(rec["time"], rec["front"], rec["centroid"],
+                                                       rec["height"])))
     t_rec = rec["time"] - args.shape_shift
     sel = t_rec <= args.fit_end + 1e-9
     rec_s = (rec["centroid"][sel] - rec["centroid"][0]) / math.cos(SLOPE)
@@ -267,8 +288,9 @@ def main(argv=None) -> int:
         for t in grilli.SHAPE_TIMES:
             n = at_time(tr, t - args.shape_shift)
             cells.append("      --      " if n is None else
-                         f"{tr['front'][n]:.3f}/{tr['centroid'][n]:.3f}/{tr['speed'][n]:.2f}")
-        print(f"{label}: front/centroid [m]/speed [m/s] at t = "
+                         f"{tr['front'][n]:.3f}/{tr['centroid'][n]:.3f}/{tr['speed'][n]:.2f}/"
+                         f"{tr['height'][n]:.3f}")
+        print(f"{label}: front/centroid [m]/speed [m/s]/height [m] at t = "
               + ", ".join(f"{t:g}" for t in grilli.SHAPE_TIMES) + ": " + "  ".join(cells)
               + f"; centroid fit a = {fitted_acceleration(tr, args.fit_end):.3f} m/s^2, peak speed "
               f"{np.max(tr['speed']):.3f} m/s at {tr['time'][int(np.argmax(tr['speed']))]:.2f} s"
@@ -296,7 +318,7 @@ def main(argv=None) -> int:
     plot(tracks, rec, args.shape_shift, mus, os.path.join(out, f"{args.name}.png"),
          args.alt_shift)
     write_table(os.path.join(out, f"{args.name}.csv"), table,
-                ["run", "time", "front", "centroid", "speed"])
+                ["run", "time", "front", "centroid", "speed", "height"])
     print(f"written: {out}/{args.name}.png, {args.name}.csv")
     return 0
 
