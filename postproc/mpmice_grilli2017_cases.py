@@ -29,6 +29,7 @@ Cases (each isolates one candidate cause of the slow slide; the scene's values i
   ergun_b05   forchheimer_b = 0.5 [1.75]
   phi30       friction_angle = 30 deg [22.3]
   phi15       friction_angle = 15 deg [22.3]
+  phi5        friction_angle = 5 deg [22.3]: a nearly cohesionless-fluid packing that spreads
   dilate      dilation_angle = 5 deg [0]: a dense packing that dilates in shear
   css         model = 'critical_state_sand' with the glass-bead rheology of the Rondon scenes
               (mu1 0.38, mu2 0.7, J0 0.005, phi_m 0.585, K 4.09, eta_f 1e-3 Pa s, loosest
@@ -119,6 +120,7 @@ def _register():
         "ergun_b05": ([beads + "forchheimer_b = 0.5 /"], _same),
         "phi30": ([beads + "friction_angle = 30.0 /"], _same),
         "phi15": ([beads + "friction_angle = 15.0 /"], _same),
+        "phi5": ([beads + "friction_angle = 5.0 /"], _same),
         "dilate": ([beads + "dilation_angle = 5.0 /"], _same),
         "css": ([CSS], _same),
         "css_mu025": ([CSS, "&mpm contact_friction = 0.25 /"], _same),

@@ -60,3 +60,33 @@ def test_fitted_acceleration_recovers_a_uniform_acceleration():
     s[t > 0.4] = 0.0                    # outside the window: must not count
     track = {"time": t, "centroid": 0.755 + s * math.cos(math.atan(0.7))}
     assert slide.fitted_acceleration(track, 0.4) == pytest.approx(1.3, rel=1e-12)
+
+
+def test_force_budget_closes_on_a_synthetic_slide(tmp_path):
+    """A slide of mass M accelerating at 0.5 m/s^2 on a bed pushing back along the slope with
+    0.3 M g sin b and into it with the submerged normal weight: the budget returns dv/dt, the
+    bed force and the normal load to round-off, the fluids' force as the rest, and splits it
+    into buoyancy, the pore water carried and the ambient water's part."""
+    b, g, mass = math.atan(0.7), 9.81, 0.2
+    along = np.array([math.cos(b), -math.sin(b)])
+    into = -np.array([math.sin(b), math.cos(b)])
+    weight = mass * g * math.sin(b)
+    normal = mass * g * math.cos(b) * (1.0 - 999.8 / 2500.0)
+    # the contact force on the bed: down-slope 0.3 weight (the bed holds the beads back), into it
+    bed = 0.3 * weight * along + normal * into
+    t = np.linspace(0.0, 0.5, 51)
+    with open(tmp_path / "grilli_contact_force.csv", "w", encoding="utf-8") as f:
+        f.write("time,bed_fx,bed_fy,bed_fz,bed_fluid_fx,bed_fluid_fy,bed_fluid_fz\n")
+        for tn in t:
+            f.write(f"{tn},{bed[0]},{bed[1]},0,0,0,0\n")
+    times = np.arange(0.0, 0.51, 0.02)
+    track = {"time": times, "speed": 0.5 * times}
+    out = slide.force_budget(str(tmp_path), track, mass)
+    assert out["accel"] == pytest.approx(0.5, rel=1e-12)
+    assert out["bed"] == pytest.approx(-0.3 * weight, rel=1e-12)
+    assert out["normal"] == pytest.approx(out["normal_submerged"], rel=1e-12)
+    assert out["inertia"] == pytest.approx(out["weight"] + out["bed"] + out["fluid"], rel=1e-12)
+    assert out["buoyancy"] == pytest.approx(-0.4 * weight * 999.8 / 1000.0, rel=1e-12)
+    pore = 0.39 / 0.61 * mass / 2500.0 * 999.8 * 0.5
+    assert out["pore_water"] == pytest.approx(-pore, rel=1e-12)
+    assert out["ambient"] == pytest.approx(out["fluid"] - out["buoyancy"] + pore, rel=1e-12)
