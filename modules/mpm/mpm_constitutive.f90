@@ -12,7 +12,7 @@ module mpm_constitutive
   use mpm_neo_hookean, only: neo_hookean_stress
   use mpm_mohr_coulomb, only: mc_params_t, mc_return
   use mpm_cam_clay, only: mcc_params_t, mcc_update, mcc_moduli, mcc_invariants
-  use mpm_critical_state_sand, only: css_params_t, css_return
+  use mpm_critical_state_sand, only: css_params_t, css_return, css_densify, css_n_cyclic
   implicit none
   private
 
@@ -142,8 +142,11 @@ contains
   !! [Pa] (0 before the first update: set then from the stress and `&solid ocr`,
   !! `preconsolidation_pressure`; a caller without it gets p_c set afresh at every call). A
   !! rate-model particle dilated past `mat%j_loose` (`&solid max_porosity`) carries no stress.
+  !! For the critical-state sand with `mat%css%c1 > 0`, `cyclic` is the particle's cyclic
+  !! densification state (`css_densify`; without it, no densification): the increment d eps_vd
+  !! of a reversal is taken from the elastic volumetric strain, sigma_ii += K d eps_vd.
   pure subroutine constitutive_update(mat, f, l, dt, stress_unrot, stress, plastic_strain, &
-    hardening)
+    hardening, cyclic)
     type(material_t), intent(in) :: mat              !< material
     real(wp), intent(in) :: f(3, 3)                  !< deformation gradient F^{n+1}
     real(wp), intent(in) :: l(3, 3)                  !< velocity gradient [1/s]
@@ -152,7 +155,8 @@ contains
     real(wp), intent(inout) :: stress(6)             !< Cauchy stress [Pa]
     real(wp), intent(inout) :: plastic_strain        !< equivalent plastic strain [-]
     real(wp), intent(inout), optional :: hardening   !< Cam-Clay p_c [Pa]
-    real(wp) :: r(3, 3), deps(6), dep, pc
+    real(wp), intent(inout), optional :: cyclic(css_n_cyclic)  !< sand's cyclic state
+    real(wp) :: r(3, 3), deps(6), dep, pc, devd
     type(mc_params_t) :: dense
     select case (mat%model)
     case (model_neo_hookean)
@@ -180,6 +184,10 @@ contains
       end if
       stress_unrot = stress_unrot + elastic_increment(mat%lambda, mat%mu, deps)
       if (mat%model == model_critical_state_sand) then
+        if (mat%css%c1 > 0.0_wp .and. present(cyclic)) then
+          call css_densify(mat%css, 2.0_wp * deps(4), cyclic, devd)       ! gamma_xy
+          stress_unrot(1:3) = stress_unrot(1:3) + (mat%lambda + 2.0_wp * mat%mu / 3.0_wp) * devd
+        end if
         call css_return(mat%css, mat%solid_fraction0 / det3(f), dt, stress_unrot, dep)
         plastic_strain = plastic_strain + dep
       else if (mat%model == model_mohr_coulomb) then

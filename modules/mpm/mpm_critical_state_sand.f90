@@ -24,13 +24,33 @@
 !! step, so a dilating sand gains pressure and a contracting one loses it),
 !! phi_eq in tan(psi) taken at J(gamma_dot, p_tr). No tension: a trial p <= 0 returns to zero
 !! stress (the apex).
+!!
+!! Optional cyclic densification (`css_densify`, off with C_1 = 0): the irrecoverable volume
+!! contraction of a sand under strain cycles inside the yield surface, in the form of Martin,
+!! Finn & Seed (1975) as rewritten by Byrne (1991) and implemented in FLAC's Finn model (Itasca,
+!! "Finn model", FLAC3D documentation): at each reversal of the engineering shear strain
+!! gamma_xy (a half cycle), with gamma the amplitude of that half cycle,
+!!   d eps_vd = gamma C_1 exp(-C_2 eps_vd / gamma),   C_2 = 0.4 / C_1 (Byrne 1991),
+!! eps_vd >= 0 the accumulated densification (contraction positive). It is a plastic
+!! compaction: p' = K (eps_v^e) with eps_v^e = eps_v + eps_vd, so at constant volume p' falls
+!! by K d eps_vd (the excess pore pressure of an undrained element), drained the element
+!! contracts by d eps_vd.
 module mpm_critical_state_sand
   use mpmice_kinds, only: wp
   use mpm_illinois, only: illinois_point, illinois_update
   implicit none
   private
 
-  public :: css_params_t, css_return, css_phi_eq, css_strength
+  public :: css_params_t, css_return, css_phi_eq, css_strength, css_densify
+  public :: css_n_cyclic, css_evd, css_gamma, css_gamma_rev, css_gamma_ext, css_reversals
+
+  !> Cyclic state of one particle (`css_densify`), indices into `state(css_n_cyclic)`:
+  integer, parameter :: css_n_cyclic = 5   !< entries
+  integer, parameter :: css_evd = 1        !< accumulated densification eps_vd [-]
+  integer, parameter :: css_gamma = 2      !< accumulated engineering shear strain gamma_xy [-]
+  integer, parameter :: css_gamma_rev = 3  !< gamma_xy at the last reversal [-]
+  integer, parameter :: css_gamma_ext = 4  !< extreme gamma_xy since the last reversal [-]
+  integer, parameter :: css_reversals = 5  !< reversals (half cycles) counted [-]
 
   !> Parameters of the model.
   type :: css_params_t
@@ -42,6 +62,9 @@ module mpm_critical_state_sand
     real(wp) :: phi_m = 0.585_wp         !< critical (quasi-static) solid fraction phi_m [-]
     real(wp) :: k_dil = 4.09_wp          !< dilatancy constant K [-]
     real(wp) :: eta_f = 0.0_wp           !< pore fluid viscosity eta_f [Pa s] (0: J = 0)
+    real(wp) :: c1 = 0.0_wp              !< densification constant C_1 [-] (0: off)
+    real(wp) :: c2 = 0.0_wp              !< densification constant C_2 [-] (0: 0.4 / C_1)
+    real(wp) :: gamma_t = 0.0_wp         !< threshold shear strain amplitude [-]
   end type css_params_t
 
   integer, parameter :: max_iterations = 200  !< cap of the scalar solve
@@ -147,4 +170,42 @@ contains
       if (dt > 0.0_wp) rate = dgam / dt
     end function rate
   end subroutine css_return
+
+  !> Cyclic densification (Byrne 1991 form of Martin et al. 1975, as FLAC's Finn model applies
+  !! it per half cycle): advance the particle's cyclic `state` by the engineering shear strain
+  !! increment `dgamma` = 2 d eps_xy and return the densification increment `devd` [-] (>= 0,
+  !! contraction). A reversal is counted when gamma_xy has come back from its extreme by more
+  !! than the threshold `gamma_t`; the half cycle's amplitude is half the strain between the
+  !! last two reversals (the whole excursion for the first one, a quarter cycle from rest).
+  !! Amplitudes <= `gamma_t` do not densify:
+  !!   devd = gamma C_1 exp(-C_2 eps_vd / gamma),  C_2 = 0.4 / C_1 unless given.
+  pure subroutine css_densify(prm, dgamma, state, devd)
+    type(css_params_t), intent(in) :: prm          !< parameters
+    real(wp), intent(in) :: dgamma                 !< engineering shear strain increment [-]
+    real(wp), intent(inout) :: state(css_n_cyclic) !< cyclic state
+    real(wp), intent(out) :: devd                  !< densification increment [-]
+    real(wp) :: g, dir, amp, c2
+    devd = 0.0_wp
+    g = state(css_gamma) + dgamma
+    state(css_gamma) = g
+    dir = sign(1.0_wp, state(css_gamma_ext) - state(css_gamma_rev))
+    if (state(css_gamma_ext) == state(css_gamma_rev) .or. &
+      (g - state(css_gamma_ext)) * dir >= 0.0_wp) then
+      state(css_gamma_ext) = g   ! moving on in the same direction (or from rest)
+      return
+    end if
+    if (abs(g - state(css_gamma_ext)) <= prm%gamma_t) return
+    ! a reversal at the extreme gamma_ext
+    amp = abs(state(css_gamma_ext) - state(css_gamma_rev))
+    if (state(css_reversals) > 0.0_wp) amp = 0.5_wp * amp
+    if (amp > prm%gamma_t .and. amp > 0.0_wp .and. prm%c1 > 0.0_wp) then
+      c2 = prm%c2
+      if (c2 <= 0.0_wp) c2 = 0.4_wp / prm%c1
+      devd = amp * prm%c1 * exp(-c2 * state(css_evd) / amp)
+      state(css_evd) = state(css_evd) + devd
+    end if
+    state(css_reversals) = state(css_reversals) + 1.0_wp
+    state(css_gamma_rev) = state(css_gamma_ext)
+    state(css_gamma_ext) = g
+  end subroutine css_densify
 end module mpm_critical_state_sand

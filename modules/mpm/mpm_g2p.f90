@@ -72,7 +72,7 @@ contains
       p%f(7:9, ip) = fnew(:, 3)
       p%volume(ip) = det3(fnew) * p%volume0(ip)                           ! eq. 75
       call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
-        p%plastic_strain(ip), p%hardening(ip))
+        p%plastic_strain(ip), p%hardening(ip), p%cyclic(:, ip))
     end do
   end subroutine g2p_update
 end module mpm_g2p

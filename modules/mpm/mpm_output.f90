@@ -6,7 +6,8 @@
 !! `/checkpoint/particles/<solid>/...` with the full state (bitwise restart).
 module mpm_output
   use mpmice_kinds, only: wp, i8, name_len
-  use io_hdf5, only: h5_file_t, h5_write_particles, h5_read_particles, h5_write_cell_field
+  use io_hdf5, only: h5_file_t, h5_write_particles, h5_read_particles, h5_write_cell_field, &
+    h5_exists
   use grid_layout, only: grid_t
   use io_xdmf, only: xdmf_particles_t
   use particles_store, only: particles_t, particles_resize
@@ -126,6 +127,13 @@ contains
     call transfer(file, g // 'volume0', p%volume0(1:n), write)
     call transfer(file, g // 'plastic_strain', p%plastic_strain(1:n), write)
     call transfer(file, g // 'hardening', p%hardening(1:n), write)
+    ! the sand's cyclic densification state; a checkpoint without it (written before the
+    ! state existed) restarts from zero, as the particles were seeded
+    if (write .or. h5_exists(file, g // 'cyclic')) then
+      call transfer(file, g // 'cyclic', p%cyclic(:, 1:n), write)
+    else
+      p%cyclic(:, 1:n) = 0.0_wp
+    end if
     call transfer(file, g // 'temperature', p%temperature(1:n), write)
     call transfer(file, g // 'pore_pressure', p%pore_pressure(1:n), write)
   end subroutine checkpoint_state

@@ -196,6 +196,9 @@ contains
     mat%css%phi_m = sp%critical_solid_fraction
     mat%css%k_dil = sp%dilatancy_constant
     mat%css%eta_f = sp%fluid_viscosity
+    mat%css%c1 = sp%densification_c1
+    mat%css%c2 = sp%densification_c2
+    mat%css%gamma_t = sp%densification_threshold
     mat%solid_fraction0 = 1.0_wp - sp%porosity
   end subroutine set_soil_params
 

@@ -12,13 +12,13 @@ module particles_migration
   use grid_layout, only: grid_t
   use parallel_domain, only: domain_t, domain_block_range
   use parallel_comm, only: alltoall_counts, alltoallv_real, cart_rank
-  use particles_store, only: particles_t, particles_reserve, particles_compact
+  use particles_store, only: particles_t, particles_reserve, particles_compact, n_cyclic_state
   implicit none
   private
 
   public :: migration_t, migration_init, migrate_particles, nfield
 
-  integer, parameter :: nfield = 35  !< reals per packed particle
+  integer, parameter :: nfield = 35 + n_cyclic_state  !< reals per packed particle
 
   !> Ownership tables and buffers of the migration.
   type :: migration_t
@@ -188,6 +188,7 @@ contains
     buf(33) = p%pore_pressure(ip)
     buf(34) = transfer(p%id(ip), 1.0_wp)
     buf(35) = p%hardening(ip)
+    buf(36:nfield) = p%cyclic(:, ip)
   end subroutine pack_particle
 
   !> Unpack `buf(nfield)` into slot `ip` of `p` (capacity must suffice).
@@ -208,5 +209,6 @@ contains
     p%pore_pressure(ip) = buf(33)
     p%id(ip) = transfer(buf(34), 1_i8)
     p%hardening(ip) = buf(35)
+    p%cyclic(:, ip) = buf(36:nfield)
   end subroutine unpack_particle
 end module particles_migration

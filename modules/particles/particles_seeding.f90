@@ -71,6 +71,7 @@ contains
                 p%stress(:, n) = 0.0_wp
                 p%plastic_strain(n) = 0.0_wp
                 p%hardening(n) = 0.0_wp
+                p%cyclic(:, n) = 0.0_wp
                 p%temperature(n) = s%temperature
                 p%pore_pressure(n) = 0.0_wp
                 p%id(n) = cell_id * nsub + int(((c - 1) * ppc(2) + (b - 1)) * ppc(1) + a, i8)

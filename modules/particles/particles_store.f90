@@ -14,7 +14,10 @@ module particles_store
   private
 
   public :: particles_t, particles_reserve, particles_resize, particles_copy, particles_compact
-  public :: particles_free, identity_f
+  public :: particles_free, identity_f, n_cyclic_state
+
+  !> Entries of the per-particle cyclic state (`mpm_critical_state_sand`'s css_n_cyclic).
+  integer, parameter :: n_cyclic_state = 5
 
   !> 3x3 identity as stored in `f(9)`.
   real(wp), parameter :: identity_f(9) = [1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
@@ -37,6 +40,9 @@ module particles_store
     !> hardening variable of the model: Modified Cam-Clay preconsolidation pressure p_c [Pa]
     !! (0: not yet set; unused by the other models)
     real(wp), allocatable :: hardening(:)
+    !> (n_cyclic_state, np) cyclic densification state of the critical-state sand
+    !! (`css_densify`: eps_vd, gamma_xy, its last reversal and extreme, reversals); 0 at seeding
+    real(wp), allocatable :: cyclic(:, :)
     real(wp), allocatable :: temperature(:)    !< temperature [K]
     real(wp), allocatable :: pore_pressure(:)  !< pore pressure (0 without a fluid) [Pa]
     integer(i8), allocatable :: id(:)          !< global particle id (unique, stable)
@@ -62,7 +68,7 @@ contains
     n = min(p%np, cap)
     allocate(q%x(3, cap), q%v(3, cap), q%mass(cap), q%volume(cap), q%volume0(cap), q%f(9, cap), &
       q%stress(6, cap), q%stress_unrot(6, cap), q%plastic_strain(cap), q%temperature(cap), &
-      q%pore_pressure(cap), q%id(cap), q%hardening(cap))
+      q%pore_pressure(cap), q%id(cap), q%hardening(cap), q%cyclic(n_cyclic_state, cap))
     if (n > 0) then
       q%x(:, 1:n) = p%x(:, 1:n)
       q%v(:, 1:n) = p%v(:, 1:n)
@@ -74,6 +80,7 @@ contains
       q%stress_unrot(:, 1:n) = p%stress_unrot(:, 1:n)
       q%plastic_strain(1:n) = p%plastic_strain(1:n)
       q%hardening(1:n) = p%hardening(1:n)
+      q%cyclic(:, 1:n) = p%cyclic(:, 1:n)
       q%temperature(1:n) = p%temperature(1:n)
       q%pore_pressure(1:n) = p%pore_pressure(1:n)
       q%id(1:n) = p%id(1:n)
@@ -88,6 +95,7 @@ contains
     call move_alloc(q%stress_unrot, p%stress_unrot)
     call move_alloc(q%plastic_strain, p%plastic_strain)
     call move_alloc(q%hardening, p%hardening)
+    call move_alloc(q%cyclic, p%cyclic)
     call move_alloc(q%temperature, p%temperature)
     call move_alloc(q%pore_pressure, p%pore_pressure)
     call move_alloc(q%id, p%id)
@@ -111,6 +119,7 @@ contains
     dst%stress_unrot(:, j) = src%stress_unrot(:, i)
     dst%plastic_strain(j) = src%plastic_strain(i)
     dst%hardening(j) = src%hardening(i)
+    dst%cyclic(:, j) = src%cyclic(:, i)
     dst%temperature(j) = src%temperature(i)
     dst%pore_pressure(j) = src%pore_pressure(i)
     dst%id(j) = src%id(i)
@@ -136,6 +145,7 @@ contains
       p%stress_unrot(:, j) = p%stress_unrot(:, i)
       p%plastic_strain(j) = p%plastic_strain(i)
       p%hardening(j) = p%hardening(i)
+      p%cyclic(:, j) = p%cyclic(:, i)
       p%temperature(j) = p%temperature(i)
       p%pore_pressure(j) = p%pore_pressure(i)
       p%id(j) = p%id(i)
@@ -148,7 +158,7 @@ contains
     type(particles_t), intent(inout) :: p  !< store
     if (allocated(p%x)) deallocate(p%x, p%v, p%mass, p%volume, p%volume0, p%f, p%stress, &
       p%stress_unrot, p%plastic_strain, p%temperature, p%pore_pressure, p%id, &
-      p%hardening)
+      p%hardening, p%cyclic)
     p%np = 0
     p%capacity = 0
   end subroutine particles_free
