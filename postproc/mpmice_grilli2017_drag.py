@@ -24,7 +24,8 @@ Prints
    parallel reading) when a face neighbour holds no beads and another holds more than the cell,
    the dumps' stand-in for the face-plane test of `surface_body_fraction` (the body's fraction
    taken as the fullest neighbour's, at most phi_p); cells with bed use the partner rule of
-   `mpmice_rigid_contact.partner_fields` (phi / (1 - phi_bed); none at phi_bed >= 0.5).
+   `mpmice_rigid_contact.partner_fields` (phi / (1 - phi_bed); none at phi_bed >= 0.5); and the
+   beads' mean slip in the partly filled cells and in the others.
 """
 from __future__ import annotations
 
@@ -116,7 +117,7 @@ def drag_field(c, reading):
     cc = ERGUN_A * MU_W * phi_k / (n**2 * GRAIN**2) + ERGUN_B * rho * w / (n * GRAIN)
     k = np.where((phi > 0.0) & (bed < WALL_FRACTION), phw * phi * s * cc, 0.0)
     along = np.array([np.cos(np.radians(35.0)), -np.sin(np.radians(35.0))])
-    return k * w, k * (along[0] * du[0] + along[1] * du[1]), phi, surf
+    return k * w, k * (along[0] * du[0] + along[1] * du[1]), phi, surf, w
 
 
 def shares(folder: str, t0: float, t1: float) -> None:
@@ -126,9 +127,10 @@ def shares(folder: str, t0: float, t1: float) -> None:
     print(f"\n{folder}: {len(dumps)} dumps, model t = {t0} to {t1} s; partly filled: "
           f"phi < {PACKING / 2:.3f}")
     for reading in ("cell", "series", "parallel"):
-        acc = np.zeros(6)
+        acc = np.zeros(8)
         for d in dumps:
-            mag, along, phi, surf = drag_field(d["cell"], reading)
+            mag, along, phi, surf, w = drag_field(d["cell"], reading)
+            full = phi >= 0.5 * PACKING
             area = float(np.prod(np.asarray(d["attrs"]["dx"]).reshape(3)[:2]))  # per metre depth
             part = (phi > 0.0) & (phi < 0.5 * PACKING)
             acc += [np.sum(mag[part]) / max(np.sum(mag), 1e-30),
@@ -136,12 +138,15 @@ def shares(folder: str, t0: float, t1: float) -> None:
                     np.sum(mag[surf]) / max(np.sum(mag), 1e-30),
                     np.sum(phi[surf]) / np.sum(phi),
                     np.sum(along) * area,
-                    np.sum(along[part]) * area]
+                    np.sum(along[part]) * area,
+                    np.average(w[part], weights=phi[part]), np.average(w[full], weights=phi[full])]
         acc /= len(dumps)
         print(f"  {reading:8s}: drag share in partly filled cells {acc[0]:.3f} (beads' volume "
               f"{acc[1]:.3f}); in surface cells {acc[2]:.3f} (volume {acc[3]:.3f}); drag along "
               f"the slope on the beads {acc[4]:.2f} N/m, of it in partly filled cells "
               f"{acc[5]:.2f} N/m")
+    print(f"  slip |u_w - u_s| (mean over the beads' volume): partly filled cells {acc[6]:.3f} "
+          f"m/s, the others {acc[7]:.3f} m/s")
 
 
 def main(argv=None) -> int:
