@@ -27,6 +27,8 @@ Cases (each isolates one candidate cause of the slow slide; the scene's values i
   darcy       forchheimer_b = 0 [1.75]: the linear (Darcy) part of the Ergun law only
   kozeny      drag_law = 'kozeny_carman' [forchheimer] (a = 180, b = 0)
   ergun_b05   forchheimer_b = 0.5 [1.75]
+  surfpar     surface_drag_parallel = .true. [.false.]: the drag of the cells crossed by the
+              slide's surface in parallel (flow along the surface), not in series
   phi30       friction_angle = 30 deg [22.3]
   phi15       friction_angle = 15 deg [22.3]
   phi5        friction_angle = 5 deg [22.3]: a nearly cohesionless-fluid packing that spreads
@@ -118,6 +120,7 @@ def _register():
         "darcy": ([beads + "forchheimer_b = 0.0 /"], _same),
         "kozeny": ([beads + "drag_law = 'kozeny_carman' /"], _same),
         "ergun_b05": ([beads + "forchheimer_b = 0.5 /"], _same),
+        "surfpar": ([beads + "surface_drag_parallel = .true. /"], _same),
         "phi30": ([beads + "friction_angle = 30.0 /"], _same),
         "phi15": ([beads + "friction_angle = 15.0 /"], _same),
         "phi5": ([beads + "friction_angle = 5.0 /"], _same),

@@ -19,7 +19,7 @@ module mpmice_rigid_contact
   use ice_state, only: ice_state_t
   use exchange_solid_phase, only: solid_phase_t
   use exchange_drag, only: drag_reduced_coefficient
-  use mpmice_solid_coupling, only: solid_coupling_t, surface_body_fraction
+  use mpmice_solid_coupling, only: solid_coupling_t, surface_body_fraction, surface_drag_scale
   use mpmice_deposit_layout, only: deposit_solid_volume
   implicit none
   private
@@ -135,7 +135,8 @@ contains
     integer, intent(in) :: c(3)                 !< cell
     integer :: s, m, ns
     real(wp) :: vol_d, vol_r, mass_d, mass_r, phi_d, phi_r, phi_k, scale, rho_f, slip, cs, wsum
-    logical :: deformable
+    real(wp) :: fs
+    logical :: deformable, surface
     ns = size(solids)
     vol_d = 0.0_wp
     vol_r = 0.0_wp
@@ -153,6 +154,7 @@ contains
     phi_d = min(vol_d / grid%cell_volume, max_fraction)
     phi_r = min(vol_r / grid%cell_volume, max_fraction)
     deformable = vol_d > 0.0_wp .and. phi_r < wall_fraction
+    surface = .false.
     if (.not. deformable) phi_d = 0.0_wp
     associate (sp => solid)
       sp%frac_def(c(1), c(2), c(3)) = phi_d
@@ -165,7 +167,8 @@ contains
           scale = 1.0_wp / (1.0_wp - phi_r)
         else
           phi_k = surface_body_fraction(grid, dep, ns, c, phi_d, max_fraction)
-          scale = (1.0_wp - phi_d) / (1.0_wp - phi_k)
+          scale = surface_drag_scale(phi_d, phi_k, .false.)
+          surface = .true.
         end if
       else if (phi_r >= wall_fraction) then
         sp%xfrac(c(1), c(2), c(3)) = phi_r
@@ -186,7 +189,10 @@ contains
           do s = 1, ns
             if (solids(s)%rigid .eqv. deformable) cycle
             if (dep(deposit_solid_volume(s), c(1), c(2), c(3)) <= 0.0_wp) cycle
-            cs = cs + dep(deposit_solid_volume(s), c(1), c(2), c(3)) * scale * &
+            fs = scale
+            if (surface .and. solids(s)%surface_drag_parallel) fs = surface_drag_scale(phi_d, &
+              phi_k, .true.)
+            cs = cs + dep(deposit_solid_volume(s), c(1), c(2), c(3)) * fs * &
               drag_reduced_coefficient(solids(s)%drag_law, phi_k, solids(s)%grain_size, f%viscosity, rho_f, slip, &
               solids(s)%drag_coefficient, solids(s)%forchheimer_a, solids(s)%forchheimer_b)
             wsum = wsum + dep(deposit_solid_volume(s), c(1), c(2), c(3))

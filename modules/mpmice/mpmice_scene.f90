@@ -173,6 +173,7 @@ contains
         self%coupling(s)%drag_coefficient = c%drag_coefficient
         self%coupling(s)%forchheimer_a = c%forchheimer_a
         self%coupling(s)%forchheimer_b = c%forchheimer_b
+        self%coupling(s)%surface_drag_parallel = c%surface_drag_parallel
         if (c%grain_bulk_modulus > 0.0_wp) self%coupling(s)%grain_kappa = 1.0_wp / &
           c%grain_bulk_modulus
         self%coupling(s)%grain_density = c%density

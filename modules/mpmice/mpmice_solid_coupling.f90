@@ -9,7 +9,7 @@ module mpmice_solid_coupling
   implicit none
   private
 
-  public :: solid_coupling_t, surface_body_fraction
+  public :: solid_coupling_t, surface_body_fraction, surface_drag_scale
 
   !> Coupling parameters of one solid material.
   type :: solid_coupling_t
@@ -23,6 +23,8 @@ module mpmice_solid_coupling
     real(wp) :: heat_capacity = 800.0_wp    !< c_s [J/kg/K]
     real(wp) :: conductivity = 0.4_wp       !< k_s of the grains [W/m/K]
     logical :: rigid = .false.              !< a rigid (prescribed-motion) body
+    logical :: surface_drag_parallel = .false.  !< surface cells: the body's drag in parallel
+                                            !! (flow along the surface), not in series
   end type solid_coupling_t
 
 contains
@@ -34,7 +36,10 @@ contains
   !! phi / phi_body of the cell it fills: R_cell = (phi / phi_body) R(phi_body), R = phi_s c /
   !! phi_f the resistance of eq. 18 per length. With the cell average instead, the Kozeny-Carman
   !! resistance of the top cell of the consolidation column fell to 0.61 of the body's once it
-  !! had settled by 7 % of a cell, draining the column 0.7 % too fast.
+  !! had settled by 7 % of a cell, draining the column 0.7 % too fast. That series resistance
+  !! holds for flow across the surface; for flow along it (`&solid surface_drag_parallel`) the
+  !! body's part of the cell drags in parallel with the free fluid beside it:
+  !! phi_f phi c = phi n_body c(phi_body), see `surface_drag_scale`.
   pure real(wp) function surface_body_fraction(grid, dep, ns, c, phi, max_fraction) &
     result(phi_body)
     type(grid_t), intent(in) :: grid            !< block geometry
@@ -60,4 +65,21 @@ contains
     end do
     if (fmin <= 1.0e-12_wp .and. fmax > phi + 1.0e-9_wp) phi_body = min(fmax, max_fraction)
   end function surface_body_fraction
+
+  !> Factor on c(phi_body) that gives a surface cell's reduced drag coefficient (per the cell
+  !! fraction phi): in series (flow across the surface, the default) (1 - phi) / (1 - phi_body),
+  !! so that the cell's resistance per length is (phi / phi_body) R(phi_body); in parallel (flow
+  !! along the surface) (1 - phi_body) / (1 - phi), the drag of the body's share phi / phi_body
+  !! of the cell at the cell's slip, phi_f phi c = (phi / phi_body) phi_body n_body c(phi_body).
+  !! 1 where phi_body = phi.
+  elemental real(wp) function surface_drag_scale(phi, phi_body, parallel) result(scale)
+    real(wp), intent(in) :: phi       !< cell solid fraction [-]
+    real(wp), intent(in) :: phi_body  !< the body's own fraction [-] (`surface_body_fraction`)
+    logical, intent(in) :: parallel   !< flow along the surface
+    if (parallel) then
+      scale = (1.0_wp - phi_body) / (1.0_wp - phi)
+    else
+      scale = (1.0_wp - phi) / (1.0_wp - phi_body)
+    end if
+  end function surface_drag_scale
 end module mpmice_solid_coupling

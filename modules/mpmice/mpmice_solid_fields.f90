@@ -17,7 +17,7 @@ module mpmice_solid_fields
   use exchange_solid_phase, only: solid_phase_t
   use ice_pressure, only: solid_face_fraction
   use exchange_drag, only: drag_reduced_coefficient, drag_impermeable
-  use mpmice_solid_coupling, only: solid_coupling_t, surface_body_fraction
+  use mpmice_solid_coupling, only: solid_coupling_t, surface_body_fraction, surface_drag_scale
   use mpmice_deposit_layout, only: deposit_layout_t, deposit_layout, deposit_mass, &
     deposit_grain_volume, deposit_solid_volume
   use mpmice_rigid_contact, only: partner_fields
@@ -42,7 +42,7 @@ contains
     real(wp), intent(out) :: phi_p(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< particle fraction
     integer :: i, j, k, s, m, ns, ilo(2), ihi(2), irlo(2), irhi(2), icap, iene, icond
     type(deposit_layout_t) :: lay
-    real(wp) :: vol, phi, cs, rho_f, slip, wsum, phi_body, scale, vol_imp, phi_imp
+    real(wp) :: vol, phi, cs, rho_f, slip, wsum, phi_body, scale, vol_imp, phi_imp, fs
     logical :: mixed
     ns = size(solids)
     ! first and last (direction 1 and 3) of the plane components, 2 apart
@@ -121,7 +121,7 @@ contains
               ! a cell crossed by the soil's surface: the drag of the body's fraction over the
               ! share phi / phi_body of the cell the body fills (series resistance, below)
               phi_body = surface_body_fraction(grid, dep, ns, [i, j, k], phi, max_fraction)
-              scale = (1.0_wp - phi) / (1.0_wp - phi_body)
+              scale = surface_drag_scale(phi, phi_body, .false.)
             end if
             do m = 1, state%nfluids
               associate (f => state%fluid(m))
@@ -133,7 +133,10 @@ contains
                   if (dep(deposit_solid_volume(s), i, j, k) <= 0.0_wp) cycle
                   wsum = wsum + dep(deposit_solid_volume(s), i, j, k)
                   if (mixed .and. solids(s)%drag_law == drag_impermeable) cycle
-                  cs = cs + dep(deposit_solid_volume(s), i, j, k) * scale * &
+                  fs = scale
+                  if (.not. mixed .and. solids(s)%surface_drag_parallel) fs = &
+                    surface_drag_scale(phi, phi_body, .true.)
+                  cs = cs + dep(deposit_solid_volume(s), i, j, k) * fs * &
                     drag_reduced_coefficient(solids(s)%drag_law, phi_body, &
                     solids(s)%grain_size, f%viscosity, rho_f, slip, solids(s)%drag_coefficient, &
                     solids(s)%forchheimer_a, solids(s)%forchheimer_b)
