@@ -16,6 +16,7 @@ module parallel_comm
     MPI_Abort, MPI_IN_PLACE, MPI_INTEGER, MPI_CHARACTER, &
     MPI_INTEGER8, MPI_LOGICAL, MPI_DOUBLE_PRECISION, MPI_2DOUBLE_PRECISION, MPI_SUM, &
     MPI_MAXLOC, MPI_LAND, MPI_LOR, MPI_MAX_LIBRARY_VERSION_STRING
+  use, intrinsic :: iso_c_binding, only: c_int, c_ptr
   use mpmice_kinds, only: wp, i8
   use mpmice_errors, only: set_exit_hooks
   implicit none
@@ -25,6 +26,7 @@ module parallel_comm
   public :: mpi_start, mpi_stop, comm_dup_world, comm_free, comm_rank, comm_size, barrier, &
     bcast, bcast_text, sum_in_place, node_sum, max_location, all_and, all_or, exscan_sum, &
     alltoall_counts, alltoallv_real, cart_rank, mpi_library_version, world_ranks, abort_world
+  public :: c_comm_handle
 
   !> `bcast(comm, values, root)`: MPI_Bcast from rank `root` of one integer or logical, or of an
   !! integer vector or a real vector or matrix.
@@ -33,7 +35,25 @@ module parallel_comm
       bcast_real_matrix
   end interface bcast
 
+  interface
+    !> C `MPI_Comm MPI_Comm_f2c(MPI_Fint)`: the C handle of a Fortran communicator (Open MPI).
+    function c_mpi_comm_f2c(fcomm) bind(c, name='MPI_Comm_f2c') result(ccomm)
+      import :: c_int, c_ptr
+      integer(c_int), value :: fcomm
+      type(c_ptr) :: ccomm
+    end function c_mpi_comm_f2c
+  end interface
+
 contains
+
+  !> The C `MPI_Comm` handle of an `mpi_f08` communicator, for C libraries that take one (hypre).
+  !! The only place that calls `MPI_Comm_f2c`. It assumes Open MPI, whose C `MPI_Comm` is a
+  !! pointer (MPICH-derived MPIs use an `int` handle and would need `integer(c_int)` instead).
+  function c_comm_handle(comm) result(ccomm)
+    type(MPI_Comm), intent(in) :: comm  !< Fortran communicator
+    type(c_ptr) :: ccomm
+    ccomm = c_mpi_comm_f2c(int(comm%MPI_VAL, c_int))
+  end function c_comm_handle
 
   !> MPI_Init, then the program's communicator: a duplicate of `MPI_COMM_WORLD`; from here on
   !! `fatal` aborts every rank and `exit_cleanly` finalizes MPI (`set_exit_hooks`).

@@ -11,13 +11,11 @@
 !! * every function returns hypre's error flag (`integer(c_int)`, 0 on success). The flag is
 !!   global and sticky inside hypre: callers check it after each call (`hypre_check`) and clear
 !!   the bits they accept (`HYPRE_ClearError`);
-!! * hypre takes a C `MPI_Comm`. `hypre_c_comm` is the one place that converts an `mpi_f08`
-!!   communicator into it, through `MPI_Comm_f2c` from the MPI C library. It assumes Open MPI,
-!!   whose C `MPI_Comm` is a pointer (MPICH-derived MPIs use an `int` handle and would need
-!!   `integer(c_int)` here instead).
+!! * hypre takes a C `MPI_Comm`: `hypre_c_comm` gets it from `parallel_comm%c_comm_handle`
+!!   (MPI calls stay in parallel/).
 module solver_hypre_api
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_ptr, c_funptr, c_char, c_null_char
-  use parallel_comm, only: MPI_Comm
+  use parallel_comm, only: MPI_Comm, c_comm_handle
   use mpmice_errors, only: fatal
   use mpmice_kinds, only: msg_len
   implicit none
@@ -51,13 +49,6 @@ module solver_hypre_api
   integer(c_int), parameter :: HYPRE_ERROR_CONV = 256_c_int    !< method did not converge
 
   interface
-    !> C `MPI_Comm MPI_Comm_f2c(MPI_Fint)`: the C handle of a Fortran communicator (Open MPI).
-    function c_mpi_comm_f2c(fcomm) bind(c, name='MPI_Comm_f2c') result(ccomm)
-      import :: c_int, c_ptr
-      integer(c_int), value :: fcomm
-      type(c_ptr) :: ccomm
-    end function c_mpi_comm_f2c
-
     ! ---------------------------------------------------------------- utilities
     function HYPRE_Init() bind(c, name='HYPRE_Init') result(ierr)
       import :: c_int
@@ -413,12 +404,11 @@ module solver_hypre_api
 
 contains
 
-  !> The C `MPI_Comm` handle that hypre expects for an `mpi_f08` communicator. The only place
-  !! that calls `MPI_Comm_f2c` (Open MPI: the handle is a pointer).
+  !> The C `MPI_Comm` handle that hypre expects for an `mpi_f08` communicator.
   function hypre_c_comm(comm) result(ccomm)
     type(MPI_Comm), intent(in) :: comm  !< Fortran communicator
     type(c_ptr) :: ccomm
-    ccomm = c_mpi_comm_f2c(int(comm%MPI_VAL, c_int))
+    ccomm = c_comm_handle(comm)
   end function hypre_c_comm
 
   !> hypre's description of the error bits in `ierr` (e.g. `[Argument error] `).

@@ -46,3 +46,17 @@ def test_mpi_only_in_allowed_folders():
                      and (p.parts[0] == "src" or p.parts[1] not in MPI_FOLDERS))
     assert outside == []
     assert Path("modules/parallel/parallel_comm.f90") in users
+
+
+def test_mpi_c_bindings_only_in_allowed_folders():
+    """No file of modules/ or src/ outside MPI_FOLDERS binds an MPI C function (`bind(c,
+    name='MPI_...')`): the C handle of a communicator for hypre comes from parallel_comm."""
+    bound = []
+    for path in sorted((ROOT / "modules").rglob("*.f90")) + sorted((ROOT / "src").rglob("*.f90")):
+        rel = path.relative_to(ROOT)
+        text = path.read_text(encoding="utf-8").lower()
+        if "name='mpi_" in text.replace('"', "'").replace(" ", ""):
+            bound.append(rel)
+    outside = sorted(str(p) for p in bound if p.parts[0] == "src" or p.parts[1] not in MPI_FOLDERS)
+    assert outside == []
+    assert Path("modules/parallel/parallel_comm.f90") in bound
