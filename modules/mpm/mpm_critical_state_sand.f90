@@ -34,7 +34,11 @@
 !! eps_vd >= 0 the accumulated densification (contraction positive). It is a plastic
 !! compaction: p' = K (eps_v^e) with eps_v^e = eps_v + eps_vd, so at constant volume p' falls
 !! by K d eps_vd (the excess pore pressure of an undrained element), drained the element
-!! contracts by d eps_vd.
+!! contracts by d eps_vd. Two optional limits: eps_vd <= `evd_max` (the densest packing the
+!! grains can reach, eps_vd_max = 1 - phi_0 / phi_max), and, with `elastic_amp`, the cycled
+!! strain is the elastic shear strain gamma_xy^e = tau_xy / G instead of the total one, so that
+!! monotonic plastic flow (tau on the yield surface) is no cycle and only the cyclic stress
+!! counts (the caller passes its increment).
 module mpm_critical_state_sand
   use mpmice_kinds, only: wp
   use mpm_illinois, only: illinois_point, illinois_update
@@ -65,6 +69,8 @@ module mpm_critical_state_sand
     real(wp) :: c1 = 0.0_wp              !< densification constant C_1 [-] (0: off)
     real(wp) :: c2 = 0.0_wp              !< densification constant C_2 [-] (0: 0.4 / C_1)
     real(wp) :: gamma_t = 0.0_wp         !< threshold shear strain amplitude [-]
+    real(wp) :: evd_max = 0.0_wp         !< largest eps_vd [-] (0: no bound)
+    logical :: elastic_amp = .false.     !< cycle the elastic shear strain tau_xy / G
   end type css_params_t
 
   integer, parameter :: max_iterations = 200  !< cap of the scalar solve
@@ -178,7 +184,8 @@ contains
   !! than the threshold `gamma_t`; the half cycle's amplitude is half the strain between the
   !! last two reversals (the whole excursion for the first one, a quarter cycle from rest).
   !! Amplitudes <= `gamma_t` do not densify:
-  !!   devd = gamma C_1 exp(-C_2 eps_vd / gamma),  C_2 = 0.4 / C_1 unless given.
+  !!   devd = gamma C_1 exp(-C_2 eps_vd / gamma),  C_2 = 0.4 / C_1 unless given,
+  !! eps_vd + devd <= `evd_max` when that is > 0.
   pure subroutine css_densify(prm, dgamma, state, devd)
     type(css_params_t), intent(in) :: prm          !< parameters
     real(wp), intent(in) :: dgamma                 !< engineering shear strain increment [-]
@@ -202,6 +209,7 @@ contains
       c2 = prm%c2
       if (c2 <= 0.0_wp) c2 = 0.4_wp / prm%c1
       devd = amp * prm%c1 * exp(-c2 * state(css_evd) / amp)
+      if (prm%evd_max > 0.0_wp) devd = max(min(devd, prm%evd_max - state(css_evd)), 0.0_wp)
       state(css_evd) = state(css_evd) + devd
     end if
     state(css_reversals) = state(css_reversals) + 1.0_wp

@@ -199,6 +199,8 @@ contains
     mat%css%c1 = sp%densification_c1
     mat%css%c2 = sp%densification_c2
     mat%css%gamma_t = sp%densification_threshold
+    mat%css%evd_max = sp%densification_max
+    mat%css%elastic_amp = sp%densification_elastic
     mat%solid_fraction0 = 1.0_wp - sp%porosity
   end subroutine set_soil_params
 
