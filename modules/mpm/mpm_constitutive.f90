@@ -196,7 +196,7 @@ contains
       stress_unrot = stress_unrot + elastic_increment(mat%lambda, mat%mu, deps)
       if (mat%model == model_critical_state_sand) then
         if (mat%css%c1 > 0.0_wp .and. present(cyclic)) then
-          call css_densify(mat%css, dgamma, cyclic, devd)
+          call css_densify(mat%css, dgamma, dt, cyclic, devd)
           stress_unrot(1:3) = stress_unrot(1:3) + (mat%lambda + 2.0_wp * mat%mu / 3.0_wp) * devd
         end if
         call css_return(mat%css, mat%solid_fraction0 / det3(f), dt, stress_unrot, dep)
