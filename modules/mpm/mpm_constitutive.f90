@@ -12,7 +12,8 @@ module mpm_constitutive
   use mpm_neo_hookean, only: neo_hookean_stress
   use mpm_mohr_coulomb, only: mc_params_t, mc_return
   use mpm_cam_clay, only: mcc_params_t, mcc_update, mcc_moduli, mcc_invariants
-  use mpm_critical_state_sand, only: css_params_t, css_return, css_densify, css_n_cyclic
+  use mpm_critical_state_sand, only: css_params_t, css_return, css_densify, css_n_cyclic, &
+    css_gamma, css_gamma_ext
   implicit none
   private
 
@@ -144,7 +145,9 @@ contains
   !! rate-model particle dilated past `mat%j_loose` (`&solid max_porosity`) carries no stress.
   !! For the critical-state sand with `mat%css%c1 > 0`, `cyclic` is the particle's cyclic
   !! densification state (`css_densify`; without it, no densification): the increment d eps_vd
-  !! of a reversal is taken from the elastic volumetric strain, sigma_ii += K d eps_vd.
+  !! of a reversal is taken from the elastic volumetric strain, sigma_ii += K d eps_vd. With
+  !! `mat%css%elastic_amp` the cycled strain is tau_xy / G of the trial stress (the state
+  !! starts at the initial stress's value), otherwise the total gamma_xy = 2 eps_xy.
   pure subroutine constitutive_update(mat, f, l, dt, stress_unrot, stress, plastic_strain, &
     hardening, cyclic)
     type(material_t), intent(in) :: mat              !< material
@@ -156,7 +159,7 @@ contains
     real(wp), intent(inout) :: plastic_strain        !< equivalent plastic strain [-]
     real(wp), intent(inout), optional :: hardening   !< Cam-Clay p_c [Pa]
     real(wp), intent(inout), optional :: cyclic(css_n_cyclic)  !< sand's cyclic state
-    real(wp) :: r(3, 3), deps(6), dep, pc, devd
+    real(wp) :: r(3, 3), deps(6), dep, pc, devd, dgamma
     type(mc_params_t) :: dense
     select case (mat%model)
     case (model_neo_hookean)
@@ -182,10 +185,18 @@ contains
         stress = rotate_from(r, stress_unrot)                ! eq. 15
         return
       end if
+      dgamma = 2.0_wp * deps(4)                                           ! gamma_xy
+      if (mat%model == model_critical_state_sand .and. mat%css%elastic_amp .and. &
+        mat%css%c1 > 0.0_wp .and. present(cyclic)) then
+        ! cycled strain: the elastic gamma_xy^e = tau_xy / G of the trial stress, from the
+        ! initial stress's value (a fresh state starts there, not at zero)
+        if (all(cyclic == 0.0_wp)) cyclic(css_gamma:css_gamma_ext) = stress_unrot(4) / mat%mu
+        dgamma = stress_unrot(4) / mat%mu + dgamma - cyclic(css_gamma)
+      end if
       stress_unrot = stress_unrot + elastic_increment(mat%lambda, mat%mu, deps)
       if (mat%model == model_critical_state_sand) then
         if (mat%css%c1 > 0.0_wp .and. present(cyclic)) then
-          call css_densify(mat%css, 2.0_wp * deps(4), cyclic, devd)       ! gamma_xy
+          call css_densify(mat%css, dgamma, dt, cyclic, devd)
           stress_unrot(1:3) = stress_unrot(1:3) + (mat%lambda + 2.0_wp * mat%mu / 3.0_wp) * devd
         end if
         call css_return(mat%css, mat%solid_fraction0 / det3(f), dt, stress_unrot, dep)

@@ -34,7 +34,13 @@
 !! eps_vd >= 0 the accumulated densification (contraction positive). It is a plastic
 !! compaction: p' = K (eps_v^e) with eps_v^e = eps_v + eps_vd, so at constant volume p' falls
 !! by K d eps_vd (the excess pore pressure of an undrained element), drained the element
-!! contracts by d eps_vd.
+!! contracts by d eps_vd. Two optional limits: eps_vd <= `evd_max` (the densest packing the
+!! grains can reach, eps_vd_max = 1 - phi_0 / phi_max), and, with `elastic_amp`, the cycled
+!! strain is the elastic shear strain gamma_xy^e = tau_xy / G instead of the total one, so that
+!! monotonic plastic flow (tau on the yield surface) is no cycle and only the cyclic stress
+!! counts (the caller passes its increment). A third filters the count: a reversal is counted
+!! only once its half cycle has lasted `t_min` (e.g. a quarter of the shaking period), so the
+!! particles' high-frequency strain noise does not count as cycles.
 module mpm_critical_state_sand
   use mpmice_kinds, only: wp
   use mpm_illinois, only: illinois_point, illinois_update
@@ -43,14 +49,16 @@ module mpm_critical_state_sand
 
   public :: css_params_t, css_return, css_phi_eq, css_strength, css_densify
   public :: css_n_cyclic, css_evd, css_gamma, css_gamma_rev, css_gamma_ext, css_reversals
+  public :: css_t_half
 
   !> Cyclic state of one particle (`css_densify`), indices into `state(css_n_cyclic)`:
-  integer, parameter :: css_n_cyclic = 5   !< entries
+  integer, parameter :: css_n_cyclic = 6   !< entries
   integer, parameter :: css_evd = 1        !< accumulated densification eps_vd [-]
   integer, parameter :: css_gamma = 2      !< accumulated engineering shear strain gamma_xy [-]
   integer, parameter :: css_gamma_rev = 3  !< gamma_xy at the last reversal [-]
   integer, parameter :: css_gamma_ext = 4  !< extreme gamma_xy since the last reversal [-]
   integer, parameter :: css_reversals = 5  !< reversals (half cycles) counted [-]
+  integer, parameter :: css_t_half = 6     !< time since the last reversal [s]
 
   !> Parameters of the model.
   type :: css_params_t
@@ -65,6 +73,9 @@ module mpm_critical_state_sand
     real(wp) :: c1 = 0.0_wp              !< densification constant C_1 [-] (0: off)
     real(wp) :: c2 = 0.0_wp              !< densification constant C_2 [-] (0: 0.4 / C_1)
     real(wp) :: gamma_t = 0.0_wp         !< threshold shear strain amplitude [-]
+    real(wp) :: evd_max = 0.0_wp         !< largest eps_vd [-] (0: no bound)
+    logical :: elastic_amp = .false.     !< cycle the elastic shear strain tau_xy / G
+    real(wp) :: t_min = 0.0_wp           !< shortest half cycle counted [s]
   end type css_params_t
 
   integer, parameter :: max_iterations = 200  !< cap of the scalar solve
@@ -175,26 +186,30 @@ contains
   !! it per half cycle): advance the particle's cyclic `state` by the engineering shear strain
   !! increment `dgamma` = 2 d eps_xy and return the densification increment `devd` [-] (>= 0,
   !! contraction). A reversal is counted when gamma_xy has come back from its extreme by more
-  !! than the threshold `gamma_t`; the half cycle's amplitude is half the strain between the
+  !! than the threshold `gamma_t` and the half cycle (since the last reversal) has lasted
+  !! `t_min` [s]; the half cycle's amplitude is half the strain between the
   !! last two reversals (the whole excursion for the first one, a quarter cycle from rest).
   !! Amplitudes <= `gamma_t` do not densify:
-  !!   devd = gamma C_1 exp(-C_2 eps_vd / gamma),  C_2 = 0.4 / C_1 unless given.
-  pure subroutine css_densify(prm, dgamma, state, devd)
+  !!   devd = gamma C_1 exp(-C_2 eps_vd / gamma),  C_2 = 0.4 / C_1 unless given,
+  !! eps_vd + devd <= `evd_max` when that is > 0.
+  pure subroutine css_densify(prm, dgamma, dt, state, devd)
     type(css_params_t), intent(in) :: prm          !< parameters
     real(wp), intent(in) :: dgamma                 !< engineering shear strain increment [-]
+    real(wp), intent(in) :: dt                     !< step [s]
     real(wp), intent(inout) :: state(css_n_cyclic) !< cyclic state
     real(wp), intent(out) :: devd                  !< densification increment [-]
     real(wp) :: g, dir, amp, c2
     devd = 0.0_wp
     g = state(css_gamma) + dgamma
     state(css_gamma) = g
+    state(css_t_half) = state(css_t_half) + dt
     dir = sign(1.0_wp, state(css_gamma_ext) - state(css_gamma_rev))
     if (state(css_gamma_ext) == state(css_gamma_rev) .or. &
       (g - state(css_gamma_ext)) * dir >= 0.0_wp) then
       state(css_gamma_ext) = g   ! moving on in the same direction (or from rest)
       return
     end if
-    if (abs(g - state(css_gamma_ext)) <= prm%gamma_t) return
+    if (abs(g - state(css_gamma_ext)) <= prm%gamma_t .or. state(css_t_half) < prm%t_min) return
     ! a reversal at the extreme gamma_ext
     amp = abs(state(css_gamma_ext) - state(css_gamma_rev))
     if (state(css_reversals) > 0.0_wp) amp = 0.5_wp * amp
@@ -202,9 +217,11 @@ contains
       c2 = prm%c2
       if (c2 <= 0.0_wp) c2 = 0.4_wp / prm%c1
       devd = amp * prm%c1 * exp(-c2 * state(css_evd) / amp)
+      if (prm%evd_max > 0.0_wp) devd = max(min(devd, prm%evd_max - state(css_evd)), 0.0_wp)
       state(css_evd) = state(css_evd) + devd
     end if
     state(css_reversals) = state(css_reversals) + 1.0_wp
+    state(css_t_half) = 0.0_wp
     state(css_gamma_rev) = state(css_gamma_ext)
     state(css_gamma_ext) = g
   end subroutine css_densify

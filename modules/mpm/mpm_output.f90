@@ -10,7 +10,7 @@ module mpm_output
     h5_exists
   use grid_layout, only: grid_t
   use io_xdmf, only: xdmf_particles_t
-  use particles_store, only: particles_t, particles_resize
+  use particles_store, only: particles_t, particles_resize, n_cyclic_state
   implicit none
   private
 
@@ -117,6 +117,7 @@ contains
     type(particles_t), intent(inout) :: p    !< particles
     integer, intent(in) :: n                 !< particles on this rank
     logical, intent(in) :: write             !< write, else read
+    integer, parameter :: cyclic_main = n_cyclic_state - 1  !< rows of `cyclic`
     call transfer(file, g // 'x', p%x(:, 1:n), write)
     call transfer(file, g // 'v', p%v(:, 1:n), write)
     call transfer(file, g // 'f', p%f(:, 1:n), write)
@@ -130,9 +131,15 @@ contains
     ! the sand's cyclic densification state; a checkpoint without it (written before the
     ! state existed) restarts from zero, as the particles were seeded
     if (write .or. h5_exists(file, g // 'cyclic')) then
-      call transfer(file, g // 'cyclic', p%cyclic(:, 1:n), write)
+      call transfer(file, g // 'cyclic', p%cyclic(1:cyclic_main, 1:n), write)
     else
-      p%cyclic(:, 1:n) = 0.0_wp
+      p%cyclic(1:cyclic_main, 1:n) = 0.0_wp
+    end if
+    ! the time since the last reversal, its own dataset (`cyclic` keeps its five rows)
+    if (write .or. h5_exists(file, g // 'cyclic_half_time')) then
+      call transfer(file, g // 'cyclic_half_time', p%cyclic(n_cyclic_state, 1:n), write)
+    else
+      p%cyclic(n_cyclic_state, 1:n) = 0.0_wp
     end if
     call transfer(file, g // 'temperature', p%temperature(1:n), write)
     call transfer(file, g // 'pore_pressure', p%pore_pressure(1:n), write)

@@ -199,6 +199,9 @@ contains
     mat%css%c1 = sp%densification_c1
     mat%css%c2 = sp%densification_c2
     mat%css%gamma_t = sp%densification_threshold
+    mat%css%evd_max = sp%densification_max
+    mat%css%elastic_amp = sp%densification_elastic
+    mat%css%t_min = sp%densification_min_half_cycle
     mat%solid_fraction0 = 1.0_wp - sp%porosity
   end subroutine set_soil_params
 

@@ -17,7 +17,7 @@ module particles_store
   public :: particles_free, identity_f, n_cyclic_state
 
   !> Entries of the per-particle cyclic state (`mpm_critical_state_sand`'s css_n_cyclic).
-  integer, parameter :: n_cyclic_state = 5
+  integer, parameter :: n_cyclic_state = 6
 
   !> 3x3 identity as stored in `f(9)`.
   real(wp), parameter :: identity_f(9) = [1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
