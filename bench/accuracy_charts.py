@@ -1,4 +1,4 @@
-"""Speed against accuracy and stability maps (issue 8, items 1 and 2).
+"""Speed against accuracy and stability maps.
 
 Usage:  python bench/accuracy_charts.py [--quick] [--out docs] [--only NAME ...] [--list]
 

@@ -40,7 +40,7 @@ def heat_mode_solution(centres, lower, upper, periodic, active, params, time):
     return base + amp * np.exp(-rate * time) * shape
 
 
-# --------------------------------------------------------------------------- porous media (issue 6)
+# --------------------------------------------------------------------------- porous media
 
 def carman_kozeny_conductivity(solid_fraction, grain_size, viscosity):
     """Hydraulic conductivity k/mu [m^2/(Pa s)] of the Carman-Kozeny law,

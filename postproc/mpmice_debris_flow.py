@@ -1,5 +1,5 @@
 """Underwater sand slide (Rzadkiewicz et al. 1997) with the coupled scene: free surface, slide
-front, slide shape and mass balance (namelists/mpmice_debris_flow_2d.nml, issue 7 scene 1).
+front, slide shape and mass balance (namelists/mpmice_debris_flow_2d.nml).
 
 Usage:  python -m postproc.mpmice_debris_flow --dir output/mpmice_debris_flow_2d [--out DIR]
 

@@ -1,6 +1,6 @@
 """Earthquake-induced submarine landslide with the coupled scene: base motion, slope displacement,
 excess pore pressure, plastic strain and the surface wave (namelists/mpmice_earthquake_slope_2d.nml,
-issue 7 scene 3, docs/applications.md).
+docs/applications.md).
 
 Usage:  python -m postproc.mpmice_earthquake_slope --dir output/mpmice_earthquake_slope_2d [--out DIR]
         python -m postproc.mpmice_earthquake_slope --compare loose=DIR1 dense=DIR2 [--out DIR]

@@ -1,4 +1,4 @@
-"""Debris flow against an obstacle (issue 7, scene 2): the sand slide of the underwater scene
+"""Debris flow against an obstacle: the sand slide of the underwater scene
 meets a rigid block on the floor, once under water (namelists/mpmice_obstacle_water_2d.nml) and
 once as a saturated slide in air (namelists/mpmice_obstacle_air_2d.nml).
 

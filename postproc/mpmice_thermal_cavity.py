@@ -1,5 +1,5 @@
 """Thermally driven flow in a square cavity of rigid water-saturated porous medium (MPMICE, paper
-section "Thermal induced cavity flow"; issue 6 scene 3) and the Darcy-Rayleigh benchmarks.
+section "Thermal induced cavity flow") and the Darcy-Rayleigh benchmarks.
 
 Usage:  python -m postproc.mpmice_thermal_cavity [--out docs/validation] [--ra 10 100 1000]
                                                  [--n 20 40] [--end-thermal 1.0] [--nranks 1]

@@ -1,4 +1,4 @@
-"""Faults a run must survive in a defined way (issue 26; docs/io.md, docs/batch.md):
+"""Faults a run must survive in a defined way (docs/io.md, docs/batch.md):
 
 * a NaN that first appears in the pressure equation: exit status 3 with the failed-state dump
   (`MPMICE_FAULT=nan_pressure_step:N`, modules/base/mpmice_faults.f90);

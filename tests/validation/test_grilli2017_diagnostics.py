@@ -1,4 +1,4 @@
-"""The Grilli et al. (2017) diagnostic tools (issue 27): every variant of
+"""The Grilli et al. (2017) diagnostic tools: every variant of
 postproc/mpmice_grilli2017_cases.py is an input the program accepts (`mpmice --check`), and the
 slide measures of postproc/mpmice_grilli2017_slide.py return the closed forms (~2 s)."""
 import math

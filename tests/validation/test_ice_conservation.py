@@ -1,7 +1,7 @@
 """ICE scene, closed-box conservation (namelists/ice_slosh.nml, postproc.ice_conservation):
 sloshing water under air in a box with walls, on 1 and 2 ranks. The mass of each fluid and the
 total energy (internal, kinetic and potential) change by less than 2e-16 relative per step
-(issue target 1e-12; measured <= 4.4e-17 on 1 and 2 ranks: one rounding of the sum over ~5 steps)
+(target 1e-12; measured <= 4.4e-17 on 1 and 2 ranks: one rounding of the sum over ~5 steps)
 and by less than 2e-15 over the run's 67 steps (measured 6.7e-16): the Lagrangian step adds the
 cell's energy defect
 against the conservative face-pressure work to the fluids by mass, and the advection carries

@@ -37,7 +37,7 @@ def test_sod_accuracy(tmp_path):
 
 
 def test_sod_issue_target_250_cells(tmp_path):
-    """The issue's target: relative L1 density error <= 0.6 % at 250 cells with the namelist
+    """The target: relative L1 density error <= 0.6 % at 250 cells with the namelist
     settings (measured 0.580 % with the time-centred face velocities; 0.729 % before)."""
     rows, _ = ice_sod.study(str(tmp_path), [250])
     assert rows[0][1] <= 0.006, rows

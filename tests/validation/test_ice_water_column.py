@@ -1,6 +1,6 @@
 """ICE scene, water column at rest under air under gravity (namelists/ice_water_column.nml,
 postproc.ice_water_column): after 1000 steps of 1 ms every velocity stays below 1e-8 m/s and the
-pressure matches the exact hydrostatic profile to 1e-10 relative (issue targets 1e-8 m/s and
+pressure matches the exact hydrostatic profile to 1e-10 relative (targets 1e-8 m/s and
 1e-6; measured 6.2e-9 m/s and 3.5e-11 in 1D, 2D on 2 ranks and with the open top)."""
 import pytest
 

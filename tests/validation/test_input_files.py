@@ -1,4 +1,4 @@
-"""The shape of an input file (issue 26 case 12): empty and comments-only files, files without
+"""The shape of an input file: empty and comments-only files, files without
 `&run`, CR-only line ends, a UTF-8 byte-order mark, groups the chosen scene does not read and an
 unterminated quote. Every bad file gives one line on standard error naming the file and the
 problem, exit status 1 and nothing written (config_parse, config_scene_groups). All runs are

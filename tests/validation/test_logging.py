@@ -1,4 +1,4 @@
-"""Logging of a run (issue 3, item 8): the progress line (step, time, dt, % done, wall time, ETA)
+"""Logging of a run: the progress line (step, time, dt, % done, wall time, ETA)
 and the per-stage timer table at the end, printed by rank 0 only.
 
 Runs the 1D heat-conduction scene for 10 steps on 2 ranks with ``&run progress_interval = 0``

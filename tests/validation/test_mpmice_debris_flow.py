@@ -1,4 +1,4 @@
-"""The underwater sand slide scene (namelists/mpmice_debris_flow_2d.nml, issue 7): a short
+"""The underwater sand slide scene (namelists/mpmice_debris_flow_2d.nml): a short
 coarse run keeps the mass of the water, the sand and the bed, and the sand moves down the slope
 (postproc/mpmice_debris_flow.py)."""
 import numpy as np

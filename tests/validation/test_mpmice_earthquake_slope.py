@@ -1,4 +1,4 @@
-"""Earthquake-induced submarine landslide (issue 7, scene 3): a saturated sediment bank on a rigid
+"""Earthquake-induced submarine landslide: a saturated sediment bank on a rigid
 base that shakes with a(t) = 1 g sin(2 pi 2 Hz t) (namelists/mpmice_earthquake_slope_2d.nml,
 postproc/mpmice_earthquake_slope.py). A short coarse run (0.25 m cells, t = 0.15 s, ~3 s)
 checks the masses, the base's prescribed motion, that the sediment is carried by the base and

@@ -1,4 +1,4 @@
-"""The Grilli et al. (2017) test-17 scene (namelists/mpmice_grilli2017_2d.nml, issue 27 item 2):
+"""The Grilli et al. (2017) test-17 scene (namelists/mpmice_grilli2017_2d.nml):
 a short run at the shipped 20 mm cells keeps the masses of the water, the beads and the bed, and
 the beads, held by nothing once the gate is gone, move down the slope (~3 s). A slow test runs
 the scene on 40 mm cells to the first trough at WG1 and checks its sign, order and time against
@@ -57,7 +57,7 @@ def test_grilli2017_first_trough_at_wg1_coarse(tmp_path, allowed_skip):
     +4.1 mm at 0.93 s and -9.4 mm at 1.46 s), its time within 0.25 s of the record's (measured
     +0.14 s);
     the beads' mass kept to 1e-10, the water's loss through the open top below 2e-4. A
-    coarse-grid guard of the sign and order, not the issue's 20 % / 0.1 s targets
+    coarse-grid guard of the sign and order, not the 20 % / 0.1 s targets
     (docs/validation/grilli2017.md). 187 s on 2 loaded cores."""
     if not os.path.isdir(REFERENCE):
         allowed_skip(f"grilli2017 digitised records not found at {REFERENCE} (set "

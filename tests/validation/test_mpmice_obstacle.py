@@ -1,4 +1,4 @@
-"""Debris flow against an obstacle (issue 7, scene 2): the saturated slide in air meets a rigid
+"""Debris flow against an obstacle: the saturated slide in air meets a rigid
 block on the floor (namelists/mpmice_obstacle_air_2d.nml, postproc/mpmice_obstacle.py). A short
 coarse run (40 mm, t = 0.02 s, ~10 s) keeps the pore water's, the sand's, the bed's and the
 block's mass and records the contact force and the fluids' pressure force on each rigid body

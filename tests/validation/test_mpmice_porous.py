@@ -362,7 +362,7 @@ def test_terzaghi_100_cells(terzaghi_scene, tmp_path):
 
 
 def test_terzaghi_quasi_static_100_cells(terzaghi_scene, tmp_path):
-    """The issue's target, <= 1 % relative L2 error at 100 cells, at every dump from T_v = 0.05
+    """The target, <= 1 % relative L2 error at 100 cells, at every dump from T_v = 0.05
     to 1.03, in the quasi-static limit eq. 78 describes (densities / 100, which eq. 78 does not
     contain: no P-wave ringing, no inertia; measured at most 0.80 %)."""
     study = mpmice_terzaghi.run_terzaghi(str(tmp_path), 100,

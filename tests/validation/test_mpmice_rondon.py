@@ -1,10 +1,10 @@
 """Underwater granular column collapse of Rondon, Pouliquen & Aussillous (2011), dense against loose
-(namelists/mpmice_rondon_dense_2d.nml and mpmice_rondon_loose_2d.nml, issue 32 item 4;
+(namelists/mpmice_rondon_dense_2d.nml and mpmice_rondon_loose_2d.nml;
 docs/validation/rondon2011.md). Both packings run coarse (the scenes' 5 mm cells) for END_TIME of
 the collapse and are checked against the experiment's qualitative targets: the base excess pore
 pressure has the experiment's sign (dense: suction, loose: positive) and the loose column runs out
 farther and faster than the dense one, and the peak base pressures lie within 40 % of the
-experiment's (issue targets). The soil is the critical-state sand (docs/soil_models.md); the
+experiment's (the targets). The soil is the critical-state sand (docs/soil_models.md); the
 Mohr-Coulomb variants (``*_mc_2d.nml``) miss the dense peak's size and the loose pressure's sign
 (docs/validation/rondon2011.md), so these tests fail with them. The dense peak within 40 % is
 ``xfail(strict=True)``: over 0.05-0.5 s the largest suction is a release transient at 0.05 s
@@ -91,7 +91,7 @@ def test_loose_peak_pressure_within_40_percent(series):
 @pytest.mark.slow
 def test_loose_runs_out_farther_and_faster(series):
     """At END_TIME the loose front is ahead of the dense one by at least 1 cm, and the loose
-    front has advanced at least 3 times as far as the dense one (issue target: the dense collapse
+    front has advanced at least 3 times as far as the dense one (target: the dense collapse
     at least 3 times slower). Measured (critical-state sand): loose 10.4 cm, dense 6.2 cm;
     advances 4.4 and 0.16 cm (Mohr-Coulomb: 8.6 and 6.2 cm; 2.6 and 0.19 cm). Experiment at
     0.55-0.64 s (front files shifted to start at L0): loose 15.3 cm, dense 7.7 cm."""

@@ -1,5 +1,5 @@
-"""Frictional contact with a rigid bed in the coupled scene (`&mpm rigid_contact = 'friction'`,
-issue 7): a sand block slides on a rigid 45 deg slope in air and under water
+"""Frictional contact with a rigid bed in the coupled scene (`&mpm rigid_contact = 'friction'`):
+a sand block slides on a rigid 45 deg slope in air and under water
 (namelists/mpmice_slide_block_air_2d.nml, mpmice_slide_block_2d.nml; postproc/
 mpmice_slide_block.py; docs/applications.md). Each run: t = 0.08 s, 40 x 35 cells (2 cm) in air
 and under water (~5-10 s); the slow test repeats the underwater pair on 80 x 70 cells (1 cm,

@@ -1,5 +1,5 @@
 """Errors that come from the machine, the output folder or a checkpoint rather than from the
-namelist (issue 26 cases 2-6 and 10; docs/batch.md "Before a run writes"): each is an input
+namelist (docs/batch.md "Before a run writes"): each is an input
 error, i.e. exit status 1, one line on standard error naming what is wrong and why, no HDF5
 error stack, and nothing written or overwritten.
 

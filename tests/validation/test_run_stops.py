@@ -1,4 +1,4 @@
-"""Run-loop stops of `driver_stops` (issue 8): `&run max_energy_growth`,
+"""Run-loop stops of `driver_stops`: `&run max_energy_growth`,
 `max_particle_loss_fraction` and `min_dt_ratio` stop a run that went wrong without a non-finite
 value, with state `failed`, exit status 3, the reason in `<name>.status` and the state dumped to
 `<name>_failed_<step>.h5`; on a sound run they change nothing.
