@@ -18,7 +18,7 @@ module driver_balance
   use parallel_domain, only: choose_dims, blocks_given
   use parallel_balance, only: balanced_blocks
   use config_types, only: config_t, solid_params_t, particles_per_cell_used, max_blocks_per_dim
-  use particles_seeding, only: inside_shape
+  use particles_seeding, only: inside_shape, seed_point
   use mpm_rigid, only: rigid_motion_t, rigid_is_static
   use io_hdf5, only: h5_file_t, h5_open, h5_close, h5_read_particles
   implicit none
@@ -110,13 +110,7 @@ contains
                 do c = 1, ppc(3)
                   do b = 1, ppc(2)
                     do a = 1, ppc(1)
-                      ! the same arithmetic as seed_solid
-                      xp(1) = lower(1) + (real(i - 1, wp) + (real(a, wp) - 0.5_wp) / ppc(1)) &
-                        * dx(1)
-                      xp(2) = lower(2) + (real(j - 1, wp) + (real(b, wp) - 0.5_wp) / ppc(2)) &
-                        * dx(2)
-                      xp(3) = lower(3) + (real(k - 1, wp) + (real(c, wp) - 0.5_wp) / ppc(3)) &
-                        * dx(3)
+                      xp = seed_point(lower, dx, [i, j, k], [a, b, c], ppc)
                       if (inside_shape(sp, active, xp)) hits = hits + 1
                     end do
                   end do

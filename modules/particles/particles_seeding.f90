@@ -22,7 +22,7 @@ module particles_seeding
   implicit none
   private
 
-  public :: seed_solid, inside_shape
+  public :: seed_solid, inside_shape, seed_point
 
 contains
 
@@ -52,12 +52,7 @@ contains
           do c = 1, ppc(3)
             do b = 1, ppc(2)
               do a = 1, ppc(1)
-                xp(1) = grid%lower(1) + (real(i - 1, wp) + (real(a, wp) - 0.5_wp) / ppc(1)) &
-                  * grid%dx(1)
-                xp(2) = grid%lower(2) + (real(j - 1, wp) + (real(b, wp) - 0.5_wp) / ppc(2)) &
-                  * grid%dx(2)
-                xp(3) = grid%lower(3) + (real(k - 1, wp) + (real(c, wp) - 0.5_wp) / ppc(3)) &
-                  * grid%dx(3)
+                xp = seed_point(grid%lower, grid%dx, [i, j, k], [a, b, c], ppc)
                 if (.not. inside_shape(s, grid%active, xp)) cycle
                 call particles_reserve(p, p%np + 1)
                 n = p%np + 1
@@ -89,6 +84,22 @@ contains
       end do
     end do
   end subroutine seed_solid
+
+  !> Position of sub-point `sub` (1..ppc per dimension) of cell `cell` (global 1-based indices)
+  !! of a grid with lower corner `lower` and spacing `dx`: the centres of a ppc(1) x ppc(2) x
+  !! ppc(3) subdivision of the cell, where `seed_solid` puts its particles.
+  pure function seed_point(lower, dx, cell, sub, ppc) result(xp)
+    real(wp), intent(in) :: lower(3)  !< the grid's lower corner [m]
+    real(wp), intent(in) :: dx(3)     !< cell size [m]
+    integer, intent(in) :: cell(3)    !< global cell indices
+    integer, intent(in) :: sub(3)     !< sub-point indices
+    integer, intent(in) :: ppc(3)     !< particles per cell per dimension
+    real(wp) :: xp(3)
+    integer :: d
+    do d = 1, 3
+      xp(d) = lower(d) + (real(cell(d) - 1, wp) + (real(sub(d), wp) - 0.5_wp) / ppc(d)) * dx(d)
+    end do
+  end function seed_point
 
   !> Factor of the initial velocity at `x`: the product of sin(k_d (x_d - lower_d)) over the
   !! entries k_d /= 0 of `velocity_wavenumber` (1 when all are 0).
