@@ -1,7 +1,8 @@
 !> The parameters each scene receives: one bundle type per scene, holding only the namelist
 !! groups that scene reads (`config_scene_groups` lists them), assembled by the driver from the
-!! whole configuration (`driver_run_mod`). A scene's `init` takes the abstract `scene_params_t`
-!! and accepts only its own bundle, so it cannot read another scene's groups.
+!! whole configuration (`driver_scene_params`). A scene's setup takes only its own bundle type,
+!! so it cannot read another scene's groups; `driver_scene_params%scene_create` picks the scene
+!! from the bundle's type.
 !!
 !! The `&boundary` groups arrive resolved per face (`faces(1:6)`, x-, x+, y-, y+, z-, z+: the
 !! face's group, or the defaults when the input has none; `config_types%boundary_for_face`).
