@@ -37,8 +37,8 @@ module scene_params
     type(physics_params_t) :: physics    !< `&physics`
     type(ice_params_t) :: ice            !< `&ice`
     integer :: nfluids = 0               !< number of `&fluid` groups
-    integer :: nregions = 0              !< number of `&region` groups
     type(fluid_params_t) :: fluids(max_fluids)     !< `&fluid` occurrences 1..nfluids
+    integer :: nregions = 0              !< number of `&region` groups
     type(region_params_t) :: regions(max_regions)  !< `&region` occurrences, in order
     type(boundary_params_t) :: faces(6)            !< conditions on each face
   end type ice_scene_params_t
