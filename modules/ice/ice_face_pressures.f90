@@ -5,6 +5,7 @@
 module ice_face_pressures
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
+  use grid_sweep, only: sweep_direction
   use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
   use ice_face_velocity, only: face_range
@@ -32,9 +33,7 @@ contains
     real(wp) :: rl, rr
 
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
+      if (.not. sweep_direction(grid, d, o)) cycle
       r = face_range(grid, d)
       ! inner faces: the faces on a non-periodic domain boundary are done below
       inner = r

@@ -16,10 +16,12 @@ module ice_face_velocity
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
   use ice_bc, only: ice_bc_t, bc_inflow, bc_outflow
+  use grid_sweep, only: sweep_direction, unit_offset
   implicit none
   private
 
   public :: ice_face_velocities, boundary_face, closed_face, face_index, face_range, upwind
+  public :: open_face_range, next_open_face
 
 contains
 
@@ -47,9 +49,7 @@ contains
     if (present(advect)) with_advection = advect
 
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
+      if (.not. sweep_direction(grid, d, o)) cycle
       r = face_range(grid, d)
       do m = 1, state%nfluids
         associate (f => state%fluid(m))
@@ -131,6 +131,56 @@ contains
     r(2, :) = grid%hi
     r(2, d) = grid%hi(d) + 1
   end function face_range
+
+  !> `face_range` without the closed domain planes (`closed_face`): the open faces of direction
+  !! `d` of the owned cells (empty where none).
+  pure function open_face_range(state, grid, d) result(r)
+    type(ice_state_t), intent(in) :: state  !< fluids (closed faces)
+    type(grid_t), intent(in) :: grid        !< block geometry
+    integer, intent(in) :: d                !< face direction
+    integer :: r(2, 3)
+    r = face_range(grid, d)
+    if (grid%periodic(d)) return
+    if (state%closed(2 * d - 1) .and. r(1, d) == 1) r(1, d) = 2
+    if (state%closed(2 * d) .and. r(2, d) == grid%ncells(d) + 1) r(2, d) = grid%ncells(d)
+  end function open_face_range
+
+  !> The next open face of the owned cells, in the order of the loops `do d` (active
+  !! directions), `do k`, `do j`, `do i` over `open_face_range`: a sweep over the open faces
+  !! reads `d = 0` then `do while (next_open_face(state, grid, d, o, i, j, k))`; false after the
+  !! last face. `o`: the unit offset of `d` (the face lies between cells (i,j,k) - o and (i,j,k)).
+  logical function next_open_face(state, grid, d, o, i, j, k) result(more)
+    type(ice_state_t), intent(in) :: state  !< fluids (closed faces)
+    type(grid_t), intent(in) :: grid        !< block geometry
+    integer, intent(inout) :: d             !< face direction (0 before the first face)
+    integer, intent(inout) :: o(3)          !< unit offset of d
+    integer, intent(inout) :: i, j, k       !< face index
+    integer :: r(2, 3)
+    more = .true.
+    if (d > 0) then
+      r = open_face_range(state, grid, d)
+      i = i + 1
+      if (i <= r(2, 1)) return
+      i = r(1, 1)
+      j = j + 1
+      if (j <= r(2, 2)) return
+      j = r(1, 2)
+      k = k + 1
+      if (k <= r(2, 3)) return
+    end if
+    do while (d < 3)
+      d = d + 1
+      if (.not. grid%active(d)) cycle
+      r = open_face_range(state, grid, d)
+      if (any(r(1, :) > r(2, :))) cycle
+      o = unit_offset(d)
+      i = r(1, 1)
+      j = r(1, 2)
+      k = r(1, 3)
+      return
+    end do
+    more = .false.
+  end function next_open_face
 
   !> True for a face in direction `d` at index `idx` that lies on a non-periodic domain boundary.
   pure logical function boundary_face(grid, d, idx)

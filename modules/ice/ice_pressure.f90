@@ -13,6 +13,7 @@ module ice_pressure
   use mpmice_kinds, only: wp
   use mpmice_errors, only: real_short_text
   use grid_layout, only: grid_t, cell_centre
+  use grid_sweep, only: sweep_direction
   use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
   use ice_face_velocity, only: face_range
@@ -46,9 +47,7 @@ contains
 
     state%coef = 0.0_wp
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
+      if (.not. sweep_direction(grid, d, o)) cycle
       r = face_range(grid, d)
       area = grid%cell_volume / grid%dx(d)
       ! coef holds sum_m phi_m,f v_m,f first, then the coefficient
@@ -109,9 +108,7 @@ contains
       end do
     end do
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
+      if (.not. sweep_direction(grid, d, o)) cycle
       ! an open face (dp = 0 there, ghost dp = -dp) counts twice
       do k = grid%lo(3), grid%hi(3)
         do j = grid%lo(2), grid%hi(2)
@@ -167,10 +164,7 @@ contains
       end do
     end do
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
-      area = grid%cell_volume / grid%dx(d)
+      if (.not. sweep_direction(grid, d, o, area)) cycle
       do m = 1, state%nfluids
         associate (f => state%fluid(m))
           do k = grid%lo(3), grid%hi(3)
@@ -299,9 +293,7 @@ contains
         state%dp(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3))
     end associate
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
+      if (.not. sweep_direction(grid, d, o)) cycle
       ! the closed domain faces (whole planes) keep their velocities
       r = face_range(grid, d)
       if (.not. grid%periodic(d)) then
@@ -367,9 +359,7 @@ contains
     if (.not. present(solid)) return
     if (.not. any(solid%platen)) return
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
+      if (.not. sweep_direction(grid, d, o)) cycle
       r = face_range(grid, d)
       do side = 1, 2
         if (.not. platen_plane(solid, grid, d, r, side, lo, hi)) cycle

@@ -26,6 +26,7 @@ module ice_viscous
   use mpmice_kinds, only: wp
   use mpmice_errors, only: fatal
   use grid_layout, only: grid_t
+  use grid_sweep, only: sweep_direction
   use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
   implicit none
@@ -68,10 +69,7 @@ contains
       ! the eddy viscosity (opt-in model) needs the strain rate of every cell first
       if (cs > 0.0_wp) call ice_eddy_viscosity(state, grid, m, cs, state%eddy_viscosity)
       do d = 1, 3
-        if (.not. grid%active(d)) cycle
-        o = 0
-        o(d) = 1
-        area = grid%cell_volume / grid%dx(d)
+        if (.not. sweep_direction(grid, d, o, area)) cycle
         do k = grid%lo(3), grid%hi(3)
           do j = grid%lo(2), grid%hi(2)
             do i = grid%lo(1), grid%hi(1)

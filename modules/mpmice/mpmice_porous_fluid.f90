@@ -8,7 +8,8 @@ module mpmice_porous_fluid
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
   use exchange_solid_phase, only: solid_phase_t
-  use ice_face_velocity, only: face_range, closed_face, upwind
+  use ice_face_velocity, only: next_open_face, upwind
+  use grid_sweep, only: sweep_direction, unit_offset
   implicit none
   private
 
@@ -31,31 +32,21 @@ contains
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(in) :: previous(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :) !< last
                                                 !! step's final face velocities (3, cells, fluid)
-    integer :: m, i, j, k, d, o(3), r(2, 3)
+    integer :: m, i, j, k, d, o(3)
     real(wp) :: rl, rr, mean
-    do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
-      r = face_range(grid, d)
-      do k = r(1, 3), r(2, 3)
-        do j = r(1, 2), r(2, 2)
-          do i = r(1, 1), r(2, 1)
-            if (closed_face(state, grid, d, [i, j, k])) cycle
-            if (solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
-              solid%vfrac(i, j, k) <= 0.0_wp) cycle
-            do m = 1, state%nfluids
-              associate (f => state%fluid(m))
-                rl = f%rho(i - o(1), j - o(2), k - o(3))
-                rr = f%rho(i, j, k)
-                if (rl + rr <= 0.0_wp) cycle
-                mean = (rl * f%vel(i - o(1), j - o(2), k - o(3), d) + rr * f%vel(i, j, k, d)) / &
-                  (rl + rr)
-                f%uface(i, j, k, d) = f%uface(i, j, k, d) - mean + previous(d, i, j, k, m)
-              end associate
-            end do
-          end do
-        end do
+    d = 0
+    do while (next_open_face(state, grid, d, o, i, j, k))
+      if (solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
+        solid%vfrac(i, j, k) <= 0.0_wp) cycle
+      do m = 1, state%nfluids
+        associate (f => state%fluid(m))
+          rl = f%rho(i - o(1), j - o(2), k - o(3))
+          rr = f%rho(i, j, k)
+          if (rl + rr <= 0.0_wp) cycle
+          mean = (rl * f%vel(i - o(1), j - o(2), k - o(3), d) + rr * f%vel(i, j, k, d)) / &
+            (rl + rr)
+          f%uface(i, j, k, d) = f%uface(i, j, k, d) - mean + previous(d, i, j, k, m)
+        end associate
       end do
     end do
   end subroutine fluid_face_predictor_porous
@@ -80,9 +71,7 @@ contains
     do m = 1, state%nfluids
       associate (f => state%fluid(m), phi_s => solid%vfrac)
         do d = 1, 3
-          if (.not. grid%active(d)) cycle
-          o = 0
-          o(d) = 1
+          if (.not. sweep_direction(grid, d, o)) cycle
           do k = grid%lo(3), grid%hi(3)
             do j = grid%lo(2), grid%hi(2)
               do i = grid%lo(1), grid%hi(1)
@@ -111,8 +100,7 @@ contains
     do d = 1, 3
       if (near) return
       if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
+      o = unit_offset(d)
       near = solid%vfrac(c(1) - o(1), c(2) - o(2), c(3) - o(3)) > 0.0_wp .or. &
         solid%vfrac(c(1) + o(1), c(2) + o(2), c(3) + o(3)) > 0.0_wp
     end do

@@ -17,6 +17,7 @@
 module mpmice_solid_heat
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
+  use grid_sweep, only: sweep_direction
   use ice_state, only: ice_state_t
   use exchange_solid_phase, only: solid_phase_t
   use particles_store, only: particles_t
@@ -43,10 +44,7 @@ contains
       if (.not. any(sp%conductance > 0.0_wp)) return
       scratch = 0.0_wp
       do d = 1, 3
-        if (.not. grid%active(d)) cycle
-        o = 0
-        o(d) = 1
-        area = grid%cell_volume / grid%dx(d)
+        if (.not. sweep_direction(grid, d, o, area)) cycle
         do k = grid%lo(3), grid%hi(3)
           do j = grid%lo(2), grid%hi(2)
             do i = grid%lo(1), grid%hi(1)
