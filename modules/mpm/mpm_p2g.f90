@@ -8,7 +8,7 @@ module mpm_p2g
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_reverse_node
   use particles_store, only: particles_t
-  use mpm_shape, only: particle_stencil, max_stencil
+  use mpm_shape, only: particle_stencil, stencil_weights, max_stencil
   use mpm_nodes, only: mpm_nodes_t, node_mass, node_momentum, node_force, node_rigid_mass, &
     node_rigid_momentum, node_rigid_gradient
   implicit none
@@ -47,9 +47,11 @@ contains
     real(wp), intent(inout) :: q(:, grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< node fields
     integer, intent(in) :: kind                  !< shape_linear or shape_gimp
     integer :: ip, i, j, k, a, b, c, first(3), nn(3)
-    real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s, g(3), m, mv(3), sv(6), wjk, gjk(3)
+    real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s, g(3), m, mv(3), sv(6)
+    real(wp) :: sn(max_stencil, max_stencil, max_stencil), gn(3, max_stencil, max_stencil, max_stencil)
     do ip = 1, p%np
       call particle_stencil(kind, grid, p%x(:, ip), p%half_width, first, nn, w, dw)
+      call stencil_weights(nn, w, dw, sn, gn)
       m = p%mass(ip)
       mv = m * p%v(:, ip)
       sv = p%stress(:, ip) * p%volume(ip)
@@ -57,15 +59,10 @@ contains
         k = first(3) + c - 1
         do b = 1, nn(2)
           j = first(2) + b - 1
-          wjk = w(b, 2) * w(c, 3)
-          gjk(2) = dw(b, 2) * w(c, 3)
-          gjk(3) = w(b, 2) * dw(c, 3)
           do a = 1, nn(1)
             i = first(1) + a - 1
-            s = w(a, 1) * wjk
-            g(1) = dw(a, 1) * wjk
-            g(2) = w(a, 1) * gjk(2)
-            g(3) = w(a, 1) * gjk(3)
+            s = sn(a, b, c)
+            g = gn(:, a, b, c)
             q(node_mass, i, j, k) = q(node_mass, i, j, k) + s * m
             q(node_momentum, i, j, k) = q(node_momentum, i, j, k) + s * mv(1)
             q(node_momentum + 1, i, j, k) = q(node_momentum + 1, i, j, k) + s * mv(2)
