@@ -63,38 +63,30 @@ contains
     type(grid_t), intent(in) :: grid           !< block geometry
     integer, intent(in) :: nfluids             !< number of fluids
     integer :: m, l(3), u(3), uf(3)
+    ! zero templates: a cell field and the faces of the three directions
+    real(wp), allocatable :: cells(:, :, :), faces(:, :, :, :)
     call ice_state_free(state)
     l = grid%lbc
     u = grid%ubc
     uf = grid%ubc + 1
+    allocate(cells(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+    allocate(faces(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
     state%nfluids = nfluids
     allocate(state%fluid(nfluids))
     do m = 1, nfluids
       associate (f => state%fluid(m))
-        allocate(f%rho(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+        allocate(f%rho, f%temp, f%spvol, f%vfrac, f%kappa, f%c2, source=cells)
+        allocate(f%uface, f%vface, source=faces)
         allocate(f%vel(l(1):u(1), l(2):u(2), l(3):u(3), 3), source=0.0_wp)
-        allocate(f%temp(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-        allocate(f%spvol(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-        allocate(f%vfrac(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-        allocate(f%kappa(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-        allocate(f%c2(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-        allocate(f%uface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
-        allocate(f%vface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
         allocate(f%lag(l(1):u(1), l(2):u(2), l(3):u(3), 5), source=0.0_wp)
       end associate
     end do
-    allocate(state%pressure(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-    allocate(state%p_eq(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-    allocate(state%dp(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-    allocate(state%dp_total(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-    allocate(state%sum_kappa(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-    allocate(state%rhs(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-    allocate(state%diag(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+    allocate(state%pressure, state%p_eq, state%dp, state%dp_total, state%sum_kappa, state%rhs, &
+      state%diag, state%eddy_viscosity, source=cells)
+    allocate(state%pface, source=faces)
     allocate(state%coef(l(1):u(1), l(2):u(2), l(3):u(3), 3), source=0.0_wp)
-    allocate(state%pface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
     allocate(state%cons(l(1):u(1), l(2):u(2), l(3):u(3), 6), source=0.0_wp)
     allocate(state%lag_work(l(1):u(1), l(2):u(2), l(3):u(3), 2), source=0.0_wp)
-    allocate(state%eddy_viscosity(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
   end subroutine ice_state_alloc
 
   !> Release every field.
