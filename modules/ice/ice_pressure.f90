@@ -16,7 +16,7 @@ module ice_pressure
   use grid_sweep, only: sweep_direction
   use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
-  use ice_face_velocity, only: face_range
+  use ice_face_velocity, only: face_range, open_face_range
   implicit none
   private
 
@@ -64,33 +64,7 @@ contains
           end do
         end associate
       end do
-      if (present(solid)) then
-        do side = 1, 2
-          if (.not. open_plane(state, grid, d, r, side, lo, hi)) cycle
-          do k = lo(3), hi(3)
-            do j = lo(2), hi(2)
-              do i = lo(1), hi(1)
-                state%coef(i, j, k, d) = state%coef(i, j, k, d) + &
-                  open_face_shift(state, d, o, i, j, k, side == 2, .false.)
-              end do
-            end do
-          end do
-        end do
-      end if
-      if (present(solid)) then
-        ! the solid's phi_s,f v_s,f (phi_s,f the fraction that crosses, `solid_face_fraction`)
-        associate (us => solid%uface, low => solid%face_fraction, &
-          high => solid%face_fraction_hi, vs => solid%vface)
-          do k = r(1, 3), r(2, 3)
-            do j = r(1, 2), r(2, 2)
-              do i = r(1, 1), r(2, 1)
-                state%coef(i, j, k, d) = state%coef(i, j, k, d) + flux_fraction(us(i, j, k, d), &
-                  low(i, j, k, d), high(i, j, k, d)) * vs(i, j, k, d)
-              end do
-            end do
-          end do
-        end associate
-      end if
+      if (present(solid)) call solid_coefficients(state, solid, grid, d, o, r)
       do k = r(1, 3), r(2, 3)
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
@@ -152,7 +126,7 @@ contains
     !! bodies' prescribed flux) and its fraction source join the right-hand side
     class(ice_solid_view_t), intent(in), optional :: solid
     real(wp) :: residual
-    integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3), c(3)
+    integer :: d, m, i, j, k, o(3)
     real(wp) :: area, flux
 
     do k = grid%lo(3), grid%hi(3)
@@ -180,41 +154,7 @@ contains
           end do
         end associate
       end do
-      if (present(solid)) then
-        r = face_range(grid, d)
-        do side = 1, 2
-          if (.not. open_plane(state, grid, d, r, side, lo, hi)) cycle
-          ! the plane's cells: above the low plane, below the high one (outward flux sign)
-          do k = lo(3), hi(3)
-            do j = lo(2), hi(2)
-              do i = lo(1), hi(1)
-                c = [i, j, k] - merge(o, 0, side == 2)
-                state%rhs(c(1), c(2), c(3)) = state%rhs(c(1), c(2), c(3)) - dt * area * &
-                  merge(1.0_wp, -1.0_wp, side == 2) * &
-                  open_face_shift(state, d, o, i, j, k, side == 2, .true.)
-              end do
-            end do
-          end do
-        end do
-      end if
-      if (present(solid)) then
-        ! the solid's volume flux phi_s,f u_s,f and the rigid bodies' prescribed one
-        associate (us => solid%uface, low => solid%face_fraction, &
-          high => solid%face_fraction_hi, rigid => solid%rigid_flux)
-          do k = grid%lo(3), grid%hi(3)
-            do j = grid%lo(2), grid%hi(2)
-              do i = grid%lo(1), grid%hi(1)
-                state%rhs(i, j, k) = state%rhs(i, j, k) - dt * area * ( &
-                  flux_fraction(us(i + o(1), j + o(2), k + o(3), d), &
-                  low(i + o(1), j + o(2), k + o(3), d), high(i + o(1), j + o(2), k + o(3), d)) * &
-                  us(i + o(1), j + o(2), k + o(3), d) - &
-                  flux_fraction(us(i, j, k, d), low(i, j, k, d), high(i, j, k, d)) * &
-                  us(i, j, k, d) + rigid(i + o(1), j + o(2), k + o(3), d) - rigid(i, j, k, d))
-              end do
-            end do
-          end do
-        end associate
-      end if
+      if (present(solid)) call solid_volume_flux(state, solid, grid, dt, d, o, area)
     end do
     if (present(solid)) then
       ! a coupled scene: solid volume the particles hold beyond the tracked fraction
@@ -237,6 +177,85 @@ contains
       end do
     end do
   end function ice_pressure_rhs
+
+  !> The solid phase's part of the operator's low-face coefficients of direction `d`
+  !! (`ice_pressure_assemble`): the open domain planes' shift and phi_s,f v_s,f.
+  subroutine solid_coefficients(state, solid, grid, d, o, r)
+    type(ice_state_t), intent(inout) :: state        !< coefficients (coef updated)
+    class(ice_solid_view_t), intent(in) :: solid     !< solid phase of a coupled scene
+    type(grid_t), intent(in) :: grid                 !< block geometry
+    integer, intent(in) :: d                         !< face direction
+    integer, intent(in) :: o(3)                      !< unit offset of d
+    integer, intent(in) :: r(2, 3)                   !< face range of d
+    integer :: i, j, k, side, lo(3), hi(3)
+    do side = 1, 2
+      if (.not. open_plane(state, grid, d, r, side, lo, hi)) cycle
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            state%coef(i, j, k, d) = state%coef(i, j, k, d) + &
+              open_face_shift(state, d, o, i, j, k, side == 2, .false.)
+          end do
+        end do
+      end do
+    end do
+    ! the solid's phi_s,f v_s,f (phi_s,f the fraction that crosses, `solid_face_fraction`)
+    associate (us => solid%uface, low => solid%face_fraction, &
+      high => solid%face_fraction_hi, vs => solid%vface)
+      do k = r(1, 3), r(2, 3)
+        do j = r(1, 2), r(2, 2)
+          do i = r(1, 1), r(2, 1)
+            state%coef(i, j, k, d) = state%coef(i, j, k, d) + flux_fraction(us(i, j, k, d), &
+              low(i, j, k, d), high(i, j, k, d)) * vs(i, j, k, d)
+          end do
+        end do
+      end do
+    end associate
+  end subroutine solid_coefficients
+
+  !> The solid phase's part of the right-hand side of direction `d` (`ice_pressure_rhs`): the
+  !! open domain planes' shift, the solid's volume flux phi_s,f u_s,f and the rigid bodies'.
+  subroutine solid_volume_flux(state, solid, grid, dt, d, o, area)
+    type(ice_state_t), intent(inout) :: state        !< right-hand side (rhs updated)
+    class(ice_solid_view_t), intent(in) :: solid     !< solid phase of a coupled scene
+    type(grid_t), intent(in) :: grid                 !< block geometry
+    real(wp), intent(in) :: dt                       !< time step [s]
+    integer, intent(in) :: d                         !< face direction
+    integer, intent(in) :: o(3)                      !< unit offset of d
+    real(wp), intent(in) :: area                     !< face area [m^2]
+    integer :: i, j, k, side, lo(3), hi(3), c(3), r(2, 3)
+    r = face_range(grid, d)
+    do side = 1, 2
+      if (.not. open_plane(state, grid, d, r, side, lo, hi)) cycle
+      ! the plane's cells: above the low plane, below the high one (outward flux sign)
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            c = [i, j, k] - merge(o, 0, side == 2)
+            state%rhs(c(1), c(2), c(3)) = state%rhs(c(1), c(2), c(3)) - dt * area * &
+              merge(1.0_wp, -1.0_wp, side == 2) * &
+              open_face_shift(state, d, o, i, j, k, side == 2, .true.)
+          end do
+        end do
+      end do
+    end do
+    ! the solid's volume flux phi_s,f u_s,f and the rigid bodies' prescribed one
+    associate (us => solid%uface, low => solid%face_fraction, &
+      high => solid%face_fraction_hi, rigid => solid%rigid_flux)
+      do k = grid%lo(3), grid%hi(3)
+        do j = grid%lo(2), grid%hi(2)
+          do i = grid%lo(1), grid%hi(1)
+            state%rhs(i, j, k) = state%rhs(i, j, k) - dt * area * ( &
+              flux_fraction(us(i + o(1), j + o(2), k + o(3), d), &
+              low(i + o(1), j + o(2), k + o(3), d), high(i + o(1), j + o(2), k + o(3), d)) * &
+              us(i + o(1), j + o(2), k + o(3), d) - &
+              flux_fraction(us(i, j, k, d), low(i, j, k, d), high(i, j, k, d)) * &
+              us(i, j, k, d) + rigid(i + o(1), j + o(2), k + o(3), d) - rigid(i, j, k, d))
+          end do
+        end do
+      end do
+    end associate
+  end subroutine solid_volume_flux
 
   !> A failed outer iteration: the rank that holds the cell of the largest |rhs|/V (`residual`,
   !! the global maximum) writes one line on standard error with the cell's centre [m], its
@@ -295,11 +314,7 @@ contains
     do d = 1, 3
       if (.not. sweep_direction(grid, d, o)) cycle
       ! the closed domain faces (whole planes) keep their velocities
-      r = face_range(grid, d)
-      if (.not. grid%periodic(d)) then
-        if (state%closed(2 * d - 1) .and. r(1, d) == 1) r(1, d) = 2
-        if (state%closed(2 * d) .and. r(2, d) == grid%ncells(d) + 1) r(2, d) = grid%ncells(d)
-      end if
+      r = open_face_range(state, grid, d)
       do m = 1, state%nfluids
         associate (f => state%fluid(m))
           do k = r(1, 3), r(2, 3)

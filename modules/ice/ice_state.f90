@@ -93,18 +93,10 @@ contains
   subroutine ice_state_free(state)
     type(ice_state_t), intent(inout) :: state  !< state
     if (allocated(state%fluid)) deallocate(state%fluid)
-    if (allocated(state%pressure)) deallocate(state%pressure)
-    if (allocated(state%p_eq)) deallocate(state%p_eq)
-    if (allocated(state%dp)) deallocate(state%dp)
-    if (allocated(state%dp_total)) deallocate(state%dp_total)
-    if (allocated(state%sum_kappa)) deallocate(state%sum_kappa)
-    if (allocated(state%rhs)) deallocate(state%rhs)
-    if (allocated(state%diag)) deallocate(state%diag)
-    if (allocated(state%coef)) deallocate(state%coef)
-    if (allocated(state%pface)) deallocate(state%pface)
-    if (allocated(state%cons)) deallocate(state%cons)
-    if (allocated(state%lag_work)) deallocate(state%lag_work)
-    if (allocated(state%eddy_viscosity)) deallocate(state%eddy_viscosity)
+    ! the fields are allocated together (`ice_state_alloc`)
+    if (allocated(state%pressure)) deallocate(state%pressure, state%p_eq, state%dp, &
+      state%dp_total, state%sum_kappa, state%rhs, state%diag, state%coef, state%pface, &
+      state%cons, state%lag_work, state%eddy_viscosity)
     state%nfluids = 0
   end subroutine ice_state_free
 end module ice_state
