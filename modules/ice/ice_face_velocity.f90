@@ -21,7 +21,7 @@ module ice_face_velocity
   private
 
   public :: ice_face_velocities, boundary_face, closed_face, face_index, face_range, upwind
-  public :: open_face_range, next_open_face
+  public :: open_face_range, next_open_face, held_plane
 
 contains
 
@@ -181,6 +181,26 @@ contains
     end do
     more = .false.
   end function next_open_face
+
+  !> True when the non-periodic domain plane of direction `d` on `side` (1 low, 2 high) lies in
+  !! this rank's face range `r`; `lo`, `hi`: its faces (else the whole range).
+  logical function held_plane(grid, d, r, side, lo, hi)
+    type(grid_t), intent(in) :: grid        !< block geometry
+    integer, intent(in) :: d                !< face direction
+    integer, intent(in) :: r(2, 3)          !< face range of this rank
+    integer, intent(in) :: side             !< 1: low plane, 2: high plane
+    integer, intent(out) :: lo(3), hi(3)    !< face range of the plane
+    integer :: idx
+    held_plane = .false.
+    lo = r(1, :)
+    hi = r(2, :)
+    if (grid%periodic(d)) return
+    idx = merge(1, grid%ncells(d) + 1, side == 1)
+    if (idx < r(1, d) .or. idx > r(2, d)) return
+    lo(d) = idx
+    hi(d) = idx
+    held_plane = .true.
+  end function held_plane
 
   !> True for a face in direction `d` at index `idx` that lies on a non-periodic domain boundary.
   pure logical function boundary_face(grid, d, idx)

@@ -16,7 +16,7 @@ module ice_pressure
   use grid_sweep, only: sweep_direction
   use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
-  use ice_face_velocity, only: face_range, open_face_range
+  use ice_face_velocity, only: face_range, open_face_range, held_plane
   implicit none
   private
 
@@ -485,26 +485,6 @@ contains
     open_plane = held_plane(grid, d, r, side, lo, hi)
     if (open_plane) open_plane = .not. state%closed(2 * d - 2 + side)
   end function open_plane
-
-  !> True when the non-periodic domain plane of direction `d` on `side` (1 low, 2 high) lies in
-  !! this rank's face range `r`; `lo`, `hi`: its faces (else the whole range).
-  logical function held_plane(grid, d, r, side, lo, hi)
-    type(grid_t), intent(in) :: grid        !< block geometry
-    integer, intent(in) :: d                !< face direction
-    integer, intent(in) :: r(2, 3)          !< face range of this rank
-    integer, intent(in) :: side             !< 1: low plane, 2: high plane
-    integer, intent(out) :: lo(3), hi(3)    !< face range of the plane
-    integer :: idx
-    held_plane = .false.
-    lo = r(1, :)
-    hi = r(2, :)
-    if (grid%periodic(d)) return
-    idx = merge(1, grid%ncells(d) + 1, side == 1)
-    if (idx < r(1, d) .or. idx > r(2, d)) return
-    lo(d) = idx
-    hi(d) = idx
-    held_plane = .true.
-  end function held_plane
 
   !> Open domain face of a scene with a solid phase: sum over the fluids of (phi_inner -
   !! phi_upwind) w, w the face specific volume (coefficient) or the face velocity (flux). The
