@@ -6,7 +6,7 @@
 module mpmice_porous_fluid
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
-  use ice_state, only: ice_state_t
+  use ice_state, only: ice_state_t, ice_fluid_t
   use exchange_solid_phase, only: solid_phase_t
   use ice_face_velocity, only: next_open_face, upwind
   use grid_sweep, only: sweep_direction, unit_offset
@@ -66,29 +66,38 @@ contains
     type(ice_state_t), intent(inout) :: state   !< fluids (lag(:,:,:,1:3) updated, owned cells)
     type(solid_phase_t), intent(in) :: solid !< solid phase
     type(grid_t), intent(in) :: grid            !< block geometry
-    integer :: m, i, j, k, d, o(3)
-    real(wp) :: flo, fhi, ulo, uhi
+    integer :: m
     do m = 1, state%nfluids
-      associate (f => state%fluid(m), phi_s => solid%vfrac)
-        do d = 1, 3
-          if (.not. sweep_direction(grid, d, o)) cycle
-          do k = grid%lo(3), grid%hi(3)
-            do j = grid%lo(2), grid%hi(2)
-              do i = grid%lo(1), grid%hi(1)
-                if (f%rho(i, j, k) <= 0.0_wp .or. f%vfrac(i, j, k) <= 0.0_wp) cycle
-                if (.not. near_solid(solid, grid, [i, j, k])) cycle
-                ulo = f%uface(i, j, k, d)
-                uhi = f%uface(i + o(1), j + o(2), k + o(3), d)
-                flo = 1.0_wp - upwind(ulo, phi_s(i - o(1), j - o(2), k - o(3)), phi_s(i, j, k))
-                fhi = 1.0_wp - upwind(uhi, phi_s(i, j, k), phi_s(i + o(1), j + o(2), k + o(3)))
-                f%lag(i, j, k, d) = 0.5_wp * (flo * ulo + fhi * uhi) / (1.0_wp - phi_s(i, j, k))
-              end do
+      call blend_fluid(state%fluid(m), solid, grid)
+    end do
+  end subroutine fluid_face_blend
+
+  !> `fluid_face_blend` of one fluid `f`.
+  subroutine blend_fluid(f, solid, grid)
+    type(ice_fluid_t), intent(inout) :: f       !< the fluid (lag(:,:,:,1:3) updated)
+    type(solid_phase_t), intent(in) :: solid    !< solid phase
+    type(grid_t), intent(in) :: grid            !< block geometry
+    integer :: i, j, k, d, o(3)
+    real(wp) :: flo, fhi, ulo, uhi
+    associate (phi_s => solid%vfrac)
+      do d = 1, 3
+        if (.not. sweep_direction(grid, d, o)) cycle
+        do k = grid%lo(3), grid%hi(3)
+          do j = grid%lo(2), grid%hi(2)
+            do i = grid%lo(1), grid%hi(1)
+              if (f%rho(i, j, k) <= 0.0_wp .or. f%vfrac(i, j, k) <= 0.0_wp) cycle
+              if (.not. near_solid(solid, grid, [i, j, k])) cycle
+              ulo = f%uface(i, j, k, d)
+              uhi = f%uface(i + o(1), j + o(2), k + o(3), d)
+              flo = 1.0_wp - upwind(ulo, phi_s(i - o(1), j - o(2), k - o(3)), phi_s(i, j, k))
+              fhi = 1.0_wp - upwind(uhi, phi_s(i, j, k), phi_s(i + o(1), j + o(2), k + o(3)))
+              f%lag(i, j, k, d) = 0.5_wp * (flo * ulo + fhi * uhi) / (1.0_wp - phi_s(i, j, k))
             end do
           end do
         end do
-      end associate
-    end do
-  end subroutine fluid_face_blend
+      end do
+    end associate
+  end subroutine blend_fluid
 
   !> True when cell c or one of its face neighbours holds solid.
   pure logical function near_solid(solid, grid, c) result(near)
