@@ -13,9 +13,8 @@ submodule (exchange_solid_phase) exchange_fluid_solid
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
-  use ice_face_velocity, only: next_open_face, boundary_face
-  use ice_exchange, only: max_n, fill_beta, exchange_solve, exchange_faces_two, ice_exchange_cells, &
-    face_fluids
+  use ice_face_velocity, only: open_face_sweep, boundary_face
+  use ice_exchange, only: max_n, fill_beta, exchange_solve, exchange_faces_two, ice_exchange_cells
   implicit none
 
   real(wp), parameter :: ratio_max = 1.0e12_wp  !< cap of phi_up / phi_f in the face drag
@@ -27,7 +26,7 @@ contains
   !! face velocities (u_f += du) and specific volumes (v_f := A^-1 v_f, the solid's `vface`,
   !! zero at a face without solid).
   module procedure solid_phase_exchange_faces
-    integer :: d, m, i, j, k, o(3), nf, nm, side
+    integer :: d, m, i, j, k, o(3), r(2, 3), nf, nm, side
     real(wp) :: beta(max_n, max_n), rhs(max_n, 2), phi(max_n), v(max_n), w(max_n), c(max_n)
     logical :: with_solid, rigid, pair
 
@@ -37,65 +36,78 @@ contains
     ! `exchange_faces_two` takes directly (the same arithmetic)
     pair = nf == 2 .and. k_exchange > 0.0_wp .and. .not. solid%sliding .and. &
       .not. solid%explicit_drag
-    d = 0
-    do while (next_open_face(state, grid, d, o, i, j, k))
-      side = boundary_side(grid, d, [i, j, k])
-      if (pair .and. side == 0) then
-        ! the fluids' closed-form exchange, `exchange_faces_two` below
-        if (solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
-          solid%vfrac(i, j, k) <= 0.0_wp) then
-          solid%vface(i, j, k, d) = 0.0_wp
-          cycle
-        end if
-      end if
-      call face_fluids(state, d, o, [i, j, k], phi, v, rhs(:, 1))
-      nm = nf
-      ! a domain face's control volume is the inner half cell: the fluids' fractions
-      ! there (not the mean with the ghost, a reservoir beyond an open face)
-      select case (side)
-      case (1)
-        phi(1:nf) = [(state%fluid(m)%vfrac(i, j, k), m = 1, nf)]
-      case (2)
-        phi(1:nf) = [(state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)), m = 1, nf)]
-      case default
-      end select
-      call solid_face_partner(state, solid, d, o, i, j, k, side, phi(nf + 1), v(nf + 1), &
-        c, rigid)
-      ! a domain face: the solid of the inner cell (no solid lies beyond)
-      with_solid = phi(nf + 1) > 0.0_wp
-      if (with_solid) then
-        nm = nf + 1
-        rhs(nm, 1) = solid%uface(i, j, k, d)
-        if (rigid) v(nm) = 0.0_wp
-      else if (nf < 2 .or. k_exchange <= 0.0_wp) then
-        cycle
-      end if
-      call fill_beta_solid(nf, nm, dt, v, phi, k_exchange, c, rigid, beta)
-      rhs(1:nm, 2) = v(1:nm)
-      if (solid%explicit_drag) then
-        ! explicit drag (comparison option): forward Euler on the velocities, no
-        ! exchange-modified face specific volume
-        call exchange_explicit(nm, beta, rhs(:, 1:1), 1)
-      else
-        ! one elimination for the velocities (column 1) and the specific volumes (2)
-        if (rigid) then
-          call exchange_solve(nm, beta, rhs, 2)
-        else
-          ! the masses per volume phi / v (a material absent at the face: v = 0, none)
-          w(1:nm) = merge(phi(1:nm) / max(v(1:nm), tiny(1.0_wp)), 0.0_wp, v(1:nm) > 0.0_wp)
-          call exchange_solve(nm, beta, rhs, 2, w, weighted_columns=1)
-        end if
-      end if
-      do m = 1, nf
-        state%fluid(m)%uface(i, j, k, d) = rhs(m, 1)
-        state%fluid(m)%vface(i, j, k, d) = rhs(m, 2)
+    do d = 1, 3
+      if (.not. open_face_sweep(state, grid, d, o, r)) cycle
+      do k = r(1, 3), r(2, 3)
+        do j = r(1, 2), r(2, 2)
+          do i = r(1, 1), r(2, 1)
+            side = boundary_side(grid, d, [i, j, k])
+            if (pair .and. side == 0) then
+              ! the fluids' closed-form exchange, `exchange_faces_two` below
+              if (solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
+                solid%vfrac(i, j, k) <= 0.0_wp) then
+                solid%vface(i, j, k, d) = 0.0_wp
+                cycle
+              end if
+            end if
+            ! the fluids' face values; a domain face's control volume is the inner half cell:
+            ! the fluids' fractions there (not the mean with the ghost, a reservoir beyond an
+            ! open face)
+            do m = 1, nf
+              associate (fl => state%fluid(m))
+                select case (side)
+                case (1)
+                  phi(m) = fl%vfrac(i, j, k)
+                case (2)
+                  phi(m) = fl%vfrac(i - o(1), j - o(2), k - o(3))
+                case default
+                  phi(m) = 0.5_wp * (fl%vfrac(i - o(1), j - o(2), k - o(3)) + fl%vfrac(i, j, k))
+                end select
+                v(m) = fl%vface(i, j, k, d)
+                rhs(m, 1) = fl%uface(i, j, k, d)
+              end associate
+            end do
+            nm = nf
+            call solid_face_partner(state, solid, d, o, i, j, k, side, phi(nf + 1), v(nf + 1), &
+              c, rigid)
+            ! a domain face: the solid of the inner cell (no solid lies beyond)
+            with_solid = phi(nf + 1) > 0.0_wp
+            if (with_solid) then
+              nm = nf + 1
+              rhs(nm, 1) = solid%uface(i, j, k, d)
+              if (rigid) v(nm) = 0.0_wp
+            else if (nf < 2 .or. k_exchange <= 0.0_wp) then
+              cycle
+            end if
+            call fill_beta_solid(nf, nm, dt, v, phi, k_exchange, c, rigid, beta)
+            rhs(1:nm, 2) = v(1:nm)
+            if (solid%explicit_drag) then
+              ! explicit drag (comparison option): forward Euler on the velocities, no
+              ! exchange-modified face specific volume
+              call exchange_explicit(nm, beta, rhs(:, 1:1), 1)
+            else
+              ! one elimination for the velocities (column 1) and the specific volumes (2)
+              if (rigid) then
+                call exchange_solve(nm, beta, rhs, 2)
+              else
+                ! the masses per volume phi / v (a material absent at the face: v = 0, none)
+                w(1:nm) = merge(phi(1:nm) / max(v(1:nm), tiny(1.0_wp)), 0.0_wp, v(1:nm) > 0.0_wp)
+                call exchange_solve(nm, beta, rhs, 2, w, weighted_columns=1)
+              end if
+            end if
+            do m = 1, nf
+              state%fluid(m)%uface(i, j, k, d) = rhs(m, 1)
+              state%fluid(m)%vface(i, j, k, d) = rhs(m, 2)
+            end do
+            if (with_solid) then
+              solid%uface(i, j, k, d) = rhs(nm, 1)
+              solid%vface(i, j, k, d) = rhs(nm, 2)
+            else
+              solid%vface(i, j, k, d) = 0.0_wp
+            end if
+          end do
+        end do
       end do
-      if (with_solid) then
-        solid%uface(i, j, k, d) = rhs(nm, 1)
-        solid%vface(i, j, k, d) = rhs(nm, 2)
-      else
-        solid%vface(i, j, k, d) = 0.0_wp
-      end if
     end do
     ! two fluids beside a solid phase: the inner faces with no solid in either cell
     if (pair) call exchange_faces_two(state, grid, dt, k_exchange, solid%vfrac)

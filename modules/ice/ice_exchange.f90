@@ -24,14 +24,13 @@ module ice_exchange
   use mpmice_errors, only: fatal
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t, ice_fluid_t
-  use ice_face_velocity, only: next_open_face, open_face_range
+  use ice_face_velocity, only: open_face_sweep
   use solver_dense, only: solve_3, solve_pivoted
-  use grid_sweep, only: sweep_direction
   implicit none
   private
 
   public :: ice_exchange_faces, ice_exchange_cells, exchange_solve, max_n
-  public :: fill_beta, exchange_faces_two, face_fluids
+  public :: fill_beta, exchange_faces_two
 
   integer, parameter :: max_n = 9  !< most materials: config_materials%max_fluids + the solid
 
@@ -44,7 +43,7 @@ contains
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: k_exchange         !< K [kg/m^3/s]
-    integer :: d, m, i, j, k, o(3), nf
+    integer :: d, m, i, j, k, o(3), r(2, 3), nf
     real(wp) :: beta(max_n, max_n), rhs(max_n, 2), phi(max_n), v(max_n), w(max_n)
 
     nf = state%nfluids
@@ -53,42 +52,32 @@ contains
       call exchange_faces_two(state, grid, dt, k_exchange)
       return
     end if
-    d = 0
-    do while (next_open_face(state, grid, d, o, i, j, k))
-      call face_fluids(state, d, o, [i, j, k], phi, v, rhs(:, 1))
-      call fill_beta(nf, dt, v, phi, k_exchange, beta)
-      rhs(1:nf, 2) = v(1:nf)
-      ! one elimination for the velocities (column 1) and the specific volumes (2); the
-      ! masses per volume phi / v (a fluid absent at the face: v = 0, none)
-      w(1:nf) = merge(phi(1:nf) / max(v(1:nf), tiny(1.0_wp)), 0.0_wp, v(1:nf) > 0.0_wp)
-      call exchange_solve(nf, beta, rhs, 2, w, weighted_columns=1)
-      do m = 1, nf
-        state%fluid(m)%uface(i, j, k, d) = rhs(m, 1)
-        state%fluid(m)%vface(i, j, k, d) = rhs(m, 2)
+    do d = 1, 3
+      if (.not. open_face_sweep(state, grid, d, o, r)) cycle
+      do k = r(1, 3), r(2, 3)
+        do j = r(1, 2), r(2, 2)
+          do i = r(1, 1), r(2, 1)
+            do m = 1, nf
+              phi(m) = 0.5_wp * (state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)) + &
+                state%fluid(m)%vfrac(i, j, k))
+              v(m) = state%fluid(m)%vface(i, j, k, d)
+              rhs(m, 1) = state%fluid(m)%uface(i, j, k, d)
+            end do
+            call fill_beta(nf, dt, v, phi, k_exchange, beta)
+            rhs(1:nf, 2) = v(1:nf)
+            ! one elimination for the velocities (column 1) and the specific volumes (2); the
+            ! masses per volume phi / v (a fluid absent at the face: v = 0, none)
+            w(1:nf) = merge(phi(1:nf) / max(v(1:nf), tiny(1.0_wp)), 0.0_wp, v(1:nf) > 0.0_wp)
+            call exchange_solve(nf, beta, rhs, 2, w, weighted_columns=1)
+            do m = 1, nf
+              state%fluid(m)%uface(i, j, k, d) = rhs(m, 1)
+              state%fluid(m)%vface(i, j, k, d) = rhs(m, 2)
+            end do
+          end do
+        end do
       end do
     end do
   end subroutine ice_exchange_faces
-
-  !> The fluids at face `f` of direction `d` (between cells f - o and f): mean volume fractions
-  !! `phi`, face specific volumes `v` and face velocities `u` (1..nfluids).
-  pure subroutine face_fluids(state, d, o, f, phi, v, u)
-    type(ice_state_t), intent(in) :: state  !< fluids
-    integer, intent(in) :: d                !< face direction
-    integer, intent(in) :: o(3)             !< unit offset of d
-    integer, intent(in) :: f(3)             !< face index
-    real(wp), intent(inout) :: phi(:)       !< mean volume fractions [-]
-    real(wp), intent(inout) :: v(:)         !< face specific volumes [m^3/kg]
-    real(wp), intent(inout) :: u(:)         !< face velocities [m/s]
-    integer :: m
-    do m = 1, state%nfluids
-      associate (fl => state%fluid(m))
-        phi(m) = 0.5_wp * (fl%vfrac(f(1) - o(1), f(2) - o(2), f(3) - o(3)) + &
-          fl%vfrac(f(1), f(2), f(3)))
-        v(m) = fl%vface(f(1), f(2), f(3), d)
-        u(m) = fl%uface(f(1), f(2), f(3), d)
-      end associate
-    end do
-  end subroutine face_fluids
 
   !> `ice_exchange_faces` for two fluids without a solid phase: the closed-form 2 x 2 solve of
   !! `exchange_solve` (the same arithmetic) as one branch-free sweep per direction over the
@@ -106,8 +95,7 @@ contains
     integer :: d, i, j, k, o(3), r(2, 3)
 
     do d = 1, 3
-      if (.not. sweep_direction(grid, d, o)) cycle
-      r = open_face_range(state, grid, d)
+      if (.not. open_face_sweep(state, grid, d, o, r)) cycle
       if (present(partner_fraction) .and. .not. grid%periodic(d)) then
         r(1, d) = max(r(1, d), 2)
         r(2, d) = min(r(2, d), grid%ncells(d))

@@ -16,12 +16,12 @@ module ice_face_velocity
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
   use ice_bc, only: ice_bc_t, bc_inflow, bc_outflow
-  use grid_sweep, only: sweep_direction, unit_offset
+  use grid_sweep, only: sweep_direction
   implicit none
   private
 
   public :: ice_face_velocities, boundary_face, closed_face, face_index, face_range, upwind
-  public :: open_face_range, next_open_face, held_plane
+  public :: open_face_range, open_face_sweep, held_plane
 
 contains
 
@@ -145,51 +145,31 @@ contains
     if (state%closed(2 * d) .and. r(2, d) == grid%ncells(d) + 1) r(2, d) = grid%ncells(d)
   end function open_face_range
 
-  !> The next open face of the owned cells, in the order of the loops `do d` (active
-  !! directions), `do k`, `do j`, `do i` over `open_face_range`: a sweep over the open faces
-  !! reads `d = 0` then `do while (next_open_face(state, grid, d, o, i, j, k))`; false after the
-  !! last face. `o`: the unit offset of `d` (the face lies between cells (i,j,k) - o and (i,j,k)).
-  logical function next_open_face(state, grid, d, o, i, j, k) result(more)
+  !> True when direction `d` is active (`sweep_direction`): sets its unit offset `o` and the
+  !! range `r` of its open faces (`open_face_range`), so that a sweep over the open faces reads
+  !! `do d = 1, 3`, `if (.not. open_face_sweep(state, grid, d, o, r)) cycle` and the loops over
+  !! `r` (the face (i,j,k) lies between cells (i,j,k) - o and (i,j,k)).
+  logical function open_face_sweep(state, grid, d, o, r) result(active)
     type(ice_state_t), intent(in) :: state  !< fluids (closed faces)
     type(grid_t), intent(in) :: grid        !< block geometry
-    integer, intent(inout) :: d             !< face direction (0 before the first face)
-    integer, intent(inout) :: o(3)          !< unit offset of d
-    integer, intent(inout) :: i, j, k       !< face index
-    integer :: r(2, 3)
-    more = .true.
-    if (d > 0) then
-      r = open_face_range(state, grid, d)
-      i = i + 1
-      if (i <= r(2, 1)) return
-      i = r(1, 1)
-      j = j + 1
-      if (j <= r(2, 2)) return
-      j = r(1, 2)
-      k = k + 1
-      if (k <= r(2, 3)) return
-    end if
-    do while (d < 3)
-      d = d + 1
-      if (.not. grid%active(d)) cycle
-      r = open_face_range(state, grid, d)
-      if (any(r(1, :) > r(2, :))) cycle
-      o = unit_offset(d)
-      i = r(1, 1)
-      j = r(1, 2)
-      k = r(1, 3)
-      return
-    end do
-    more = .false.
-  end function next_open_face
+    integer, intent(in) :: d                !< face direction
+    integer, intent(out) :: o(3)            !< unit offset of d
+    integer, intent(out) :: r(2, 3)         !< range of the open faces
+    active = sweep_direction(grid, d, o)
+    r = open_face_range(state, grid, d)
+  end function open_face_sweep
 
   !> True when the non-periodic domain plane of direction `d` on `side` (1 low, 2 high) lies in
-  !! this rank's face range `r`; `lo`, `hi`: its faces (else the whole range).
-  logical function held_plane(grid, d, r, side, lo, hi)
+  !! this rank's face range `r` and, if `flags` is given, its domain face (1..6, `face_index`)
+  !! is flagged (e.g. open: `.not. ice_state_t%closed`; a loading platen:
+  !! `ice_solid_view_t%platen`); `lo`, `hi`: its faces (else the whole range).
+  logical function held_plane(grid, d, r, side, lo, hi, flags)
     type(grid_t), intent(in) :: grid        !< block geometry
     integer, intent(in) :: d                !< face direction
     integer, intent(in) :: r(2, 3)          !< face range of this rank
     integer, intent(in) :: side             !< 1: low plane, 2: high plane
     integer, intent(out) :: lo(3), hi(3)    !< face range of the plane
+    logical, intent(in), optional :: flags(6)  !< the domain faces that count
     integer :: idx
     held_plane = .false.
     lo = r(1, :)
@@ -200,6 +180,7 @@ contains
     lo(d) = idx
     hi(d) = idx
     held_plane = .true.
+    if (present(flags)) held_plane = flags(2 * d - 2 + side)
   end function held_plane
 
   !> True for a face in direction `d` at index `idx` that lies on a non-periodic domain boundary.

@@ -42,7 +42,7 @@ contains
     !> the solid phase of a coupled scene: its face specific volume joins the coefficients, a
     !! loading platen the diagonal
     class(ice_solid_view_t), intent(in), optional :: solid
-    integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3), c(3)
+    integer :: d, m, i, j, k, o(3), r(2, 3), side, c(3)
     real(wp) :: area, w_lo, w_hi
 
     state%coef = 0.0_wp
@@ -97,19 +97,12 @@ contains
       ! a loading platen: dp of the inner cell pushes the platen and the skeleton behind it
       ! outward by theta dt c dp (`solid_face_predictor`), and the outward volume flux with it
       if (.not. present(solid)) cycle
-      r = face_range(grid, d)
       area = grid%cell_volume / grid%dx(d)
-      do side = 1, 2
-        if (.not. platen_plane(solid, grid, d, r, side, lo, hi)) cycle
-        do k = lo(3), hi(3)
-          do j = lo(2), hi(2)
-            do i = lo(1), hi(1)
-              c = [i, j, k] - merge(o, 0, side == 2)
-              state%diag(c(1), c(2), c(3)) = state%diag(c(1), c(2), c(3)) + theta * dt**2 * &
-                area * solid%platen_coef(i, j, k, d)
-            end do
-          end do
-        end do
+      side = 0
+      do while (next_platen_face(solid, grid, d, side, i, j, k))
+        c = [i, j, k] - merge(o, 0, side == 2)
+        state%diag(c(1), c(2), c(3)) = state%diag(c(1), c(2), c(3)) + theta * dt**2 * area * &
+          solid%platen_coef(i, j, k, d)
       end do
     end do
   end subroutine ice_pressure_assemble
@@ -189,7 +182,7 @@ contains
     integer, intent(in) :: r(2, 3)                   !< face range of d
     integer :: i, j, k, side, lo(3), hi(3)
     do side = 1, 2
-      if (.not. open_plane(state, grid, d, r, side, lo, hi)) cycle
+      if (.not. held_plane(grid, d, r, side, lo, hi, .not. state%closed)) cycle
       do k = lo(3), hi(3)
         do j = lo(2), hi(2)
           do i = lo(1), hi(1)
@@ -226,7 +219,7 @@ contains
     integer :: i, j, k, side, lo(3), hi(3), c(3), r(2, 3)
     r = face_range(grid, d)
     do side = 1, 2
-      if (.not. open_plane(state, grid, d, r, side, lo, hi)) cycle
+      if (.not. held_plane(grid, d, r, side, lo, hi, .not. state%closed)) cycle
       ! the plane's cells: above the low plane, below the high one (outward flux sign)
       do k = lo(3), hi(3)
         do j = lo(2), hi(2)
@@ -300,7 +293,7 @@ contains
     real(wp), intent(in) :: theta              !< implicit weight of the pressure change
     !> the solid phase of a coupled scene: its face velocity corrected as well
     class(ice_solid_view_t), intent(inout), optional :: solid
-    integer :: d, m, i, j, k, o(3), r(2, 3), side, plo(3), phi(3), c(3)
+    integer :: d, m, i, j, k, o(3), r(2, 3), side, c(3)
     real(wp) :: g
 
     associate (lo => grid%lo, hi => grid%hi)
@@ -340,19 +333,11 @@ contains
       end do
       ! loading platens: the skeleton's face velocity with the inner cell's dp (outward for
       ! dp > 0), the fluids' from it
-      r = face_range(grid, d)
-      do side = 1, 2
-        if (.not. platen_plane(solid, grid, d, r, side, plo, phi)) cycle
-        do k = plo(3), phi(3)
-          do j = plo(2), phi(2)
-            do i = plo(1), phi(1)
-              c = [i, j, k] - merge(o, 0, side == 2)
-              solid%uface(i, j, k, d) = solid%uface(i, j, k, d) + &
-                merge(1.0_wp, -1.0_wp, side == 2) * theta * dt * &
-                solid%platen_coef(i, j, k, d) * state%dp(c(1), c(2), c(3))
-            end do
-          end do
-        end do
+      side = 0
+      do while (next_platen_face(solid, grid, d, side, i, j, k))
+        c = [i, j, k] - merge(o, 0, side == 2)
+        solid%uface(i, j, k, d) = solid%uface(i, j, k, d) + merge(1.0_wp, -1.0_wp, side == 2) * &
+          theta * dt * solid%platen_coef(i, j, k, d) * state%dp(c(1), c(2), c(3))
       end do
     end do
     call platen_fluid_faces(state, grid, solid)
@@ -369,50 +354,71 @@ contains
     type(ice_state_t), intent(inout) :: state  !< fluids (uface on platen faces written)
     type(grid_t), intent(in) :: grid           !< block geometry
     class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
-    integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3)
+    integer :: d, m, i, j, k, o(3), side
     real(wp) :: us, phi_up, u
     if (.not. present(solid)) return
     if (.not. any(solid%platen)) return
     do d = 1, 3
       if (.not. sweep_direction(grid, d, o)) cycle
-      r = face_range(grid, d)
-      do side = 1, 2
-        if (.not. platen_plane(solid, grid, d, r, side, lo, hi)) cycle
-        do k = lo(3), hi(3)
-          do j = lo(2), hi(2)
-            do i = lo(1), hi(1)
-              us = solid%uface(i, j, k, d)
-              phi_up = 0.0_wp
-              do m = 1, state%nfluids
-                phi_up = phi_up + merge(state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)), &
-                  state%fluid(m)%vfrac(i, j, k), us >= 0.0_wp)
-              end do
-              u = 0.0_wp
-              if (phi_up > pore_min) then
-                u = (1.0_wp - solid_face_fraction(solid, d, o, i, j, k)) * us / phi_up
-              end if
-              do m = 1, state%nfluids
-                state%fluid(m)%uface(i, j, k, d) = u
-              end do
-            end do
-          end do
+      side = 0
+      do while (next_platen_face(solid, grid, d, side, i, j, k))
+        us = solid%uface(i, j, k, d)
+        phi_up = 0.0_wp
+        do m = 1, state%nfluids
+          phi_up = phi_up + merge(state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)), &
+            state%fluid(m)%vfrac(i, j, k), us >= 0.0_wp)
+        end do
+        u = 0.0_wp
+        if (phi_up > pore_min) u = (1.0_wp - solid_face_fraction(solid, d, o, i, j, k)) * us / &
+          phi_up
+        do m = 1, state%nfluids
+          state%fluid(m)%uface(i, j, k, d) = u
         end do
       end do
     end do
   end subroutine platen_fluid_faces
 
-  !> True when the domain plane of direction `d` on `side` (1 low, 2 high) is a loading platen
-  !! (`ice_solid_view_t%platen`) that this rank holds; `lo`, `hi`: its faces.
-  logical function platen_plane(solid, grid, d, r, side, lo, hi)
+  !> The next face of the loading platens of direction `d` that this rank holds
+  !! (`ice_solid_view_t%platen`), the low plane before the high one, then k, j, i: a sweep reads `side = 0`
+  !! then `do while (next_platen_face(solid, grid, d, side, i, j, k))`; false after the last.
+  logical function next_platen_face(solid, grid, d, side, i, j, k) result(more)
     class(ice_solid_view_t), intent(in) :: solid !< solid phase
     type(grid_t), intent(in) :: grid        !< block geometry
     integer, intent(in) :: d                !< face direction
-    integer, intent(in) :: r(2, 3)          !< face range of this rank
-    integer, intent(in) :: side             !< 1: low plane, 2: high plane
-    integer, intent(out) :: lo(3), hi(3)    !< face range of the plane
-    platen_plane = held_plane(grid, d, r, side, lo, hi)
-    if (platen_plane) platen_plane = solid%platen(2 * d - 2 + side)
-  end function platen_plane
+    integer, intent(inout) :: side          !< plane of the face (0 before the first face)
+    integer, intent(inout) :: i, j, k       !< face index
+    integer :: lo(3), hi(3)
+    more = .true.
+    if (side > 0) then
+      more = held_plane(grid, d, face_range(grid, d), side, lo, hi, solid%platen)
+      if (box_step(lo, hi, i, j, k)) return
+    end if
+    do while (side < 2)
+      side = side + 1
+      if (.not. held_plane(grid, d, face_range(grid, d), side, lo, hi, solid%platen)) cycle
+      i = lo(1)
+      j = lo(2)
+      k = lo(3)
+      return
+    end do
+    more = .false.
+  end function next_platen_face
+
+  !> Advance (i, j, k) to the next index of the box `lo`..`hi`, i fastest; false past its last
+  !! index.
+  logical function box_step(lo, hi, i, j, k) result(inside)
+    integer, intent(in) :: lo(3), hi(3)     !< corners of the box
+    integer, intent(inout) :: i, j, k       !< index
+    inside = .true.
+    i = i + 1
+    if (i <= hi(1)) return
+    i = lo(1)
+    j = j + 1
+    if (j <= hi(2)) return
+    j = lo(2)
+    k = k + 1
+    inside = k <= hi(3)
+  end function box_step
 
   !> Solid volume fraction of the low face of cell (i,j,k) in direction d for the solid's
   !! volume flux of eq. 35: the grain fraction the particles place on the upwind side of the face
@@ -472,19 +478,6 @@ contains
       face(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) = 0.0_wp
     end do
   end subroutine zero_closed_faces
-
-  !> True when the domain plane of direction `d` on `side` (1 low, 2 high) is an open
-  !! ('pressure') face that this rank holds; `lo`, `hi`: its faces.
-  logical function open_plane(state, grid, d, r, side, lo, hi)
-    type(ice_state_t), intent(in) :: state  !< fluids (closed faces)
-    type(grid_t), intent(in) :: grid        !< block geometry
-    integer, intent(in) :: d                !< face direction
-    integer, intent(in) :: r(2, 3)          !< face range of this rank
-    integer, intent(in) :: side             !< 1: low plane, 2: high plane
-    integer, intent(out) :: lo(3), hi(3)    !< face range of the plane
-    open_plane = held_plane(grid, d, r, side, lo, hi)
-    if (open_plane) open_plane = .not. state%closed(2 * d - 2 + side)
-  end function open_plane
 
   !> Open domain face of a scene with a solid phase: sum over the fluids of (phi_inner -
   !! phi_upwind) w, w the face specific volume (coefficient) or the face velocity (flux). The

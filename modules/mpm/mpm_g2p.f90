@@ -10,7 +10,7 @@ module mpm_g2p
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use particles_store, only: particles_t
-  use mpm_shape, only: particle_stencil, stencil_weights, max_stencil, max_nodes
+  use mpm_shape, only: particle_stencil, max_stencil
   use mpm_nodes, only: mpm_nodes_t
   use mpm_tensor, only: det3, mul3
   use mpm_constitutive, only: material_t, constitutive_update, model_rigid
@@ -30,24 +30,34 @@ contains
     type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: dt                   !< step [s]
     real(wp), intent(in) :: flip                 !< FLIP fraction 0..1
-    integer :: ip, i, j, k, n, nnodes, node(3, max_nodes), first(3), nn(3), d
-    real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s(max_nodes), g(3, max_nodes)
+    integer :: ip, i, j, k, a, b, c, first(3), nn(3), d
+    real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s, g(3), wjk, gjk(3)
     real(wp) :: ap(3), vlp(3), l(3, 3), f(3, 3), fnew(3, 3), vl(3)
     do ip = 1, p%np
       call particle_stencil(kind, grid, p%x(:, ip), p%half_width, first, nn, w, dw)
-      call stencil_weights(first, nn, w, dw, nnodes, node, s, g)
       ap = 0.0_wp
       vlp = 0.0_wp
       l = 0.0_wp
-      do n = 1, nnodes
-        i = node(1, n)
-        j = node(2, n)
-        k = node(3, n)
-        vl = nodes%vel_l(:, i, j, k)
-        ap = ap + s(n) * nodes%acc(:, i, j, k)
-        vlp = vlp + s(n) * vl
-        do d = 1, 3
-          l(:, d) = l(:, d) + vl * g(d, n)
+      do c = 1, nn(3)
+        k = first(3) + c - 1
+        do b = 1, nn(2)
+          j = first(2) + b - 1
+          wjk = w(b, 2) * w(c, 3)
+          gjk(2) = dw(b, 2) * w(c, 3)
+          gjk(3) = w(b, 2) * dw(c, 3)
+          do a = 1, nn(1)
+            i = first(1) + a - 1
+            s = w(a, 1) * wjk
+            g(1) = dw(a, 1) * wjk
+            g(2) = w(a, 1) * gjk(2)
+            g(3) = w(a, 1) * gjk(3)
+            vl = nodes%vel_l(:, i, j, k)
+            ap = ap + s * nodes%acc(:, i, j, k)
+            vlp = vlp + s * vl
+            do d = 1, 3
+              l(:, d) = l(:, d) + vl * g(d)
+            end do
+          end do
         end do
       end do
       p%v(:, ip) = flip * (p%v(:, ip) + ap * dt) + (1.0_wp - flip) * vlp  ! eq. 70 + PIC blend

@@ -8,7 +8,7 @@ module mpm_p2g
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_reverse_node
   use particles_store, only: particles_t
-  use mpm_shape, only: particle_stencil, stencil_weights, max_stencil, max_nodes
+  use mpm_shape, only: particle_stencil, max_stencil
   use mpm_nodes, only: mpm_nodes_t, node_mass, node_momentum, node_force, node_rigid_mass, &
     node_rigid_momentum, node_rigid_gradient
   implicit none
@@ -46,29 +46,39 @@ contains
     type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(inout) :: q(:, grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< node fields
     integer, intent(in) :: kind                  !< shape_linear or shape_gimp
-    integer :: ip, i, j, k, n, nnodes, node(3, max_nodes), first(3), nn(3)
-    real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s(max_nodes), g(3, max_nodes), m, mv(3), sv(6)
+    integer :: ip, i, j, k, a, b, c, first(3), nn(3)
+    real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s, g(3), m, mv(3), sv(6), wjk, gjk(3)
     do ip = 1, p%np
       call particle_stencil(kind, grid, p%x(:, ip), p%half_width, first, nn, w, dw)
-      call stencil_weights(first, nn, w, dw, nnodes, node, s, g)
       m = p%mass(ip)
       mv = m * p%v(:, ip)
       sv = p%stress(:, ip) * p%volume(ip)
-      do n = 1, nnodes
-        i = node(1, n)
-        j = node(2, n)
-        k = node(3, n)
-        q(node_mass, i, j, k) = q(node_mass, i, j, k) + s(n) * m
-        q(node_momentum, i, j, k) = q(node_momentum, i, j, k) + s(n) * mv(1)
-        q(node_momentum + 1, i, j, k) = q(node_momentum + 1, i, j, k) + s(n) * mv(2)
-        q(node_momentum + 2, i, j, k) = q(node_momentum + 2, i, j, k) + s(n) * mv(3)
-        ! eq. 27: f = -sigma . grad S V (sigma symmetric: xx, yy, zz, xy, yz, xz)
-        q(node_force, i, j, k) = q(node_force, i, j, k) &
-          - (sv(1) * g(1, n) + sv(4) * g(2, n) + sv(6) * g(3, n))
-        q(node_force + 1, i, j, k) = q(node_force + 1, i, j, k) &
-          - (sv(4) * g(1, n) + sv(2) * g(2, n) + sv(5) * g(3, n))
-        q(node_force + 2, i, j, k) = q(node_force + 2, i, j, k) &
-          - (sv(6) * g(1, n) + sv(5) * g(2, n) + sv(3) * g(3, n))
+      do c = 1, nn(3)
+        k = first(3) + c - 1
+        do b = 1, nn(2)
+          j = first(2) + b - 1
+          wjk = w(b, 2) * w(c, 3)
+          gjk(2) = dw(b, 2) * w(c, 3)
+          gjk(3) = w(b, 2) * dw(c, 3)
+          do a = 1, nn(1)
+            i = first(1) + a - 1
+            s = w(a, 1) * wjk
+            g(1) = dw(a, 1) * wjk
+            g(2) = w(a, 1) * gjk(2)
+            g(3) = w(a, 1) * gjk(3)
+            q(node_mass, i, j, k) = q(node_mass, i, j, k) + s * m
+            q(node_momentum, i, j, k) = q(node_momentum, i, j, k) + s * mv(1)
+            q(node_momentum + 1, i, j, k) = q(node_momentum + 1, i, j, k) + s * mv(2)
+            q(node_momentum + 2, i, j, k) = q(node_momentum + 2, i, j, k) + s * mv(3)
+            ! eq. 27: f = -sigma . grad S V (sigma symmetric: xx, yy, zz, xy, yz, xz)
+            q(node_force, i, j, k) = q(node_force, i, j, k) &
+              - (sv(1) * g(1) + sv(4) * g(2) + sv(6) * g(3))
+            q(node_force + 1, i, j, k) = q(node_force + 1, i, j, k) &
+              - (sv(4) * g(1) + sv(2) * g(2) + sv(5) * g(3))
+            q(node_force + 2, i, j, k) = q(node_force + 2, i, j, k) &
+              - (sv(6) * g(1) + sv(5) * g(2) + sv(3) * g(3))
+          end do
+        end do
       end do
     end do
   end subroutine p2g_accumulate

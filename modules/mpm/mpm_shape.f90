@@ -15,12 +15,10 @@ module mpm_shape
   private
 
   public :: shape_linear, shape_gimp, max_stencil, shape_kind_from_name, particle_stencil
-  public :: stencil_weights, max_nodes
 
   integer, parameter :: shape_linear = 1   !< linear (tent) functions
   integer, parameter :: shape_gimp = 2     !< uGIMP functions
   integer, parameter :: max_stencil = 3    !< most nodes per dimension
-  integer, parameter :: max_nodes = max_stencil**3  !< most nodes of a stencil
 
 contains
 
@@ -85,37 +83,4 @@ contains
       end if
     end do
   end subroutine particle_stencil
-
-  !> The nodes of a `particle_stencil` (first node `first`, `nn` per dimension, 1-D weights `w`,
-  !! `dw`) as one list, x fastest: node n = 1..nnodes at (i, j, k) = node(:, n), its
-  !! tensor-product weight S_ip = S_x S_y S_z in s(n) and gradient
-  !! (S_x' S_y S_z, S_x S_y' S_z, S_x S_y S_z') in g(:, n).
-  pure subroutine stencil_weights(first, nn, w, dw, nnodes, node, s, g)
-    integer, intent(in) :: first(3)                 !< global index of the first node
-    integer, intent(in) :: nn(3)                    !< nodes per dimension
-    real(wp), intent(in) :: w(max_stencil, 3)       !< 1-D weights [-]
-    real(wp), intent(in) :: dw(max_stencil, 3)      !< derivatives [1/m]
-    integer, intent(out) :: nnodes                  !< nodes of the stencil
-    integer, intent(out) :: node(3, max_nodes)      !< their global indices
-    real(wp), intent(out) :: s(max_nodes)           !< weights [-]
-    real(wp), intent(out) :: g(3, max_nodes)        !< gradients [1/m]
-    real(wp) :: wbc, gbc(2:3)
-    integer :: a, b, c
-    nnodes = 0
-    do c = 1, nn(3)
-      do b = 1, nn(2)
-        wbc = w(b, 2) * w(c, 3)
-        gbc(2) = dw(b, 2) * w(c, 3)
-        gbc(3) = w(b, 2) * dw(c, 3)
-        do a = 1, nn(1)
-          nnodes = nnodes + 1
-          node(:, nnodes) = first + [a, b, c] - 1
-          s(nnodes) = w(a, 1) * wbc
-          g(1, nnodes) = dw(a, 1) * wbc
-          g(2, nnodes) = w(a, 1) * gbc(2)
-          g(3, nnodes) = w(a, 1) * gbc(3)
-        end do
-      end do
-    end do
-  end subroutine stencil_weights
 end module mpm_shape

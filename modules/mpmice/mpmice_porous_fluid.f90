@@ -8,8 +8,8 @@ module mpmice_porous_fluid
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t, ice_fluid_t
   use exchange_solid_phase, only: solid_phase_t
-  use ice_face_velocity, only: next_open_face, upwind
-  use grid_sweep, only: sweep_direction, unit_offset
+  use ice_face_velocity, only: open_face_sweep, upwind
+  use grid_sweep, only: sweep_direction
   implicit none
   private
 
@@ -32,21 +32,26 @@ contains
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(in) :: previous(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :) !< last
                                                 !! step's final face velocities (3, cells, fluid)
-    integer :: m, i, j, k, d, o(3)
+    integer :: m, i, j, k, d, o(3), r(2, 3)
     real(wp) :: rl, rr, mean
-    d = 0
-    do while (next_open_face(state, grid, d, o, i, j, k))
-      if (solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
-        solid%vfrac(i, j, k) <= 0.0_wp) cycle
-      do m = 1, state%nfluids
-        associate (f => state%fluid(m))
-          rl = f%rho(i - o(1), j - o(2), k - o(3))
-          rr = f%rho(i, j, k)
-          if (rl + rr <= 0.0_wp) cycle
-          mean = (rl * f%vel(i - o(1), j - o(2), k - o(3), d) + rr * f%vel(i, j, k, d)) / &
-            (rl + rr)
-          f%uface(i, j, k, d) = f%uface(i, j, k, d) - mean + previous(d, i, j, k, m)
-        end associate
+    do d = 1, 3
+      if (.not. open_face_sweep(state, grid, d, o, r)) cycle
+      do k = r(1, 3), r(2, 3)
+        do j = r(1, 2), r(2, 2)
+          do i = r(1, 1), r(2, 1)
+            if (solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
+              solid%vfrac(i, j, k) <= 0.0_wp) cycle
+            do m = 1, state%nfluids
+              rl = state%fluid(m)%rho(i - o(1), j - o(2), k - o(3))
+              rr = state%fluid(m)%rho(i, j, k)
+              if (rl + rr <= 0.0_wp) cycle
+              mean = (rl * state%fluid(m)%vel(i - o(1), j - o(2), k - o(3), d) + &
+                rr * state%fluid(m)%vel(i, j, k, d)) / (rl + rr)
+              state%fluid(m)%uface(i, j, k, d) = state%fluid(m)%uface(i, j, k, d) - mean + &
+                previous(d, i, j, k, m)
+            end do
+          end do
+        end do
       end do
     end do
   end subroutine fluid_face_predictor_porous
@@ -109,7 +114,8 @@ contains
     do d = 1, 3
       if (near) return
       if (.not. grid%active(d)) cycle
-      o = unit_offset(d)
+      o = 0
+      o(d) = 1
       near = solid%vfrac(c(1) - o(1), c(2) - o(2), c(3) - o(3)) > 0.0_wp .or. &
         solid%vfrac(c(1) + o(1), c(2) + o(2), c(3) + o(3)) > 0.0_wp
     end do
