@@ -18,8 +18,9 @@ module driver_loop
   use driver_clock, only: clock_t, clock_from_config, clock_next_dt, clock_reject, clock_refusal, &
     clock_accept, clock_finished, clock_resume
   use driver_output, only: write_state_file, read_checkpoint
-  use scene_interface, only: scene_t
+  use scene_interface, only: scene_t, scene_context_t
   use scene_params, only: scene_params_t
+  use driver_scene_params, only: scene_create
   use driver_stops, only: stops_watch_state, stops_start, stops_check_dt, stops_check_state
   use io_files, only: io_join_path
   use io_write_failure, only: io_close_checked
@@ -39,19 +40,19 @@ module driver_loop
 
 contains
 
-  !> Run `scene` with its parameters `params` from its initial state, or continue it from
+  !> Run the scene of the parameters `params` from its initial state, or continue it from
   !! `restart_file` (not '').
-  subroutine run_scene(scene, params, cfg, namelist_text, dom, grid, restart_file, status)
-    class(scene_t), intent(inout) :: scene           !< the scene to run
+  subroutine run_scene(params, cfg, namelist_text, dom, grid, restart_file, status)
     class(scene_params_t), intent(in) :: params      !< the scene's groups (from `cfg`)
     type(config_t), intent(in) :: cfg                !< validated configuration
     character(len=*), intent(in) :: namelist_text    !< resolved input (stored in every file)
-    type(domain_t), intent(in) :: dom                !< decomposition
-    type(grid_t), intent(in) :: grid                 !< block geometry
+    type(domain_t), intent(in), target :: dom        !< decomposition (kept by the scene)
+    type(grid_t), intent(in), target :: grid         !< block geometry (kept by the scene)
     character(len=*), intent(in) :: restart_file     !< checkpoint to continue, '' if none
     type(run_status_t), intent(out) :: status        !< how the run ended
+    class(scene_t), allocatable :: scene
     type(clock_t) :: clock
-    type(timer_set_t) :: timers
+    type(timer_set_t), target :: timers
     type(progress_t) :: progress
     real(wp) :: dt, dt_limit, slowest_step_s, step_start_s, load_power, energy_peak
     integer :: t_output, signum
@@ -60,7 +61,7 @@ contains
 
     t_output = timer_register(timers, 'output and checkpoint')
     call signals_install()
-    call scene%init(params, dom, grid, timers)
+    call scene_create(params, scene_context_t(dom=dom, grid=grid, timers=timers), scene)
     call clock_from_config(clock, cfg%run, cfg%time)
     call progress_init(progress, cfg%run%progress_interval, 0.0_wp, cfg%run%end_time)
 
@@ -89,7 +90,7 @@ contains
     watch_state = stops_watch_state(cfg)
     load_power = 0.0_wp
     energy_peak = 0.0_wp
-    if (watch_state) call stops_start(scene, dom, grid, clock, load_power)
+    if (watch_state) call stops_start(scene, clock, load_power)
 
     slowest_step_s = 0.0_wp
     stopped_early = .false.
@@ -103,7 +104,7 @@ contains
     end if
     do while (.not. clock_finished(clock) .and. .not. stopped_early)
       step_start_s = progress_elapsed(progress)
-      dt_limit = scene%stable_dt(dom, grid, clock%cfl)
+      dt_limit = scene%stable_dt(clock%cfl)
       stop_reason = stops_check_dt(cfg, clock, dt_limit)
       if (len_trim(stop_reason) > 0) then
         call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, stop_reason, status)
@@ -113,7 +114,7 @@ contains
       do
         stop_reason = clock_refusal(clock, dt)
         if (len_trim(stop_reason) > 0) exit
-        call scene%step(dom, grid, clock%time, dt, timers, accepted)
+        call scene%step(clock%time, dt, accepted)
         if (accepted) exit
         call log_warning('step ' // int_text(clock%step + 1) // ' rejected at dt = ' // &
           real_short_text(dt) // ' s; retrying with dt/2')
@@ -126,15 +127,14 @@ contains
 
       call clock_accept(clock, dt)
 
-      if (global_any(dom, .not. scene%all_finite(grid))) then
+      if (global_any(dom, .not. scene%all_finite())) then
         call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, 'non-finite values ' &
           // 'at step ' // int_text(clock%step) // ', t = ' // real_short_text(clock%time) // &
           ' s', status)
         exit
       end if
       if (watch_state) then
-        call stops_check_state(scene, cfg, dom, grid, clock, load_power, energy_peak, &
-          stop_reason)
+        call stops_check_state(scene, cfg, clock, load_power, energy_peak, stop_reason)
         if (len_trim(stop_reason) > 0) then
           call fail_with_dump(scene, cfg, dom, grid, clock, namelist_text, stop_reason, status)
           exit
@@ -199,7 +199,7 @@ contains
     if (cfg%run%max_energy_growth > 0.0_wp) call log_info('run stops: largest solid energy / ' &
       // 'reference ' // real_short_text(energy_peak) // ' (&run max_energy_growth = ' // &
       real_short_text(cfg%run%max_energy_growth) // ')')
-    call scene%summary(dom, grid)
+    call scene%summary()
     call log_warning_summary()
     call timer_summary(timers, dom%comm, progress_elapsed(progress))
     call scene%free()

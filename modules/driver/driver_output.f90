@@ -78,7 +78,7 @@ contains
         call io_write_failed(h5_path // '.tmp', h5_path, 'MPMICE_FAULT', enospc)
       end if
     end if
-    call scene%write_state(file, dom, grid, checkpoint)
+    call scene%write_state(file, checkpoint)
     call h5_close(file)
     if (checkpoint) call barrier(dom%comm)
     if (dom%rank == 0) call io_rename(h5_path // '.tmp', h5_path)
@@ -142,7 +142,7 @@ contains
       call h5_read_attribute(file, 'stop_load_work', clock%load_work)
       call h5_read_attribute(file, 'stop_dt_reference', clock%dt_reference)
     end if
-    call scene%restore(file, dom, grid)
+    call scene%restore(file)
     call h5_close(file)
   end subroutine read_checkpoint
 

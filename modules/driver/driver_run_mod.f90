@@ -3,7 +3,7 @@ module driver_run_mod
   use, intrinsic :: iso_fortran_env, only: error_unit
   use parallel_comm, only: MPI_Comm, bcast
   use mpmice_kinds, only: msg_len
-  use mpmice_errors, only: exit_cleanly, int_text, fatal
+  use mpmice_errors, only: exit_cleanly, int_text
   use mpmice_log, only: log_info, log_is_root, log_warning, log_open_file, log_close_file
   use mpmice_build_info, only: mpmice_version
   use config_types, only: config_t
@@ -13,13 +13,8 @@ module driver_run_mod
   use driver_preflight, only: preflight_output_dir
   use driver_balance, only: run_block_cells
   use driver_loop, only: run_scene, run_status_t
-  use scene_interface, only: scene_t
   use scene_params, only: scene_params_t
   use driver_scene_params, only: scene_params_from_config
-  use heat_scene, only: heat_scene_t
-  use mpm_scene, only: mpm_scene_t
-  use ice_scene, only: ice_scene_t
-  use mpmice_scene, only: mpmice_scene_t
   implicit none
   private
 
@@ -35,10 +30,9 @@ contains
     character(len=*), intent(in) :: source_file        !< case file the configuration came from
     character(len=*), intent(in) :: restart_file       !< checkpoint to continue, '' if none
     type(MPI_Comm), intent(in) :: comm                 !< the program's communicator
-    type(domain_t) :: dom
-    type(grid_t) :: grid
+    type(domain_t), target :: dom
+    type(grid_t), target :: grid
     type(run_status_t) :: status
-    class(scene_t), allocatable :: scene
     class(scene_params_t), allocatable :: params
     character(len=:), allocatable :: text
     character(len=msg_len) :: errmsg
@@ -92,9 +86,8 @@ contains
       config_used_path(cfg))
     call log_info('mpmice: version ' // mpmice_version)
 
-    call make_scene(cfg, scene)
     call scene_params_from_config(cfg, params)
-    call run_scene(scene, params, cfg, text, dom, grid, restart_file, status)
+    call run_scene(params, cfg, text, dom, grid, restart_file, status)
 
     call domain_free(dom)
     if (status%exit_code /= 0) then
@@ -130,23 +123,4 @@ contains
     character(len=:), allocatable :: path
     path = trim(cfg%run%output_dir) // '/' // trim(cfg%run%name) // '.log'
   end function log_path
-
-  !> The scene object named by `&run scene`.
-  subroutine make_scene(cfg, scene)
-    type(config_t), intent(in) :: cfg                    !< validated configuration
-    class(scene_t), allocatable, intent(out) :: scene    !< the scene to run
-    select case (trim(cfg%run%scene))
-    case ('heat_conduction')
-      allocate(heat_scene_t :: scene)
-    case ('mpm')
-      allocate(mpm_scene_t :: scene)
-    case ('ice')
-      allocate(ice_scene_t :: scene)
-    case ('mpmice')
-      allocate(mpmice_scene_t :: scene)
-    case default
-      ! the configuration accepts only scenes listed in config_types%scene_names
-      call fatal('scene ''' // trim(cfg%run%scene) // ''' is not available in this build')
-    end select
-  end subroutine make_scene
 end module driver_run_mod

@@ -19,8 +19,6 @@ module driver_stops
   use mpmice_kinds, only: wp, path_len
   use mpmice_errors, only: int_text, real_short_text
   use config_types, only: config_t
-  use parallel_domain, only: domain_t
-  use grid_layout, only: grid_t
   use driver_clock, only: clock_t
   use scene_interface, only: scene_t, scene_health_t
   implicit none
@@ -39,14 +37,12 @@ contains
 
   !> At the start of a run (or a restart): set the energy reference E(0) when it is not set yet
   !! and return the load power of the current state (collective).
-  subroutine stops_start(scene, dom, grid, clock, power)
+  subroutine stops_start(scene, clock, power)
     class(scene_t), intent(inout) :: scene   !< scene
-    type(domain_t), intent(in) :: dom        !< decomposition
-    type(grid_t), intent(in) :: grid         !< block geometry
     type(clock_t), intent(inout) :: clock    !< run clock (carries the references)
     real(wp), intent(out) :: power           !< power of gravity and loads now [W]
     type(scene_health_t) :: health
-    call scene%health(dom, grid, clock%time, health)
+    call scene%health(clock%time, health)
     if (clock%energy_reference < 0.0_wp) then
       clock%energy_reference = health%energy
       clock%load_work = 0.0_wp
@@ -74,11 +70,9 @@ contains
   !> Energy-growth and particle-loss checks after the step of `clock%dt` that ended at
   !! `clock%time` (collective). `power` is the load power before the step on entry, after it on
   !! exit; `peak` the largest E / R so far. `reason` is '' when the run may go on.
-  subroutine stops_check_state(scene, cfg, dom, grid, clock, power, peak, reason)
+  subroutine stops_check_state(scene, cfg, clock, power, peak, reason)
     class(scene_t), intent(inout) :: scene        !< scene
     type(config_t), intent(in) :: cfg             !< validated configuration
-    type(domain_t), intent(in) :: dom             !< decomposition
-    type(grid_t), intent(in) :: grid              !< block geometry
     type(clock_t), intent(inout) :: clock         !< run clock (carries the references)
     real(wp), intent(inout) :: power              !< load power [W]
     real(wp), intent(inout) :: peak               !< largest energy / reference so far
@@ -86,7 +80,7 @@ contains
     type(scene_health_t) :: health
     real(wp) :: reference, lost_fraction
     reason = ''
-    call scene%health(dom, grid, clock%time, health)
+    call scene%health(clock%time, health)
     if (.not. health%has_solids) return
     clock%load_work = clock%load_work + 0.5_wp * clock%dt * (max(power, 0.0_wp) + &
       max(health%load_power, 0.0_wp))

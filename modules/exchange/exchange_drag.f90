@@ -25,38 +25,42 @@ module exchange_drag
   implicit none
   private
 
-  public :: drag_law_from_name, drag_reduced_coefficient, beetstra_factor, kozeny_carman_factor
-  public :: drag_kozeny_carman, drag_beetstra, drag_constant, drag_impermeable
-  public :: drag_forchheimer, ergun_a, ergun_b, forchheimer_gradient, forchheimer_flux
+  public :: drag_law_from_name, drag_reduced_coefficient, beetstra_factor, kozeny_carman_factor, &
+    drag_kozeny_carman, drag_beetstra, drag_constant, drag_impermeable, drag_forchheimer, &
+    ergun_a, ergun_b, forchheimer_bed_t, forchheimer_gradient, forchheimer_flux
 
   integer, parameter :: drag_kozeny_carman = 1  !< F = 10 phi / (1 - phi)^2
   integer, parameter :: drag_beetstra = 2       !< F(phi, Re) of eqs. 20-21
   integer, parameter :: drag_constant = 3       !< constant K per volume
   integer, parameter :: drag_impermeable = 4    !< structure: very stiff coupling
   integer, parameter :: drag_forchheimer = 5    !< Ergun / van Gent: linear + quadratic in q
+  !> the `&solid drag_law` names of the laws, in their order
+  character(len=*), parameter :: drag_law_names(5) = [character(len=13) :: 'kozeny_carman', &
+    'beetstra', 'constant', 'impermeable', 'forchheimer']
 
   real(wp), parameter :: ergun_a = 150.0_wp     !< Ergun's linear coefficient a [-]
   real(wp), parameter :: ergun_b = 1.75_wp      !< Ergun's quadratic coefficient b [-]
 
   real(wp), parameter :: impermeable_coefficient = 1.0e15_wp  !< c of an impermeable solid
 
+  !> A rigid bed of grains and the fluid in its pores, for the Forchheimer law
+  !! (`forchheimer_gradient`, `forchheimer_flux`).
+  type :: forchheimer_bed_t
+    real(wp) :: porosity = 0.5_wp       !< n [-], 0 < n < 1
+    real(wp) :: grain_size = 1.0e-3_wp  !< grain diameter d [m]
+    real(wp) :: viscosity = 1.0e-3_wp   !< mu [Pa s]
+    real(wp) :: rho_fluid = 1000.0_wp   !< intrinsic fluid density [kg/m^3]
+    real(wp) :: a = ergun_a             !< linear coefficient [-]
+    real(wp) :: b = ergun_b             !< quadratic coefficient [-]
+  end type forchheimer_bed_t
+
 contains
 
-  !> Law id of a `&solid drag_law` value (validated by the configuration).
+  !> Law id of a `&solid drag_law` value (validated by the configuration; unknown names:
+  !! kozeny_carman).
   pure integer function drag_law_from_name(name) result(law)
     character(len=*), intent(in) :: name  !< namelist value
-    select case (trim(name))
-    case ('beetstra')
-      law = drag_beetstra
-    case ('constant')
-      law = drag_constant
-    case ('impermeable')
-      law = drag_impermeable
-    case ('forchheimer')
-      law = drag_forchheimer
-    case default
-      law = drag_kozeny_carman
-    end select
+    law = max(findloc(drag_law_names, name, dim=1), drag_kozeny_carman)
   end function drag_law_from_name
 
   !> Kozeny-Carman factor F = 10 phi_s / (1 - phi_s)^2 (paper below eq. 21, eq. 77).
@@ -80,40 +84,37 @@ contains
 
   !> Pressure gradient -dp/dx [Pa/m] that drives the Darcy flux q [m/s] through a rigid bed of
   !! the Forchheimer law in the Ergun / van Gent form (sign of q):
-  !! a mu (1-n)^2 / (n^3 d^2) q + b rho (1-n) / (n^3 d) |q| q.
-  elemental real(wp) function forchheimer_gradient(q, porosity, grain_size, viscosity, &
-      rho_fluid, a, b) result(g)
-    real(wp), intent(in) :: q            !< Darcy flux n (u_f - u_s) [m/s]
-    real(wp), intent(in) :: porosity     !< n [-], 0 < n < 1
-    real(wp), intent(in) :: grain_size   !< grain diameter d [m]
-    real(wp), intent(in) :: viscosity    !< mu [Pa s]
-    real(wp), intent(in) :: rho_fluid    !< intrinsic fluid density [kg/m^3]
-    real(wp), intent(in) :: a            !< linear coefficient [-]
-    real(wp), intent(in) :: b            !< quadratic coefficient [-]
-    real(wp) :: phi_s
-    phi_s = 1.0_wp - porosity
-    g = (a * viscosity * phi_s**2 / (porosity**3 * grain_size**2) + &
-      b * rho_fluid * phi_s / (porosity**3 * grain_size) * abs(q)) * q
+  !! a mu (1-n)^2 / (n^3 d^2) q + b rho (1-n) / (n^3 d) |q| q = (A + B |q|) q.
+  elemental real(wp) function forchheimer_gradient(q, bed) result(g)
+    real(wp), intent(in) :: q                       !< Darcy flux n (u_f - u_s) [m/s]
+    type(forchheimer_bed_t), intent(in) :: bed      !< the bed and its fluid
+    real(wp) :: lin, quad
+    call forchheimer_terms(bed, lin, quad)
+    g = (lin + quad * abs(q)) * q
   end function forchheimer_gradient
 
   !> Darcy flux q [m/s] of `forchheimer_gradient` for a given -dp/dx [Pa/m]: the root of
   !! B |q| q + A q = G with the sign of G, q = 2 G / (A + sqrt(A^2 + 4 B |G|)) (no
   !! cancellation at small B |G|; A > 0 or B > 0).
-  elemental real(wp) function forchheimer_flux(gradient, porosity, grain_size, viscosity, &
-      rho_fluid, a, b) result(q)
-    real(wp), intent(in) :: gradient     !< -dp/dx [Pa/m]
-    real(wp), intent(in) :: porosity     !< n [-], 0 < n < 1
-    real(wp), intent(in) :: grain_size   !< grain diameter d [m]
-    real(wp), intent(in) :: viscosity    !< mu [Pa s]
-    real(wp), intent(in) :: rho_fluid    !< intrinsic fluid density [kg/m^3]
-    real(wp), intent(in) :: a            !< linear coefficient [-]
-    real(wp), intent(in) :: b            !< quadratic coefficient [-]
-    real(wp) :: phi_s, lin, quad
-    phi_s = 1.0_wp - porosity
-    lin = a * viscosity * phi_s**2 / (porosity**3 * grain_size**2)
-    quad = b * rho_fluid * phi_s / (porosity**3 * grain_size)
+  elemental real(wp) function forchheimer_flux(gradient, bed) result(q)
+    real(wp), intent(in) :: gradient                !< -dp/dx [Pa/m]
+    type(forchheimer_bed_t), intent(in) :: bed      !< the bed and its fluid
+    real(wp) :: lin, quad
+    call forchheimer_terms(bed, lin, quad)
     q = 2.0_wp * gradient / (lin + sqrt(lin**2 + 4.0_wp * quad * abs(gradient)))
   end function forchheimer_flux
+
+  !> The Forchheimer law's linear A = a mu (1-n)^2 / (n^3 d^2) [Pa s/m^2] and quadratic
+  !! B = b rho (1-n) / (n^3 d) [kg/m^4] coefficients of `bed`.
+  elemental subroutine forchheimer_terms(bed, lin, quad)
+    type(forchheimer_bed_t), intent(in) :: bed      !< the bed and its fluid
+    real(wp), intent(out) :: lin                    !< A [Pa s/m^2]
+    real(wp), intent(out) :: quad                   !< B [kg/m^4]
+    real(wp) :: phi_s
+    phi_s = 1.0_wp - bed%porosity
+    lin = bed%a * bed%viscosity * phi_s**2 / (bed%porosity**3 * bed%grain_size**2)
+    quad = bed%b * bed%rho_fluid * phi_s / (bed%porosity**3 * bed%grain_size)
+  end subroutine forchheimer_terms
 
   !> Reduced drag coefficient c [kg/m^3/s] between a fluid (viscosity mu, intrinsic density
   !! rho_f) and the solid (fraction phi_s, grain size d) at slip speed |u_s - u_f|.

@@ -13,7 +13,7 @@ submodule (exchange_solid_phase) exchange_fluid_solid
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
-  use ice_face_velocity, only: closed_face, face_range, boundary_face
+  use ice_face_velocity, only: open_face_sweep, boundary_face
   use ice_exchange, only: max_n, fill_beta, exchange_solve, exchange_faces_two, ice_exchange_cells
   implicit none
 
@@ -37,14 +37,10 @@ contains
     pair = nf == 2 .and. k_exchange > 0.0_wp .and. .not. solid%sliding .and. &
       .not. solid%explicit_drag
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
-      r = face_range(grid, d)
+      if (.not. open_face_sweep(state, grid, d, o, r)) cycle
       do k = r(1, 3), r(2, 3)
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
-            if (closed_face(state, grid, d, [i, j, k])) cycle
             side = boundary_side(grid, d, [i, j, k])
             if (pair .and. side == 0) then
               ! the fluids' closed-form exchange, `exchange_faces_two` below
@@ -54,22 +50,24 @@ contains
                 cycle
               end if
             end if
+            ! the fluids' face values; a domain face's control volume is the inner half cell:
+            ! the fluids' fractions there (not the mean with the ghost, a reservoir beyond an
+            ! open face)
             do m = 1, nf
-              phi(m) = 0.5_wp * (state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)) + &
-                state%fluid(m)%vfrac(i, j, k))
-              v(m) = state%fluid(m)%vface(i, j, k, d)
-              rhs(m, 1) = state%fluid(m)%uface(i, j, k, d)
+              associate (fl => state%fluid(m))
+                select case (side)
+                case (1)
+                  phi(m) = fl%vfrac(i, j, k)
+                case (2)
+                  phi(m) = fl%vfrac(i - o(1), j - o(2), k - o(3))
+                case default
+                  phi(m) = 0.5_wp * (fl%vfrac(i - o(1), j - o(2), k - o(3)) + fl%vfrac(i, j, k))
+                end select
+                v(m) = fl%vface(i, j, k, d)
+                rhs(m, 1) = fl%uface(i, j, k, d)
+              end associate
             end do
             nm = nf
-            ! a domain face's control volume is the inner half cell: the fluids' fractions
-            ! there (not the mean with the ghost, a reservoir beyond an open face)
-            select case (side)
-            case (1)
-              phi(1:nf) = [(state%fluid(m)%vfrac(i, j, k), m = 1, nf)]
-            case (2)
-              phi(1:nf) = [(state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)), m = 1, nf)]
-            case default
-            end select
             call solid_face_partner(state, solid, d, o, i, j, k, side, phi(nf + 1), v(nf + 1), &
               c, rigid)
             ! a domain face: the solid of the inner cell (no solid lies beyond)

@@ -3,24 +3,22 @@
 module heat_scene
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use mpmice_kinds, only: wp, name_len
-  use mpmice_errors, only: fatal, int_text, real_short_text
+  use mpmice_errors, only: int_text, real_short_text
   use mpmice_log, only: log_info, log_warning
-  use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
-  use scene_params, only: scene_params_t, heat_scene_params_t
-  use parallel_domain, only: domain_t
+  use mpmice_timers, only: timer_register, timer_start, timer_stop
+  use scene_params, only: heat_scene_params_t
   use parallel_halo, only: halo_t, halo_init, halo_exchange_cell, halo_free
   use parallel_reduce, only: global_sum_field
-  use grid_layout, only: grid_t
   use solver_pressure, only: struct_solver_t, struct_solver_init, struct_solver_set_operator, &
     struct_solver_solve, struct_solver_free, struct_solver_invalidate
   use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field
   use io_xdmf, only: xdmf_particles_t
   use heat_conduction, only: heat_t, heat_init, heat_assemble, heat_free
-  use scene_interface, only: scene_t
+  use scene_interface, only: scene_t, scene_context_t
   implicit none
   private
 
-  public :: heat_scene_t
+  public :: heat_scene_t, heat_scene_setup
 
   !> Heat conduction through the implicit solver.
   type, extends(scene_t) :: heat_scene_t
@@ -38,7 +36,6 @@ module heat_scene
     integer :: t_halo = 0                     !< timer id
     integer :: t_solve = 0                    !< timer id
   contains
-    procedure :: init => heat_scene_init
     procedure :: stable_dt => heat_scene_stable_dt
     procedure :: step => heat_scene_step
     procedure :: write_state => heat_scene_write_state
@@ -53,80 +50,63 @@ module heat_scene
 
 contains
 
-  !> Initial field (exact solution at t = 0), halo buffers and solver.
-  subroutine heat_scene_init(self, params, dom, grid, timers)
-    class(heat_scene_t), intent(inout) :: self   !< scene
-    class(scene_params_t), intent(in) :: params  !< the scene's own parameters
-    type(domain_t), intent(in) :: dom            !< decomposition
-    type(grid_t), intent(in) :: grid             !< block geometry
-    type(timer_set_t), intent(inout) :: timers   !< stage timers
-    select type (params)
-    type is (heat_scene_params_t)
-      call heat_scene_setup(self, params, dom, grid, timers)
-    class default
-      call fatal('heat scene: given the parameters of another scene')
-    end select
-  end subroutine heat_scene_init
-
-  !> `heat_scene_init` with the scene's own parameters.
-  subroutine heat_scene_setup(self, par, dom, grid, timers)
+  !> Initial field (exact solution at t = 0), halo buffers and solver; keeps `ctx`.
+  subroutine heat_scene_setup(self, par, ctx)
     class(heat_scene_t), intent(inout) :: self   !< scene
     type(heat_scene_params_t), intent(in) :: par !< the scene's groups
-    type(domain_t), intent(in) :: dom            !< decomposition
-    type(grid_t), intent(in) :: grid             !< block geometry
-    type(timer_set_t), intent(inout) :: timers   !< stage timers
-    self%t_assemble = timer_register(timers, 'assemble')
-    self%t_halo = timer_register(timers, 'halo exchange')
-    self%t_solve = timer_register(timers, 'implicit solve (hypre)')
-    call heat_init(self%heat, grid, par%heat%conductivity, par%heat%density, &
-      par%heat%heat_capacity, par%heat%base_temperature, par%heat%amplitude, par%heat%modes, &
-      par%numerics%time_theta)
-    call halo_init(self%halo, dom, grid, 1)
-    call struct_solver_init(self%solver, dom, grid, par%solver%tolerance, &
-      par%solver%max_iterations, par%solver%print_level)
+    type(scene_context_t), intent(in) :: ctx     !< decomposition, grid and timers of the run
+    self%ctx = ctx
+    associate (dom => ctx%dom, grid => ctx%grid, timers => ctx%timers)
+      self%t_assemble = timer_register(timers, 'assemble')
+      self%t_halo = timer_register(timers, 'halo exchange')
+      self%t_solve = timer_register(timers, 'implicit solve (hypre)')
+      call heat_init(self%heat, grid, par%heat%conductivity, par%heat%density, &
+        par%heat%heat_capacity, par%heat%base_temperature, par%heat%amplitude, par%heat%modes, &
+        par%numerics%time_theta)
+      call halo_init(self%halo, dom, grid, 1)
+      call struct_solver_init(self%solver, dom, grid, par%solver%tolerance, &
+        par%solver%max_iterations, par%solver%print_level)
+    end associate
     self%tolerance = par%solver%tolerance
   end subroutine heat_scene_setup
 
   !> No stability limit: the scheme is implicit.
-  function heat_scene_stable_dt(self, dom, grid, cfl) result(dt)
+  function heat_scene_stable_dt(self, cfl) result(dt)
     class(heat_scene_t), intent(inout) :: self  !< scene
-    type(domain_t), intent(in) :: dom           !< decomposition
-    type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(in) :: cfl                 !< Courant number (unused)
     real(wp) :: dt
     dt = huge(1.0_wp)
   end function heat_scene_stable_dt
 
   !> One theta-scheme step: halo, assembly, operator update when dt changed, PCG solve.
-  subroutine heat_scene_step(self, dom, grid, time, dt, timers, accepted)
+  subroutine heat_scene_step(self, time, dt, accepted)
     class(heat_scene_t), intent(inout) :: self   !< scene
-    type(domain_t), intent(in) :: dom            !< decomposition
-    type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: time                 !< time at the start of the step [s]
     real(wp), intent(in) :: dt                   !< step [s]
-    type(timer_set_t), intent(inout) :: timers   !< stage timers
     logical, intent(out) :: accepted             !< always true (a missed tolerance is logged)
     integer :: iterations
     real(wp) :: residual
     logical :: converged
 
-    if (self%heat%theta < 1.0_wp) then
-      call timer_start(timers, self%t_halo)
-      call halo_exchange_cell(self%halo, dom, grid, self%heat%temperature)
-      call timer_stop(timers, self%t_halo)
-    end if
-    call timer_start(timers, self%t_assemble)
-    call heat_assemble(self%heat, grid, dt)
-    call timer_stop(timers, self%t_assemble)
-    call timer_start(timers, self%t_solve)
-    if (dt /= self%dt_operator) then
-      call struct_solver_set_operator(self%solver, grid, self%heat%diag, &
-        self%heat%coef(:, :, :, 1), self%heat%coef(:, :, :, 2), self%heat%coef(:, :, :, 3))
-      self%dt_operator = dt
-    end if
-    call struct_solver_solve(self%solver, grid, self%heat%rhs, self%heat%temperature, &
-      iterations, residual, converged)
-    call timer_stop(timers, self%t_solve)
+    associate (dom => self%ctx%dom, grid => self%ctx%grid, timers => self%ctx%timers)
+      if (self%heat%theta < 1.0_wp) then
+        call timer_start(timers, self%t_halo)
+        call halo_exchange_cell(self%halo, dom, grid, self%heat%temperature)
+        call timer_stop(timers, self%t_halo)
+      end if
+      call timer_start(timers, self%t_assemble)
+      call heat_assemble(self%heat, grid, dt)
+      call timer_stop(timers, self%t_assemble)
+      call timer_start(timers, self%t_solve)
+      if (dt /= self%dt_operator) then
+        call struct_solver_set_operator(self%solver, grid, self%heat%diag, &
+          self%heat%coef(:, :, :, 1), self%heat%coef(:, :, :, 2), self%heat%coef(:, :, :, 3))
+        self%dt_operator = dt
+      end if
+      call struct_solver_solve(self%solver, grid, self%heat%rhs, self%heat%temperature, &
+        iterations, residual, converged)
+      call timer_stop(timers, self%t_solve)
+    end associate
     self%solves = self%solves + 1
     self%total_iterations = self%total_iterations + iterations
     self%max_iterations_seen = max(self%max_iterations_seen, iterations)
@@ -139,28 +119,26 @@ contains
   end subroutine heat_scene_step
 
   !> `cell/temperature` (dumps) or `checkpoint/cell/temperature` (checkpoints).
-  subroutine heat_scene_write_state(self, file, dom, grid, checkpoint)
+  subroutine heat_scene_write_state(self, file, checkpoint)
     class(heat_scene_t), intent(inout) :: self  !< scene
     type(h5_file_t), intent(in) :: file         !< open file
-    type(domain_t), intent(in) :: dom           !< decomposition
-    type(grid_t), intent(in) :: grid            !< block geometry
     logical, intent(in) :: checkpoint           !< full restart state
     if (checkpoint) then
       ! a restart starts with a fresh preconditioner: so does the run that goes on
       call struct_solver_invalidate(self%solver)
-      call h5_write_cell_field(file, 'checkpoint/' // temperature_path, grid, self%heat%temperature)
+      call h5_write_cell_field(file, 'checkpoint/' // temperature_path, self%ctx%grid, &
+        self%heat%temperature)
     else
-      call h5_write_cell_field(file, temperature_path, grid, self%heat%temperature)
+      call h5_write_cell_field(file, temperature_path, self%ctx%grid, self%heat%temperature)
     end if
   end subroutine heat_scene_write_state
 
   !> Read the temperature of a checkpoint.
-  subroutine heat_scene_restore(self, file, dom, grid)
+  subroutine heat_scene_restore(self, file)
     class(heat_scene_t), intent(inout) :: self  !< scene
     type(h5_file_t), intent(in) :: file         !< open checkpoint
-    type(domain_t), intent(in) :: dom           !< decomposition
-    type(grid_t), intent(in) :: grid            !< block geometry
-    call h5_read_cell_field(file, 'checkpoint/' // temperature_path, grid, self%heat%temperature)
+    call h5_read_cell_field(file, 'checkpoint/' // temperature_path, self%ctx%grid, &
+      self%heat%temperature)
   end subroutine heat_scene_restore
 
   !> A dump holds `cell/temperature` and no particles.
@@ -173,19 +151,17 @@ contains
   end subroutine heat_scene_output_layout
 
   !> True when every owned temperature is finite.
-  function heat_scene_all_finite(self, grid) result(finite)
+  function heat_scene_all_finite(self) result(finite)
     class(heat_scene_t), intent(in) :: self  !< scene
-    type(grid_t), intent(in) :: grid         !< block geometry
     logical :: finite
-    finite = all(ieee_is_finite(self%heat%temperature(grid%lo(1):grid%hi(1), &
-      grid%lo(2):grid%hi(2), grid%lo(3):grid%hi(3))))
+    associate (lo => self%ctx%grid%lo, hi => self%ctx%grid%hi)
+      finite = all(ieee_is_finite(self%heat%temperature(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3))))
+    end associate
   end function heat_scene_all_finite
 
   !> Solver statistics and the mean temperature.
-  subroutine heat_scene_summary(self, dom, grid)
+  subroutine heat_scene_summary(self)
     class(heat_scene_t), intent(inout) :: self  !< scene
-    type(domain_t), intent(in) :: dom           !< decomposition
-    type(grid_t), intent(in) :: grid            !< block geometry
     if (self%solves > 0) then
       call log_info('implicit solves: ' // int_text(self%solves) // ', PCG iterations mean ' // &
         real_short_text(real(self%total_iterations, wp) / real(self%solves, wp)) // ', max ' // &
@@ -194,16 +170,18 @@ contains
     end if
     if (self%unconverged > 0) call log_warning(int_text(self%unconverged) // ' implicit solves ' &
       // 'did not reach &solver tolerance = ' // real_short_text(self%tolerance))
-    call log_info('mean temperature at the end: ' // real_short_text(global_sum_field(dom, grid, &
-      self%heat%temperature) / real(product(grid%ncells), wp)) // ' K')
+    associate (dom => self%ctx%dom, grid => self%ctx%grid)
+      call log_info('mean temperature at the end: ' // real_short_text(global_sum_field(dom, grid, &
+        self%heat%temperature) / real(product(grid%ncells), wp)) // ' K')
+    end associate
   end subroutine heat_scene_summary
 
   !> Release solver, halo buffers and arrays.
   subroutine heat_scene_free(self)
     class(heat_scene_t), intent(inout) :: self  !< scene
+    self%dt_operator = -1.0_wp  ! the solver holds no operator any more
     call struct_solver_free(self%solver)
     call halo_free(self%halo)
     call heat_free(self%heat)
-    self%dt_operator = -1.0_wp
   end subroutine heat_scene_free
 end module heat_scene

@@ -22,6 +22,7 @@
 module ice_advection
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t, cell_centre
+  use grid_sweep, only: sweep_direction
   use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
   use ice_face_velocity, only: face_range
@@ -87,9 +88,7 @@ contains
           end do
         end do
         do d = 1, 3
-          if (.not. grid%active(d)) cycle
-          o = 0
-          o(d) = 1
+          if (.not. sweep_direction(grid, d, o)) cycle
           r = face_range(grid, d)
           i1 = r(1, 1)
           i2 = r(2, 1)

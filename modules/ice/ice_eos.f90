@@ -20,6 +20,9 @@ module ice_eos
   integer, parameter :: eos_ideal_gas = 1      !< eq. 10
   integer, parameter :: eos_linear_water = 2   !< eq. 11 with errata E3
   integer, parameter :: eos_stiffened_gas = 3  !< stiffened gas
+  !> the `&fluid eos` names of the kinds, in their order
+  character(len=*), parameter :: eos_kind_names(3) = [character(len=13) :: 'ideal_gas', &
+    'linear_water', 'stiffened_gas']
 
   !> Parameters of one material's equation of state.
   type :: eos_t
@@ -39,16 +42,7 @@ contains
   !> EOS kind of a `&fluid eos` name (0 when unknown).
   pure integer function eos_kind_from_name(name) result(kind)
     character(len=*), intent(in) :: name  !< one of config_materials%eos_names
-    select case (trim(name))
-    case ('ideal_gas')
-      kind = eos_ideal_gas
-    case ('linear_water')
-      kind = eos_linear_water
-    case ('stiffened_gas')
-      kind = eos_stiffened_gas
-    case default
-      kind = 0
-    end select
+    kind = findloc(eos_kind_names, name, dim=1)
   end function eos_kind_from_name
 
   !> Pressure [Pa] at intrinsic density `rho` [kg/m^3] and temperature `t` [K].
@@ -85,11 +79,10 @@ contains
   end function eos_density
 
   !> Isothermal derivative dp/drho [m^2/s^2] (used by the equilibration Newton iteration).
-  elemental function eos_dp_drho(e, rho, t) result(d)
+  elemental real(wp) function eos_dp_drho(e, rho, t) result(d)
     type(eos_t), intent(in) :: e  !< parameters
     real(wp), intent(in) :: rho   !< intrinsic density [kg/m^3]
     real(wp), intent(in) :: t     !< temperature [K]
-    real(wp) :: d
     select case (e%kind)
     case (eos_linear_water)
       d = e%bulk_modulus / e%rho_ref + 0.0_wp * rho

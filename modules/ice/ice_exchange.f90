@@ -24,7 +24,7 @@ module ice_exchange
   use mpmice_errors, only: fatal
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t, ice_fluid_t
-  use ice_face_velocity, only: closed_face, face_range
+  use ice_face_velocity, only: open_face_sweep
   use solver_dense, only: solve_3, solve_pivoted
   implicit none
   private
@@ -53,14 +53,10 @@ contains
       return
     end if
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
-      r = face_range(grid, d)
+      if (.not. open_face_sweep(state, grid, d, o, r)) cycle
       do k = r(1, 3), r(2, 3)
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
-            if (closed_face(state, grid, d, [i, j, k])) cycle
             do m = 1, nf
               phi(m) = 0.5_wp * (state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)) + &
                 state%fluid(m)%vfrac(i, j, k))
@@ -99,17 +95,10 @@ contains
     integer :: d, i, j, k, o(3), r(2, 3)
 
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
-      r = face_range(grid, d)
-      if (.not. grid%periodic(d)) then
-        if (present(partner_fraction)) then
-          r(1, d) = max(r(1, d), 2)
-          r(2, d) = min(r(2, d), grid%ncells(d))
-        end if
-        if (state%closed(2 * d - 1) .and. r(1, d) == 1) r(1, d) = 2
-        if (state%closed(2 * d) .and. r(2, d) == grid%ncells(d) + 1) r(2, d) = grid%ncells(d)
+      if (.not. open_face_sweep(state, grid, d, o, r)) cycle
+      if (present(partner_fraction) .and. .not. grid%periodic(d)) then
+        r(1, d) = max(r(1, d), 2)
+        r(2, d) = min(r(2, d), grid%ncells(d))
       end if
       associate (f1 => state%fluid(1), f2 => state%fluid(2))
         if (present(partner_fraction)) then

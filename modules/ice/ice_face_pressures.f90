@@ -5,9 +5,10 @@
 module ice_face_pressures
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
+  use grid_sweep, only: sweep_direction
   use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
-  use ice_face_velocity, only: face_range
+  use ice_face_velocity, only: face_range, held_plane
   use ice_pressure, only: pore_min
   implicit none
   private
@@ -28,13 +29,11 @@ contains
     real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
     !> the solid phase of a coupled scene: the weights per pore volume
     class(ice_solid_view_t), intent(in), optional :: solid
-    integer :: d, i, j, k, o(3), r(2, 3), inner(2, 3), side, idx
-    real(wp) :: rl, rr
+    integer :: d, i, j, k, o(3), r(2, 3), inner(2, 3), side, plane, lo(3), hi(3), s(3)
+    real(wp) :: rl, rr, half
 
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
+      if (.not. sweep_direction(grid, d, o)) cycle
       r = face_range(grid, d)
       ! inner faces: the faces on a non-periodic domain boundary are done below
       inner = r
@@ -51,26 +50,22 @@ contains
           end do
         end do
       end do
-      if (grid%periodic(d)) cycle
       do side = 1, 2
-        idx = merge(1, grid%ncells(d) + 1, side == 1)
-        if (idx < r(1, d) .or. idx > r(2, d)) cycle
-        inner = r
-        inner(:, d) = idx
-        do k = inner(1, 3), inner(2, 3)
-          do j = inner(1, 2), inner(2, 2)
-            do i = inner(1, 1), inner(2, 1)
-              if (.not. state%closed(2 * d - 2 + side)) then
-                state%pface(i, j, k, d) = state%p_boundary(2 * d - 2 + side)
-              else if (side == 1) then
-                call face_densities(state, i, j, k, o, rl, rr, solid)
-                state%pface(i, j, k, d) = state%pressure(i, j, k) - 0.5_wp * rr * gravity(d) * &
-                  grid%dx(d)
-              else
-                call face_densities(state, i, j, k, o, rl, rr, solid)
-                state%pface(i, j, k, d) = state%pressure(i - o(1), j - o(2), k - o(3)) + &
-                  0.5_wp * rl * gravity(d) * grid%dx(d)
-              end if
+        if (.not. held_plane(grid, d, r, side, lo, hi)) cycle
+        plane = 2 * d - 2 + side
+        if (.not. state%closed(plane)) then
+          state%pface(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), d) = state%p_boundary(plane)
+          cycle
+        end if
+        ! a wall: the inner cell (face - s) extrapolated by half a cell, -+ rho g dx / 2
+        s = merge(0, 1, side == 1) * o
+        half = merge(-0.5_wp, 0.5_wp, side == 1)
+        do k = lo(3), hi(3)
+          do j = lo(2), hi(2)
+            do i = lo(1), hi(1)
+              call face_densities(state, i, j, k, o, rl, rr, solid)
+              state%pface(i, j, k, d) = state%pressure(i - s(1), j - s(2), k - s(3)) + &
+                half * merge(rr, rl, side == 1) * gravity(d) * grid%dx(d)
             end do
           end do
         end do

@@ -16,10 +16,12 @@ module ice_face_velocity
   use grid_layout, only: grid_t
   use ice_state, only: ice_state_t
   use ice_bc, only: ice_bc_t, bc_inflow, bc_outflow
+  use grid_sweep, only: sweep_direction
   implicit none
   private
 
   public :: ice_face_velocities, boundary_face, closed_face, face_index, face_range, upwind
+  public :: open_face_range, open_face_sweep, held_plane
 
 contains
 
@@ -47,9 +49,7 @@ contains
     if (present(advect)) with_advection = advect
 
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
+      if (.not. sweep_direction(grid, d, o)) cycle
       r = face_range(grid, d)
       do m = 1, state%nfluids
         associate (f => state%fluid(m))
@@ -131,6 +131,57 @@ contains
     r(2, :) = grid%hi
     r(2, d) = grid%hi(d) + 1
   end function face_range
+
+  !> `face_range` without the closed domain planes (`closed_face`): the open faces of direction
+  !! `d` of the owned cells (empty where none).
+  pure function open_face_range(state, grid, d) result(r)
+    type(ice_state_t), intent(in) :: state  !< fluids (closed faces)
+    type(grid_t), intent(in) :: grid        !< block geometry
+    integer, intent(in) :: d                !< face direction
+    integer :: r(2, 3)
+    r = face_range(grid, d)
+    if (grid%periodic(d)) return
+    if (state%closed(2 * d - 1) .and. r(1, d) == 1) r(1, d) = 2
+    if (state%closed(2 * d) .and. r(2, d) == grid%ncells(d) + 1) r(2, d) = grid%ncells(d)
+  end function open_face_range
+
+  !> True when direction `d` is active (`sweep_direction`): sets its unit offset `o` and the
+  !! range `r` of its open faces (`open_face_range`), so that a sweep over the open faces reads
+  !! `do d = 1, 3`, `if (.not. open_face_sweep(state, grid, d, o, r)) cycle` and the loops over
+  !! `r` (the face (i,j,k) lies between cells (i,j,k) - o and (i,j,k)).
+  logical function open_face_sweep(state, grid, d, o, r) result(active)
+    type(ice_state_t), intent(in) :: state  !< fluids (closed faces)
+    type(grid_t), intent(in) :: grid        !< block geometry
+    integer, intent(in) :: d                !< face direction
+    integer, intent(out) :: o(3)            !< unit offset of d
+    integer, intent(out) :: r(2, 3)         !< range of the open faces
+    active = sweep_direction(grid, d, o)
+    r = open_face_range(state, grid, d)
+  end function open_face_sweep
+
+  !> True when the non-periodic domain plane of direction `d` on `side` (1 low, 2 high) lies in
+  !! this rank's face range `r` and, if `flags` is given, its domain face (1..6, `face_index`)
+  !! is flagged (e.g. open: `.not. ice_state_t%closed`; a loading platen:
+  !! `ice_solid_view_t%platen`); `lo`, `hi`: its faces (else the whole range).
+  logical function held_plane(grid, d, r, side, lo, hi, flags)
+    type(grid_t), intent(in) :: grid        !< block geometry
+    integer, intent(in) :: d                !< face direction
+    integer, intent(in) :: r(2, 3)          !< face range of this rank
+    integer, intent(in) :: side             !< 1: low plane, 2: high plane
+    integer, intent(out) :: lo(3), hi(3)    !< face range of the plane
+    logical, intent(in), optional :: flags(6)  !< the domain faces that count
+    integer :: idx
+    held_plane = .false.
+    lo = r(1, :)
+    hi = r(2, :)
+    if (grid%periodic(d)) return
+    idx = merge(1, grid%ncells(d) + 1, side == 1)
+    if (idx < r(1, d) .or. idx > r(2, d)) return
+    lo(d) = idx
+    hi(d) = idx
+    held_plane = .true.
+    if (present(flags)) held_plane = flags(2 * d - 2 + side)
+  end function held_plane
 
   !> True for a face in direction `d` at index `idx` that lies on a non-periodic domain boundary.
   pure logical function boundary_face(grid, d, idx)

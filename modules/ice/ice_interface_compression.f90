@@ -26,6 +26,7 @@
 module ice_interface_compression
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
+  use grid_sweep, only: sweep_direction
   use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
   implicit none
@@ -57,9 +58,7 @@ contains
     ! high to low), stored at the face's high cell: cons(:, :, :, d)
     state%cons(:, :, :, 1:3) = 0.0_wp
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
+      if (.not. sweep_direction(grid, d, o)) cycle
       do k = grid%lo(3), grid%hi(3) + o(3)
         do j = grid%lo(2), grid%hi(2) + o(2)
           do i = grid%lo(1), grid%hi(1) + o(1)

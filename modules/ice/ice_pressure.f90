@@ -13,9 +13,10 @@ module ice_pressure
   use mpmice_kinds, only: wp
   use mpmice_errors, only: real_short_text
   use grid_layout, only: grid_t, cell_centre
+  use grid_sweep, only: sweep_direction
   use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
-  use ice_face_velocity, only: face_range
+  use ice_face_velocity, only: face_range, open_face_range, held_plane
   implicit none
   private
 
@@ -41,14 +42,12 @@ contains
     !> the solid phase of a coupled scene: its face specific volume joins the coefficients, a
     !! loading platen the diagonal
     class(ice_solid_view_t), intent(in), optional :: solid
-    integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3), c(3)
+    integer :: d, m, i, j, k, o(3), r(2, 3), side, c(3)
     real(wp) :: area, w_lo, w_hi
 
     state%coef = 0.0_wp
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
+      if (.not. sweep_direction(grid, d, o)) cycle
       r = face_range(grid, d)
       area = grid%cell_volume / grid%dx(d)
       ! coef holds sum_m phi_m,f v_m,f first, then the coefficient
@@ -65,33 +64,7 @@ contains
           end do
         end associate
       end do
-      if (present(solid)) then
-        do side = 1, 2
-          if (.not. open_plane(state, grid, d, r, side, lo, hi)) cycle
-          do k = lo(3), hi(3)
-            do j = lo(2), hi(2)
-              do i = lo(1), hi(1)
-                state%coef(i, j, k, d) = state%coef(i, j, k, d) + &
-                  open_face_shift(state, d, o, i, j, k, side == 2, .false.)
-              end do
-            end do
-          end do
-        end do
-      end if
-      if (present(solid)) then
-        ! the solid's phi_s,f v_s,f (phi_s,f the fraction that crosses, `solid_face_fraction`)
-        associate (us => solid%uface, low => solid%face_fraction, &
-          high => solid%face_fraction_hi, vs => solid%vface)
-          do k = r(1, 3), r(2, 3)
-            do j = r(1, 2), r(2, 2)
-              do i = r(1, 1), r(2, 1)
-                state%coef(i, j, k, d) = state%coef(i, j, k, d) + flux_fraction(us(i, j, k, d), &
-                  low(i, j, k, d), high(i, j, k, d)) * vs(i, j, k, d)
-              end do
-            end do
-          end do
-        end associate
-      end if
+      if (present(solid)) call solid_coefficients(state, solid, grid, d, o, r)
       do k = r(1, 3), r(2, 3)
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
@@ -109,9 +82,7 @@ contains
       end do
     end do
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
+      if (.not. sweep_direction(grid, d, o)) cycle
       ! an open face (dp = 0 there, ghost dp = -dp) counts twice
       do k = grid%lo(3), grid%hi(3)
         do j = grid%lo(2), grid%hi(2)
@@ -126,19 +97,12 @@ contains
       ! a loading platen: dp of the inner cell pushes the platen and the skeleton behind it
       ! outward by theta dt c dp (`solid_face_predictor`), and the outward volume flux with it
       if (.not. present(solid)) cycle
-      r = face_range(grid, d)
       area = grid%cell_volume / grid%dx(d)
-      do side = 1, 2
-        if (.not. platen_plane(solid, grid, d, r, side, lo, hi)) cycle
-        do k = lo(3), hi(3)
-          do j = lo(2), hi(2)
-            do i = lo(1), hi(1)
-              c = [i, j, k] - merge(o, 0, side == 2)
-              state%diag(c(1), c(2), c(3)) = state%diag(c(1), c(2), c(3)) + theta * dt**2 * &
-                area * solid%platen_coef(i, j, k, d)
-            end do
-          end do
-        end do
+      side = 0
+      do while (next_platen_face(solid, grid, d, side, i, j, k))
+        c = [i, j, k] - merge(o, 0, side == 2)
+        state%diag(c(1), c(2), c(3)) = state%diag(c(1), c(2), c(3)) + theta * dt**2 * area * &
+          solid%platen_coef(i, j, k, d)
       end do
     end do
   end subroutine ice_pressure_assemble
@@ -155,7 +119,7 @@ contains
     !! bodies' prescribed flux) and its fraction source join the right-hand side
     class(ice_solid_view_t), intent(in), optional :: solid
     real(wp) :: residual
-    integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3), c(3)
+    integer :: d, m, i, j, k, o(3)
     real(wp) :: area, flux
 
     do k = grid%lo(3), grid%hi(3)
@@ -167,10 +131,7 @@ contains
       end do
     end do
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
-      area = grid%cell_volume / grid%dx(d)
+      if (.not. sweep_direction(grid, d, o, area)) cycle
       do m = 1, state%nfluids
         associate (f => state%fluid(m))
           do k = grid%lo(3), grid%hi(3)
@@ -186,41 +147,7 @@ contains
           end do
         end associate
       end do
-      if (present(solid)) then
-        r = face_range(grid, d)
-        do side = 1, 2
-          if (.not. open_plane(state, grid, d, r, side, lo, hi)) cycle
-          ! the plane's cells: above the low plane, below the high one (outward flux sign)
-          do k = lo(3), hi(3)
-            do j = lo(2), hi(2)
-              do i = lo(1), hi(1)
-                c = [i, j, k] - merge(o, 0, side == 2)
-                state%rhs(c(1), c(2), c(3)) = state%rhs(c(1), c(2), c(3)) - dt * area * &
-                  merge(1.0_wp, -1.0_wp, side == 2) * &
-                  open_face_shift(state, d, o, i, j, k, side == 2, .true.)
-              end do
-            end do
-          end do
-        end do
-      end if
-      if (present(solid)) then
-        ! the solid's volume flux phi_s,f u_s,f and the rigid bodies' prescribed one
-        associate (us => solid%uface, low => solid%face_fraction, &
-          high => solid%face_fraction_hi, rigid => solid%rigid_flux)
-          do k = grid%lo(3), grid%hi(3)
-            do j = grid%lo(2), grid%hi(2)
-              do i = grid%lo(1), grid%hi(1)
-                state%rhs(i, j, k) = state%rhs(i, j, k) - dt * area * ( &
-                  flux_fraction(us(i + o(1), j + o(2), k + o(3), d), &
-                  low(i + o(1), j + o(2), k + o(3), d), high(i + o(1), j + o(2), k + o(3), d)) * &
-                  us(i + o(1), j + o(2), k + o(3), d) - &
-                  flux_fraction(us(i, j, k, d), low(i, j, k, d), high(i, j, k, d)) * &
-                  us(i, j, k, d) + rigid(i + o(1), j + o(2), k + o(3), d) - rigid(i, j, k, d))
-              end do
-            end do
-          end do
-        end associate
-      end if
+      if (present(solid)) call solid_volume_flux(state, solid, grid, dt, d, o, area)
     end do
     if (present(solid)) then
       ! a coupled scene: solid volume the particles hold beyond the tracked fraction
@@ -243,6 +170,85 @@ contains
       end do
     end do
   end function ice_pressure_rhs
+
+  !> The solid phase's part of the operator's low-face coefficients of direction `d`
+  !! (`ice_pressure_assemble`): the open domain planes' shift and phi_s,f v_s,f.
+  subroutine solid_coefficients(state, solid, grid, d, o, r)
+    type(ice_state_t), intent(inout) :: state        !< coefficients (coef updated)
+    class(ice_solid_view_t), intent(in) :: solid     !< solid phase of a coupled scene
+    type(grid_t), intent(in) :: grid                 !< block geometry
+    integer, intent(in) :: d                         !< face direction
+    integer, intent(in) :: o(3)                      !< unit offset of d
+    integer, intent(in) :: r(2, 3)                   !< face range of d
+    integer :: i, j, k, side, lo(3), hi(3)
+    do side = 1, 2
+      if (.not. held_plane(grid, d, r, side, lo, hi, .not. state%closed)) cycle
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            state%coef(i, j, k, d) = state%coef(i, j, k, d) + &
+              open_face_shift(state, d, o, i, j, k, side == 2, .false.)
+          end do
+        end do
+      end do
+    end do
+    ! the solid's phi_s,f v_s,f (phi_s,f the fraction that crosses, `solid_face_fraction`)
+    associate (us => solid%uface, low => solid%face_fraction, &
+      high => solid%face_fraction_hi, vs => solid%vface)
+      do k = r(1, 3), r(2, 3)
+        do j = r(1, 2), r(2, 2)
+          do i = r(1, 1), r(2, 1)
+            state%coef(i, j, k, d) = state%coef(i, j, k, d) + flux_fraction(us(i, j, k, d), &
+              low(i, j, k, d), high(i, j, k, d)) * vs(i, j, k, d)
+          end do
+        end do
+      end do
+    end associate
+  end subroutine solid_coefficients
+
+  !> The solid phase's part of the right-hand side of direction `d` (`ice_pressure_rhs`): the
+  !! open domain planes' shift, the solid's volume flux phi_s,f u_s,f and the rigid bodies'.
+  subroutine solid_volume_flux(state, solid, grid, dt, d, o, area)
+    type(ice_state_t), intent(inout) :: state        !< right-hand side (rhs updated)
+    class(ice_solid_view_t), intent(in) :: solid     !< solid phase of a coupled scene
+    type(grid_t), intent(in) :: grid                 !< block geometry
+    real(wp), intent(in) :: dt                       !< time step [s]
+    integer, intent(in) :: d                         !< face direction
+    integer, intent(in) :: o(3)                      !< unit offset of d
+    real(wp), intent(in) :: area                     !< face area [m^2]
+    integer :: i, j, k, side, lo(3), hi(3), c(3), r(2, 3)
+    r = face_range(grid, d)
+    do side = 1, 2
+      if (.not. held_plane(grid, d, r, side, lo, hi, .not. state%closed)) cycle
+      ! the plane's cells: above the low plane, below the high one (outward flux sign)
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            c = [i, j, k] - merge(o, 0, side == 2)
+            state%rhs(c(1), c(2), c(3)) = state%rhs(c(1), c(2), c(3)) - dt * area * &
+              merge(1.0_wp, -1.0_wp, side == 2) * &
+              open_face_shift(state, d, o, i, j, k, side == 2, .true.)
+          end do
+        end do
+      end do
+    end do
+    ! the solid's volume flux phi_s,f u_s,f and the rigid bodies' prescribed one
+    associate (us => solid%uface, low => solid%face_fraction, &
+      high => solid%face_fraction_hi, rigid => solid%rigid_flux)
+      do k = grid%lo(3), grid%hi(3)
+        do j = grid%lo(2), grid%hi(2)
+          do i = grid%lo(1), grid%hi(1)
+            state%rhs(i, j, k) = state%rhs(i, j, k) - dt * area * ( &
+              flux_fraction(us(i + o(1), j + o(2), k + o(3), d), &
+              low(i + o(1), j + o(2), k + o(3), d), high(i + o(1), j + o(2), k + o(3), d)) * &
+              us(i + o(1), j + o(2), k + o(3), d) - &
+              flux_fraction(us(i, j, k, d), low(i, j, k, d), high(i, j, k, d)) * &
+              us(i, j, k, d) + rigid(i + o(1), j + o(2), k + o(3), d) - rigid(i, j, k, d))
+          end do
+        end do
+      end do
+    end associate
+  end subroutine solid_volume_flux
 
   !> A failed outer iteration: the rank that holds the cell of the largest |rhs|/V (`residual`,
   !! the global maximum) writes one line on standard error with the cell's centre [m], its
@@ -287,7 +293,7 @@ contains
     real(wp), intent(in) :: theta              !< implicit weight of the pressure change
     !> the solid phase of a coupled scene: its face velocity corrected as well
     class(ice_solid_view_t), intent(inout), optional :: solid
-    integer :: d, m, i, j, k, o(3), r(2, 3), side, plo(3), phi(3), c(3)
+    integer :: d, m, i, j, k, o(3), r(2, 3), side, c(3)
     real(wp) :: g
 
     associate (lo => grid%lo, hi => grid%hi)
@@ -299,15 +305,9 @@ contains
         state%dp(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3))
     end associate
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
+      if (.not. sweep_direction(grid, d, o)) cycle
       ! the closed domain faces (whole planes) keep their velocities
-      r = face_range(grid, d)
-      if (.not. grid%periodic(d)) then
-        if (state%closed(2 * d - 1) .and. r(1, d) == 1) r(1, d) = 2
-        if (state%closed(2 * d) .and. r(2, d) == grid%ncells(d) + 1) r(2, d) = grid%ncells(d)
-      end if
+      r = open_face_range(state, grid, d)
       do m = 1, state%nfluids
         associate (f => state%fluid(m))
           do k = r(1, 3), r(2, 3)
@@ -333,19 +333,11 @@ contains
       end do
       ! loading platens: the skeleton's face velocity with the inner cell's dp (outward for
       ! dp > 0), the fluids' from it
-      r = face_range(grid, d)
-      do side = 1, 2
-        if (.not. platen_plane(solid, grid, d, r, side, plo, phi)) cycle
-        do k = plo(3), phi(3)
-          do j = plo(2), phi(2)
-            do i = plo(1), phi(1)
-              c = [i, j, k] - merge(o, 0, side == 2)
-              solid%uface(i, j, k, d) = solid%uface(i, j, k, d) + &
-                merge(1.0_wp, -1.0_wp, side == 2) * theta * dt * &
-                solid%platen_coef(i, j, k, d) * state%dp(c(1), c(2), c(3))
-            end do
-          end do
-        end do
+      side = 0
+      do while (next_platen_face(solid, grid, d, side, i, j, k))
+        c = [i, j, k] - merge(o, 0, side == 2)
+        solid%uface(i, j, k, d) = solid%uface(i, j, k, d) + merge(1.0_wp, -1.0_wp, side == 2) * &
+          theta * dt * solid%platen_coef(i, j, k, d) * state%dp(c(1), c(2), c(3))
       end do
     end do
     call platen_fluid_faces(state, grid, solid)
@@ -362,52 +354,71 @@ contains
     type(ice_state_t), intent(inout) :: state  !< fluids (uface on platen faces written)
     type(grid_t), intent(in) :: grid           !< block geometry
     class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
-    integer :: d, m, i, j, k, o(3), r(2, 3), side, lo(3), hi(3)
+    integer :: d, m, i, j, k, o(3), side
     real(wp) :: us, phi_up, u
     if (.not. present(solid)) return
     if (.not. any(solid%platen)) return
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
-      r = face_range(grid, d)
-      do side = 1, 2
-        if (.not. platen_plane(solid, grid, d, r, side, lo, hi)) cycle
-        do k = lo(3), hi(3)
-          do j = lo(2), hi(2)
-            do i = lo(1), hi(1)
-              us = solid%uface(i, j, k, d)
-              phi_up = 0.0_wp
-              do m = 1, state%nfluids
-                phi_up = phi_up + merge(state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)), &
-                  state%fluid(m)%vfrac(i, j, k), us >= 0.0_wp)
-              end do
-              u = 0.0_wp
-              if (phi_up > pore_min) then
-                u = (1.0_wp - solid_face_fraction(solid, d, o, i, j, k)) * us / phi_up
-              end if
-              do m = 1, state%nfluids
-                state%fluid(m)%uface(i, j, k, d) = u
-              end do
-            end do
-          end do
+      if (.not. sweep_direction(grid, d, o)) cycle
+      side = 0
+      do while (next_platen_face(solid, grid, d, side, i, j, k))
+        us = solid%uface(i, j, k, d)
+        phi_up = 0.0_wp
+        do m = 1, state%nfluids
+          phi_up = phi_up + merge(state%fluid(m)%vfrac(i - o(1), j - o(2), k - o(3)), &
+            state%fluid(m)%vfrac(i, j, k), us >= 0.0_wp)
+        end do
+        u = 0.0_wp
+        if (phi_up > pore_min) u = (1.0_wp - solid_face_fraction(solid, d, o, i, j, k)) * us / &
+          phi_up
+        do m = 1, state%nfluids
+          state%fluid(m)%uface(i, j, k, d) = u
         end do
       end do
     end do
   end subroutine platen_fluid_faces
 
-  !> True when the domain plane of direction `d` on `side` (1 low, 2 high) is a loading platen
-  !! (`ice_solid_view_t%platen`) that this rank holds; `lo`, `hi`: its faces.
-  logical function platen_plane(solid, grid, d, r, side, lo, hi)
+  !> The next face of the loading platens of direction `d` that this rank holds
+  !! (`ice_solid_view_t%platen`), the low plane before the high one, then k, j, i: a sweep reads `side = 0`
+  !! then `do while (next_platen_face(solid, grid, d, side, i, j, k))`; false after the last.
+  logical function next_platen_face(solid, grid, d, side, i, j, k) result(more)
     class(ice_solid_view_t), intent(in) :: solid !< solid phase
     type(grid_t), intent(in) :: grid        !< block geometry
     integer, intent(in) :: d                !< face direction
-    integer, intent(in) :: r(2, 3)          !< face range of this rank
-    integer, intent(in) :: side             !< 1: low plane, 2: high plane
-    integer, intent(out) :: lo(3), hi(3)    !< face range of the plane
-    platen_plane = held_plane(grid, d, r, side, lo, hi)
-    if (platen_plane) platen_plane = solid%platen(2 * d - 2 + side)
-  end function platen_plane
+    integer, intent(inout) :: side          !< plane of the face (0 before the first face)
+    integer, intent(inout) :: i, j, k       !< face index
+    integer :: lo(3), hi(3)
+    more = .true.
+    if (side > 0) then
+      more = held_plane(grid, d, face_range(grid, d), side, lo, hi, solid%platen)
+      if (box_step(lo, hi, i, j, k)) return
+    end if
+    do while (side < 2)
+      side = side + 1
+      if (.not. held_plane(grid, d, face_range(grid, d), side, lo, hi, solid%platen)) cycle
+      i = lo(1)
+      j = lo(2)
+      k = lo(3)
+      return
+    end do
+    more = .false.
+  end function next_platen_face
+
+  !> Advance (i, j, k) to the next index of the box `lo`..`hi`, i fastest; false past its last
+  !! index.
+  logical function box_step(lo, hi, i, j, k) result(inside)
+    integer, intent(in) :: lo(3), hi(3)     !< corners of the box
+    integer, intent(inout) :: i, j, k       !< index
+    inside = .true.
+    i = i + 1
+    if (i <= hi(1)) return
+    i = lo(1)
+    j = j + 1
+    if (j <= hi(2)) return
+    j = lo(2)
+    k = k + 1
+    inside = k <= hi(3)
+  end function box_step
 
   !> Solid volume fraction of the low face of cell (i,j,k) in direction d for the solid's
   !! volume flux of eq. 35: the grain fraction the particles place on the upwind side of the face
@@ -467,39 +478,6 @@ contains
       face(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) = 0.0_wp
     end do
   end subroutine zero_closed_faces
-
-  !> True when the domain plane of direction `d` on `side` (1 low, 2 high) is an open
-  !! ('pressure') face that this rank holds; `lo`, `hi`: its faces.
-  logical function open_plane(state, grid, d, r, side, lo, hi)
-    type(ice_state_t), intent(in) :: state  !< fluids (closed faces)
-    type(grid_t), intent(in) :: grid        !< block geometry
-    integer, intent(in) :: d                !< face direction
-    integer, intent(in) :: r(2, 3)          !< face range of this rank
-    integer, intent(in) :: side             !< 1: low plane, 2: high plane
-    integer, intent(out) :: lo(3), hi(3)    !< face range of the plane
-    open_plane = held_plane(grid, d, r, side, lo, hi)
-    if (open_plane) open_plane = .not. state%closed(2 * d - 2 + side)
-  end function open_plane
-
-  !> True when the non-periodic domain plane of direction `d` on `side` (1 low, 2 high) lies in
-  !! this rank's face range `r`; `lo`, `hi`: its faces (else the whole range).
-  logical function held_plane(grid, d, r, side, lo, hi)
-    type(grid_t), intent(in) :: grid        !< block geometry
-    integer, intent(in) :: d                !< face direction
-    integer, intent(in) :: r(2, 3)          !< face range of this rank
-    integer, intent(in) :: side             !< 1: low plane, 2: high plane
-    integer, intent(out) :: lo(3), hi(3)    !< face range of the plane
-    integer :: idx
-    held_plane = .false.
-    lo = r(1, :)
-    hi = r(2, :)
-    if (grid%periodic(d)) return
-    idx = merge(1, grid%ncells(d) + 1, side == 1)
-    if (idx < r(1, d) .or. idx > r(2, d)) return
-    lo(d) = idx
-    hi(d) = idx
-    held_plane = .true.
-  end function held_plane
 
   !> Open domain face of a scene with a solid phase: sum over the fluids of (phi_inner -
   !! phi_upwind) w, w the face specific volume (coefficient) or the face velocity (flux). The

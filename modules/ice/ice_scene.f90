@@ -12,18 +12,18 @@ module ice_scene
   use mpmice_kinds, only: wp, name_len
   use mpmice_errors, only: fatal, int_text, real_short_text
   use mpmice_log, only: log_info
-  use mpmice_timers, only: timer_set_t, timer_register
+  use mpmice_timers, only: timer_register
   use mpmice_faults, only: fault_step
-  use scene_params, only: scene_params_t, ice_scene_params_t
-  use parallel_domain, only: domain_t
+  use scene_params, only: ice_scene_params_t
   use parallel_halo, only: halo_init, halo_free
   use parallel_reduce, only: global_max, global_min, global_sum
   use grid_layout, only: grid_t
+  use scene_interface, only: scene_context_t
   use solver_pressure, only: struct_solver_init, struct_solver_free, struct_solver_invalidate
   use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field
   use io_xdmf, only: xdmf_particles_t
   use ice_eos, only: eos_t, eos_kind_from_name, eos_sound_speed2
-  use ice_state, only: ice_state_alloc, ice_state_free
+  use ice_state, only: ice_state_alloc, ice_state_free, ice_fluid_t
   use ice_equilibration, only: ice_equilibrate
   use ice_bc, only: ice_bc_init
   use ice_initial, only: ice_initial_state
@@ -35,13 +35,12 @@ module ice_scene
   implicit none
   private
 
-  public :: ice_scene_t, ice_fluids_stable_dt
+  public :: ice_scene_t, ice_scene_setup, ice_fluids_stable_dt
 
   !> Multi-fluid ICE with implicit pressure: the fluids of `ice_fluids_t` and the scene
   !! interface; its step is the sequence of `ice_stages`.
   type, extends(ice_fluids_t) :: ice_scene_t
   contains
-    procedure :: init => ice_scene_init
     procedure :: stable_dt => ice_scene_stable_dt
     procedure :: step => ice_scene_step
     procedure :: write_state => ice_scene_write_state
@@ -58,180 +57,172 @@ module ice_scene
 
 contains
 
-  !> Materials from `&fluid`, initial state from `&fluid` and `&region`, solver and halos.
-  subroutine ice_scene_init(self, params, dom, grid, timers)
-    class(ice_scene_t), intent(inout) :: self    !< scene
-    class(scene_params_t), intent(in) :: params  !< the scene's own parameters
-    type(domain_t), intent(in) :: dom            !< decomposition
-    type(grid_t), intent(in) :: grid             !< block geometry
-    type(timer_set_t), intent(inout) :: timers   !< stage timers
-    select type (params)
-    type is (ice_scene_params_t)
-      call ice_scene_setup(self, params, dom, grid, timers)
-    class default
-      call fatal('ice scene: given the parameters of another scene')
-    end select
-  end subroutine ice_scene_init
-
-  !> `ice_scene_init` with the scene's own parameters.
-  subroutine ice_scene_setup(self, par, dom, grid, timers)
+  !> Materials from `&fluid`, initial state from `&fluid` and `&region`, solver and halos;
+  !! keeps `ctx`.
+  subroutine ice_scene_setup(self, par, ctx)
     class(ice_scene_t), intent(inout) :: self    !< scene
     type(ice_scene_params_t), intent(in) :: par  !< the scene's groups
-    type(domain_t), intent(in) :: dom            !< decomposition
-    type(grid_t), intent(in) :: grid             !< block geometry
-    type(timer_set_t), intent(inout) :: timers   !< stage timers
+    type(scene_context_t), intent(in) :: ctx     !< decomposition, grid and timers of the run
     integer :: m, its, failed
 
-    self%t_equil = timer_register(timers, 'ICE equilibration')
-    self%t_face = timer_register(timers, 'ICE face velocities')
-    self%t_pressure = timer_register(timers, 'ICE pressure (hypre)')
-    self%t_operator = timer_register(timers, 'ICE  of which operator')
-    self%t_pcg = timer_register(timers, 'ICE  of which PCG solve')
-    self%t_lagrange = timer_register(timers, 'ICE Lagrangian values')
-    self%t_advect = timer_register(timers, 'ICE advection')
-    self%t_halo = timer_register(timers, 'ICE halo exchange')
-    self%fault_nan_step = fault_step('nan_pressure_step')   ! testing aids (docs/testing.md)
-    self%fault_huge_step = fault_step('huge_pressure_step')
-    self%gravity = par%physics%gravity
-    self%k_exchange = par%ice%exchange_coefficient
-    self%h_exchange = par%ice%heat_exchange_coefficient
-    self%sound_speed_factor = par%ice%sound_speed_factor
-    self%outer_tolerance = par%ice%outer_tolerance
-    self%max_outer = par%ice%max_outer_iterations
-    self%eq_tolerance = par%ice%equilibration_tolerance
-    self%eq_max = par%ice%max_equilibration_iterations
-    self%order = par%numerics%advection_order
-    self%theta = par%numerics%time_theta
-    self%face_time = self%theta
-    if (par%ice%smagorinsky) self%smagorinsky = par%ice%smagorinsky_constant
-    self%compression = par%ice%interface_compression
-    if (par%nfluids < 1) call fatal('ice scene: no &fluid group')
+    self%ctx = ctx
+    associate (dom => ctx%dom, grid => ctx%grid, timers => ctx%timers)
+      self%t_equil = timer_register(timers, 'ICE equilibration')
+      self%t_face = timer_register(timers, 'ICE face velocities')
+      self%t_pressure = timer_register(timers, 'ICE pressure (hypre)')
+      self%t_operator = timer_register(timers, 'ICE  of which operator')
+      self%t_pcg = timer_register(timers, 'ICE  of which PCG solve')
+      self%t_lagrange = timer_register(timers, 'ICE Lagrangian values')
+      self%t_advect = timer_register(timers, 'ICE advection')
+      self%t_halo = timer_register(timers, 'ICE halo exchange')
+      self%fault_nan_step = fault_step('nan_pressure_step')   ! testing aids (docs/testing.md)
+      self%fault_huge_step = fault_step('huge_pressure_step')
+      self%gravity = par%physics%gravity
+      self%k_exchange = par%ice%exchange_coefficient
+      self%h_exchange = par%ice%heat_exchange_coefficient
+      self%sound_speed_factor = par%ice%sound_speed_factor
+      self%outer_tolerance = par%ice%outer_tolerance
+      self%max_outer = par%ice%max_outer_iterations
+      self%eq_tolerance = par%ice%equilibration_tolerance
+      self%eq_max = par%ice%max_equilibration_iterations
+      self%order = par%numerics%advection_order
+      self%theta = par%numerics%time_theta
+      self%face_time = self%theta
+      if (par%ice%smagorinsky) self%smagorinsky = par%ice%smagorinsky_constant
+      self%compression = par%ice%interface_compression
+      if (par%nfluids < 1) call fatal('ice scene: no &fluid group')
 
-    call ice_state_alloc(self%state, grid, par%nfluids)
-    do m = 1, par%nfluids
-      associate (f => self%state%fluid(m), c => par%fluids(m))
-        f%name = c%name
-        f%eos = eos_t(kind=eos_kind_from_name(c%eos), gamma=c%gamma, cv=c%heat_capacity_cv, &
-          rho_ref=c%reference_density, p_ref=c%reference_pressure, &
-          t_ref=c%reference_temperature, bulk_modulus=c%bulk_modulus, &
-          alpha=c%thermal_expansion, p_inf=c%stiffened_pressure)
-        f%viscosity = c%viscosity
-        f%conductivity = c%conductivity
-      end associate
-    end do
+      call ice_state_alloc(self%state, grid, par%nfluids)
+      do m = 1, par%nfluids
+        associate (f => self%state%fluid(m), c => par%fluids(m))
+          f%name = c%name
+          f%eos = eos_t(kind=eos_kind_from_name(c%eos), gamma=c%gamma, cv=c%heat_capacity_cv, &
+            rho_ref=c%reference_density, p_ref=c%reference_pressure, &
+            t_ref=c%reference_temperature, bulk_modulus=c%bulk_modulus, &
+            alpha=c%thermal_expansion, p_inf=c%stiffened_pressure)
+          f%viscosity = c%viscosity
+          f%conductivity = c%conductivity
+        end associate
+      end do
 
-    call ice_bc_init(self%bc, par)
-    call ice_initial_state(self%state, par, grid)
-    self%state%closed = .not. self%bc%open
-    self%state%p_boundary = self%bc%p_face
-    self%state%inflow_fluid = self%bc%inflow_fluid
-    allocate(self%sources(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
-      grid%lbc(3):grid%ubc(3), 4, par%nfluids), source=0.0_wp)
-    allocate(self%p_start, mold=self%state%pressure)
+      call ice_bc_init(self%bc, par)
+      call ice_initial_state(self%state, par, grid)
+      self%state%closed = .not. self%bc%open
+      self%state%p_boundary = self%bc%p_face
+      self%state%inflow_fluid = self%bc%inflow_fluid
+      allocate(self%sources(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+        grid%lbc(3):grid%ubc(3), 4, par%nfluids), source=0.0_wp)
+      allocate(self%p_start, mold=self%state%pressure)
 
-    call halo_init(self%halo, dom, grid, 1)
-    call struct_solver_init(self%solver, dom, grid, par%solver%tolerance, &
-      par%solver%max_iterations, par%solver%print_level)
-    call exchange_primitives(self, dom, grid)
-    call ice_equilibrate(self%state, grid, self%eq_tolerance, self%eq_max, its, failed)
-    failed = global_sum(dom, failed)
-    if (failed > 0) call fatal('ice scene: initial pressure equilibration failed in ' // &
-      int_text(failed) // ' cells')
+      call halo_init(self%halo, dom, grid, 1)
+      call struct_solver_init(self%solver, dom, grid, par%solver%tolerance, &
+        par%solver%max_iterations, par%solver%print_level)
+      call exchange_primitives(self)
+      call ice_equilibrate(self%state, grid, self%eq_tolerance, self%eq_max, its, failed)
+      failed = global_sum(dom, failed)
+      if (failed > 0) call fatal('ice scene: initial pressure equilibration failed in ' // &
+        int_text(failed) // ' cells')
+    end associate
   end subroutine ice_scene_setup
 
   !> The ICE scene's stable step: `ice_fluids_stable_dt` without a solid phase.
-  function ice_scene_stable_dt(self, dom, grid, cfl) result(dt)
+  function ice_scene_stable_dt(self, cfl) result(dt)
     class(ice_scene_t), intent(inout) :: self  !< scene
-    type(domain_t), intent(in) :: dom          !< decomposition
-    type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: cfl                !< Courant number
     real(wp) :: dt
-    dt = ice_fluids_stable_dt(self, dom, grid, cfl)
+    dt = ice_fluids_stable_dt(self, cfl)
   end function ice_scene_stable_dt
 
   !> CFL limit: cfl * min over cells, directions and fluids of dx / (|u| + f c), f the
   !! sound-speed factor (0: the advective limit of the implicit scheme), and cfl times the
   !! explicit viscosity/conduction limit (`ice_viscous_dt`, with the Smagorinsky eddy viscosity;
   !! with the solid phase of a coupled scene, the momentum limit of its free fluid only).
-  function ice_fluids_stable_dt(self, dom, grid, cfl, solid) result(dt)
+  function ice_fluids_stable_dt(self, cfl, solid) result(dt)
     class(ice_fluids_t), intent(inout) :: self !< fluids
-    type(domain_t), intent(in) :: dom          !< decomposition
-    type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: cfl                !< Courant number
     class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     real(wp) :: dt
-    integer :: m, d, i, j, k
-    real(wp) :: c, speed, rate, dt_viscous
+    integer :: m, i, j, k
+    real(wp) :: rate, dt_viscous
 
     rate = 0.0_wp
-    do m = 1, self%state%nfluids
-      associate (f => self%state%fluid(m))
+    associate (dom => self%ctx%dom, grid => self%ctx%grid)
+      do m = 1, self%state%nfluids
         do k = grid%lo(3), grid%hi(3)
           do j = grid%lo(2), grid%hi(2)
             do i = grid%lo(1), grid%hi(1)
-              if (f%rho(i, j, k) <= 0.0_wp) cycle
-              c = 0.0_wp
-              if (self%sound_speed_factor > 0.0_wp) c = sqrt(eos_sound_speed2(f%eos, &
-                1.0_wp / f%spvol(i, j, k), f%temp(i, j, k)))
-              do d = 1, 3
-                if (.not. grid%active(d)) cycle
-                speed = abs(f%vel(i, j, k, d)) + self%sound_speed_factor * c
-                rate = max(rate, speed / grid%dx(d))
-              end do
+              rate = max(rate, cell_rate(self%state%fluid(m), grid, [i, j, k], &
+                self%sound_speed_factor))
             end do
           end do
         end do
-      end associate
-    end do
-    rate = global_max(dom, rate)
-    if (rate > 0.0_wp) then
-      dt = cfl / rate
-    else
-      dt = huge(1.0_wp)
-    end if
-    ! explicit viscosity and conduction
-    call ice_viscous_dt(self%state, grid, dt_viscous, self%smagorinsky, solid)
-    dt = min(dt, cfl * global_min(dom, dt_viscous))
+      end do
+      rate = global_max(dom, rate)
+      if (rate > 0.0_wp) then
+        dt = cfl / rate
+      else
+        dt = huge(1.0_wp)
+      end if
+      ! explicit viscosity and conduction
+      call ice_viscous_dt(self%state, grid, dt_viscous, self%smagorinsky, solid)
+      dt = min(dt, cfl * global_min(dom, dt_viscous))
+    end associate
   end function ice_fluids_stable_dt
+
+  !> The largest (|u| + f c) / dx of fluid `f` in cell `c` over the active directions (0 where
+  !! the fluid is absent), f the sound-speed factor (c not evaluated when f = 0).
+  pure real(wp) function cell_rate(f, grid, c, factor) result(rate)
+    type(ice_fluid_t), intent(in) :: f   !< fluid
+    type(grid_t), intent(in) :: grid     !< block geometry
+    integer, intent(in) :: c(3)          !< cell
+    real(wp), intent(in) :: factor       !< weight of the sound speed
+    real(wp) :: sound, speed
+    integer :: d
+    rate = 0.0_wp
+    if (f%rho(c(1), c(2), c(3)) <= 0.0_wp) return
+    sound = 0.0_wp
+    if (factor > 0.0_wp) sound = sqrt(eos_sound_speed2(f%eos, 1.0_wp / f%spvol(c(1), c(2), c(3)), &
+      f%temp(c(1), c(2), c(3))))
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      speed = abs(f%vel(c(1), c(2), c(3), d)) + factor * sound
+      rate = max(rate, speed / grid%dx(d))
+    end do
+  end function cell_rate
 
   !> One ICE step, the stages of `ice_stages` in order; rejected (state unchanged) when the
   !! equilibration or the outer iteration does not converge. A NaN or Inf in the pressure
   !! equation ends the step at once, taken with the NaN pressure, so that the run fails (exit
   !! status 3) with the state dumped.
-  subroutine ice_scene_step(self, dom, grid, time, dt, timers, accepted)
+  subroutine ice_scene_step(self, time, dt, accepted)
     class(ice_scene_t), intent(inout) :: self    !< scene
-    type(domain_t), intent(in) :: dom            !< decomposition
-    type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: time                 !< time at the start of the step [s]
     real(wp), intent(in) :: dt                   !< step [s]
-    type(timer_set_t), intent(inout) :: timers   !< stage timers
     logical, intent(out) :: accepted             !< the step was taken
 
     accepted = .false.
     call ice_step_begin(self)
-    if (.not. ice_stage_equilibrate(self, dom, grid, time, timers)) return
-    call ice_stage_face_velocities(self, grid, dt, timers)
-    call ice_stage_face_exchange(self, grid, dt, timers)
-    if (.not. ice_stage_pressure(self, dom, grid, time, dt, timers)) then
+    if (.not. ice_stage_equilibrate(self, time)) return
+    call ice_stage_face_velocities(self, dt)
+    call ice_stage_face_exchange(self, dt)
+    if (.not. ice_stage_pressure(self, time, dt)) then
       ! non-finite: taken as it is, so the run loop's check fails the run and dumps the state
       accepted = self%nonfinite
       if (.not. self%nonfinite) call ice_step_reject(self)
       return
     end if
-    call ice_stage_lagrangian(self, dom, grid, dt, timers)
-    call ice_stage_cell_exchange(self, grid, dt, timers)
-    call ice_stage_advect(self, dom, grid, time, dt, timers)
+    call ice_stage_lagrangian(self, dt)
+    call ice_stage_cell_exchange(self, dt)
+    call ice_stage_advect(self, time, dt)
     self%steps = self%steps + 1
     accepted = .true.
   end subroutine ice_scene_step
 
   !> Writes to a dump `cell/pressure` and `cell/<fluid>/<field>`; checkpoint: the primitive fields and the
   !! pressure under `checkpoint/` (everything the next step reads).
-  subroutine ice_scene_write_state(self, file, dom, grid, checkpoint)
+  subroutine ice_scene_write_state(self, file, checkpoint)
     class(ice_scene_t), intent(inout) :: self  !< scene
     type(h5_file_t), intent(in) :: file        !< open file
-    type(domain_t), intent(in) :: dom          !< decomposition
-    type(grid_t), intent(in) :: grid           !< block geometry
     logical, intent(in) :: checkpoint          !< full restart state
     character(len=:), allocatable :: prefix, g
     integer :: m, d
@@ -239,45 +230,47 @@ contains
     if (checkpoint) prefix = 'checkpoint/'
     ! a restart starts with a fresh preconditioner: so does the run that goes on
     if (checkpoint) call struct_solver_invalidate(self%solver)
-    call h5_write_cell_field(file, prefix // 'cell/pressure', grid, self%state%pressure)
-    do m = 1, self%state%nfluids
-      associate (f => self%state%fluid(m))
-        g = prefix // 'cell/' // trim(f%name) // '/'
-        call h5_write_cell_field(file, g // 'density', grid, f%rho)
-        do d = 1, 3
-          call h5_write_cell_field(file, g // trim(fluid_fields(1 + d)), grid, f%vel(:, :, :, d))
-        end do
-        call h5_write_cell_field(file, g // 'temperature', grid, f%temp)
-        if (.not. checkpoint) then
-          f%vfrac = f%rho * f%spvol
-          call h5_write_cell_field(file, g // 'volume_fraction', grid, f%vfrac)
-        end if
-        call h5_write_cell_field(file, g // 'specific_volume', grid, f%spvol)
-      end associate
-    end do
+    associate (grid => self%ctx%grid)
+      call h5_write_cell_field(file, prefix // 'cell/pressure', grid, self%state%pressure)
+      do m = 1, self%state%nfluids
+        associate (f => self%state%fluid(m))
+          g = prefix // 'cell/' // trim(f%name) // '/'
+          call h5_write_cell_field(file, g // 'density', grid, f%rho)
+          do d = 1, 3
+            call h5_write_cell_field(file, g // trim(fluid_fields(1 + d)), grid, f%vel(:, :, :, d))
+          end do
+          call h5_write_cell_field(file, g // 'temperature', grid, f%temp)
+          if (.not. checkpoint) then
+            f%vfrac = f%rho * f%spvol
+            call h5_write_cell_field(file, g // 'volume_fraction', grid, f%vfrac)
+          end if
+          call h5_write_cell_field(file, g // 'specific_volume', grid, f%spvol)
+        end associate
+      end do
+    end associate
   end subroutine ice_scene_write_state
 
   !> Read the primitive fields and the pressure of a checkpoint, then fill the ghosts.
-  subroutine ice_scene_restore(self, file, dom, grid)
+  subroutine ice_scene_restore(self, file)
     class(ice_scene_t), intent(inout) :: self  !< scene
     type(h5_file_t), intent(in) :: file        !< open checkpoint
-    type(domain_t), intent(in) :: dom          !< decomposition
-    type(grid_t), intent(in) :: grid           !< block geometry
     character(len=:), allocatable :: g
     integer :: m, d
-    call h5_read_cell_field(file, 'checkpoint/cell/pressure', grid, self%state%pressure)
-    do m = 1, self%state%nfluids
-      associate (f => self%state%fluid(m))
-        g = 'checkpoint/cell/' // trim(f%name) // '/'
-        call h5_read_cell_field(file, g // 'density', grid, f%rho)
-        do d = 1, 3
-          call h5_read_cell_field(file, g // trim(fluid_fields(1 + d)), grid, f%vel(:, :, :, d))
-        end do
-        call h5_read_cell_field(file, g // 'temperature', grid, f%temp)
-        call h5_read_cell_field(file, g // 'specific_volume', grid, f%spvol)
-      end associate
-    end do
-    call exchange_primitives(self, dom, grid)
+    associate (grid => self%ctx%grid)
+      call h5_read_cell_field(file, 'checkpoint/cell/pressure', grid, self%state%pressure)
+      do m = 1, self%state%nfluids
+        associate (f => self%state%fluid(m))
+          g = 'checkpoint/cell/' // trim(f%name) // '/'
+          call h5_read_cell_field(file, g // 'density', grid, f%rho)
+          do d = 1, 3
+            call h5_read_cell_field(file, g // trim(fluid_fields(1 + d)), grid, f%vel(:, :, :, d))
+          end do
+          call h5_read_cell_field(file, g // 'temperature', grid, f%temp)
+          call h5_read_cell_field(file, g // 'specific_volume', grid, f%spvol)
+        end associate
+      end do
+    end associate
+    call exchange_primitives(self)
   end subroutine ice_scene_restore
 
   !> Cell datasets of a dump.
@@ -298,12 +291,11 @@ contains
   end subroutine ice_scene_output_layout
 
   !> True when the owned pressure and fluid fields are finite.
-  function ice_scene_all_finite(self, grid) result(finite)
+  function ice_scene_all_finite(self) result(finite)
     class(ice_scene_t), intent(in) :: self  !< scene
-    type(grid_t), intent(in) :: grid        !< block geometry
     logical :: finite
     integer :: m
-    associate (lo => grid%lo, hi => grid%hi)
+    associate (lo => self%ctx%grid%lo, hi => self%ctx%grid%hi)
       finite = all(ieee_is_finite(self%state%pressure(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3))))
       do m = 1, self%state%nfluids
         associate (f => self%state%fluid(m))
@@ -316,12 +308,10 @@ contains
   end function ice_scene_all_finite
 
   !> Outer/PCG iteration statistics and the extreme pressures.
-  subroutine ice_scene_summary(self, dom, grid)
+  subroutine ice_scene_summary(self)
     class(ice_scene_t), intent(inout) :: self  !< scene
-    type(domain_t), intent(in) :: dom          !< decomposition
-    type(grid_t), intent(in) :: grid           !< block geometry
     real(wp) :: pmin, pmax
-    associate (lo => grid%lo, hi => grid%hi)
+    associate (dom => self%ctx%dom, lo => self%ctx%grid%lo, hi => self%ctx%grid%hi)
       pmin = global_min(dom, minval(self%state%pressure(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3))))
       pmax = global_max(dom, maxval(self%state%pressure(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3))))
     end associate

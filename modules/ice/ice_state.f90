@@ -63,56 +63,40 @@ contains
     type(grid_t), intent(in) :: grid           !< block geometry
     integer, intent(in) :: nfluids             !< number of fluids
     integer :: m, l(3), u(3), uf(3)
+    ! zero templates: a cell field and the faces of the three directions
+    real(wp), allocatable :: cells(:, :, :), faces(:, :, :, :)
     call ice_state_free(state)
     l = grid%lbc
     u = grid%ubc
     uf = grid%ubc + 1
+    allocate(cells(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+    allocate(faces(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
     state%nfluids = nfluids
     allocate(state%fluid(nfluids))
     do m = 1, nfluids
       associate (f => state%fluid(m))
-        allocate(f%rho(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+        allocate(f%rho, f%temp, f%spvol, f%vfrac, f%kappa, f%c2, source=cells)
+        allocate(f%uface, f%vface, source=faces)
         allocate(f%vel(l(1):u(1), l(2):u(2), l(3):u(3), 3), source=0.0_wp)
-        allocate(f%temp(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-        allocate(f%spvol(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-        allocate(f%vfrac(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-        allocate(f%kappa(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-        allocate(f%c2(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-        allocate(f%uface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
-        allocate(f%vface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
         allocate(f%lag(l(1):u(1), l(2):u(2), l(3):u(3), 5), source=0.0_wp)
       end associate
     end do
-    allocate(state%pressure(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-    allocate(state%p_eq(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-    allocate(state%dp(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-    allocate(state%dp_total(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-    allocate(state%sum_kappa(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-    allocate(state%rhs(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
-    allocate(state%diag(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+    allocate(state%pressure, state%p_eq, state%dp, state%dp_total, state%sum_kappa, state%rhs, &
+      state%diag, state%eddy_viscosity, source=cells)
+    allocate(state%pface, source=faces)
     allocate(state%coef(l(1):u(1), l(2):u(2), l(3):u(3), 3), source=0.0_wp)
-    allocate(state%pface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
     allocate(state%cons(l(1):u(1), l(2):u(2), l(3):u(3), 6), source=0.0_wp)
     allocate(state%lag_work(l(1):u(1), l(2):u(2), l(3):u(3), 2), source=0.0_wp)
-    allocate(state%eddy_viscosity(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
   end subroutine ice_state_alloc
 
   !> Release every field.
   subroutine ice_state_free(state)
     type(ice_state_t), intent(inout) :: state  !< state
     if (allocated(state%fluid)) deallocate(state%fluid)
-    if (allocated(state%pressure)) deallocate(state%pressure)
-    if (allocated(state%p_eq)) deallocate(state%p_eq)
-    if (allocated(state%dp)) deallocate(state%dp)
-    if (allocated(state%dp_total)) deallocate(state%dp_total)
-    if (allocated(state%sum_kappa)) deallocate(state%sum_kappa)
-    if (allocated(state%rhs)) deallocate(state%rhs)
-    if (allocated(state%diag)) deallocate(state%diag)
-    if (allocated(state%coef)) deallocate(state%coef)
-    if (allocated(state%pface)) deallocate(state%pface)
-    if (allocated(state%cons)) deallocate(state%cons)
-    if (allocated(state%lag_work)) deallocate(state%lag_work)
-    if (allocated(state%eddy_viscosity)) deallocate(state%eddy_viscosity)
+    ! the fields are allocated together (`ice_state_alloc`)
+    if (allocated(state%pressure)) deallocate(state%pressure, state%p_eq, state%dp, &
+      state%dp_total, state%sum_kappa, state%rhs, state%diag, state%coef, state%pface, &
+      state%cons, state%lag_work, state%eddy_viscosity)
     state%nfluids = 0
   end subroutine ice_state_free
 end module ice_state

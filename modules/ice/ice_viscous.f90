@@ -26,12 +26,14 @@ module ice_viscous
   use mpmice_kinds, only: wp
   use mpmice_errors, only: fatal
   use grid_layout, only: grid_t
+  use grid_sweep, only: sweep_direction
   use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
   implicit none
   private
 
   public :: ice_viscous_sources, ice_viscous_dt, ice_eddy_viscosity, stress_factor, face_mean
+  public :: face_conduction
 
   !> Largest eigenvalue of the discrete stress divergence over that of the Laplacian form mu lap:
   !! the symbol is -(Lambda I + M/3), Lambda the Laplacian's, M = diag(lambda_c - s_c^2) + s s^T
@@ -68,10 +70,7 @@ contains
       ! the eddy viscosity (opt-in model) needs the strain rate of every cell first
       if (cs > 0.0_wp) call ice_eddy_viscosity(state, grid, m, cs, state%eddy_viscosity)
       do d = 1, 3
-        if (.not. grid%active(d)) cycle
-        o = 0
-        o(d) = 1
-        area = grid%cell_volume / grid%dx(d)
+        if (.not. sweep_direction(grid, d, o, area)) cycle
         do k = grid%lo(3), grid%hi(3)
           do j = grid%lo(2), grid%hi(2)
             do i = grid%lo(1), grid%hi(1)
@@ -94,9 +93,9 @@ contains
               phi_hi = face_mean(f%vfrac(i, j, k), f%vfrac(i + o(1), j + o(2), k + o(3)))
               k_lo = phi_lo * f%conductivity
               k_hi = phi_hi * f%conductivity
-              heat(i, j, k) = heat(i, j, k) + dt * area / grid%dx(d) * &
-                (k_hi * (f%temp(i + o(1), j + o(2), k + o(3)) - f%temp(i, j, k)) - &
-                k_lo * (f%temp(i, j, k) - f%temp(i - o(1), j - o(2), k - o(3))))
+              heat(i, j, k) = heat(i, j, k) + face_conduction(dt * area / grid%dx(d), k_lo, k_hi, &
+                f%temp(i - o(1), j - o(2), k - o(3)), f%temp(i, j, k), &
+                f%temp(i + o(1), j + o(2), k + o(3)))
             end do
           end do
         end do
@@ -278,4 +277,16 @@ contains
       face_mean = 0.0_wp
     end if
   end function face_mean
+
+  !> Heat [J] a cell gains by conduction through its low and high faces of one direction (eqs.
+  !! 38-39, errata E9): `factor` (k_hi (T_hi - T) - k_lo (T - T_lo)), factor = dt A / dx.
+  elemental real(wp) function face_conduction(factor, k_lo, k_hi, t_lo, t, t_hi) result(heat)
+    real(wp), intent(in) :: factor  !< dt A / dx [s m]
+    real(wp), intent(in) :: k_lo    !< conductance of the low face [W/m/K]
+    real(wp), intent(in) :: k_hi    !< conductance of the high face [W/m/K]
+    real(wp), intent(in) :: t_lo    !< temperature of the low neighbour [K]
+    real(wp), intent(in) :: t       !< temperature of the cell [K]
+    real(wp), intent(in) :: t_hi    !< temperature of the high neighbour [K]
+    heat = factor * (k_hi * (t_hi - t) - k_lo * (t - t_lo))
+  end function face_conduction
 end module ice_viscous

@@ -27,6 +27,9 @@ module mpm_constitutive
   integer, parameter :: model_rigid = 4           !< prescribed motion, no stress
   integer, parameter :: model_cam_clay = 5        !< Modified Cam-Clay
   integer, parameter :: model_critical_state_sand = 6  !< packing-dependent sand
+  !> the `&solid model` names of the models, in their order ('modified_cam_clay': cam_clay)
+  character(len=*), parameter :: model_names(6) = [character(len=19) :: 'linear_elastic', &
+    'neo_hookean', 'mohr_coulomb', 'rigid', 'cam_clay', 'critical_state_sand']
 
   !> Constitutive parameters of one solid material.
   type :: material_t
@@ -52,20 +55,9 @@ contains
   !> Model id of a `&solid model` value (unknown names give the elastic model).
   pure integer function model_from_name(name) result(model)
     character(len=*), intent(in) :: name  !< namelist value
-    select case (trim(name))
-    case ('neo_hookean')
-      model = model_neo_hookean
-    case ('mohr_coulomb')
-      model = model_mohr_coulomb
-    case ('rigid')
-      model = model_rigid
-    case ('cam_clay', 'modified_cam_clay')
-      model = model_cam_clay
-    case ('critical_state_sand')
-      model = model_critical_state_sand
-    case default
-      model = model_linear_elastic
-    end select
+    model = findloc(model_names, name, dim=1)
+    if (name == 'modified_cam_clay') model = model_cam_clay
+    if (model == 0) model = model_linear_elastic
   end function model_from_name
 
   !> Material from the namelist parameters (angles in degrees).

@@ -33,6 +33,9 @@ module mpm_nodal
   integer, parameter :: bc_free = 3      !< traction free
   integer, parameter :: bc_velocity = 4  !< prescribed velocity
   integer, parameter :: bc_traction = 5  !< prescribed surface load, otherwise free
+  !> the `&boundary solid` names of the conditions, in their order
+  character(len=*), parameter :: bc_names(5) = [character(len=8) :: 'fixed', 'roller', 'free', &
+    'velocity', 'traction']
 
   integer, parameter :: max_points = 64  !< most points of a velocity history
 
@@ -54,21 +57,10 @@ module mpm_nodal
 
 contains
 
-  !> Condition id of a `&boundary solid` value.
+  !> Condition id of a `&boundary solid` value (unknown names: fixed).
   pure integer function bc_kind_from_name(name) result(kind)
     character(len=*), intent(in) :: name  !< namelist value
-    select case (trim(name))
-    case ('roller')
-      kind = bc_roller
-    case ('free')
-      kind = bc_free
-    case ('velocity')
-      kind = bc_velocity
-    case ('traction')
-      kind = bc_traction
-    case default
-      kind = bc_fixed
-    end select
+    kind = max(findloc(bc_names, name, dim=1), bc_fixed)
   end function bc_kind_from_name
 
   !> Velocity [m/s] of a piecewise-linear history at time `t`: linear between the points

@@ -12,9 +12,9 @@ module mpm_scene
   use mpmice_kinds, only: wp, i8, name_len, path_len
   use mpmice_errors, only: int_text, real_short_text, fatal
   use mpmice_log, only: log_info, log_warning
-  use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
+  use mpmice_timers, only: timer_register, timer_start, timer_stop
   use config_types, only: history_points_used, solid_params_t
-  use scene_params, only: scene_params_t, mpm_scene_params_t
+  use scene_params, only: mpm_scene_params_t
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_free
   use parallel_reduce, only: global_sum, global_max, global_min
@@ -22,7 +22,7 @@ module mpm_scene
   use io_hdf5, only: h5_file_t, h5_write_attribute, h5_read_attribute
   use io_files, only: io_join_path, io_open_series
   use io_xdmf, only: xdmf_particles_t
-  use scene_interface, only: scene_t, scene_health_t
+  use scene_interface, only: scene_t, scene_health_t, scene_context_t
   use particles_store, only: particles_t, particles_free
   use particles_seeding, only: seed_solid
   use mpm_shape, only: shape_kind_from_name
@@ -40,7 +40,7 @@ module mpm_scene
   implicit none
   private
 
-  public :: mpm_scene_t, move_rigid, mpm_migrate_all, solid_energies, p2g_solids
+  public :: mpm_scene_t, mpm_setup, mpm_gravity, mpm_stage_g2p, move_rigid, mpm_migrate_all, solid_energies, p2g_solids
 
   !> Solid bodies on a background grid.
   type, extends(scene_t) :: mpm_scene_t
@@ -71,7 +71,6 @@ module mpm_scene
     logical :: series_started = .false.                     !< series file opened this run
     integer :: t_p2g = 0, t_nodal = 0, t_g2p = 0, t_migrate = 0  !< timer ids
   contains
-    procedure :: init => mpm_init
     procedure :: stable_dt => mpm_stable_dt
     procedure :: step => mpm_step
     procedure :: write_state => mpm_write_state
@@ -85,90 +84,76 @@ module mpm_scene
 
 contains
 
-  !> Materials, particles, node fields, boundary conditions.
-  subroutine mpm_init(self, params, dom, grid, timers)
-    class(mpm_scene_t), intent(inout) :: self    !< scene
-    class(scene_params_t), intent(in) :: params  !< the scene's own parameters
-    type(domain_t), intent(in) :: dom            !< decomposition
-    type(grid_t), intent(in) :: grid             !< block geometry
-    type(timer_set_t), intent(inout) :: timers   !< stage timers
-    select type (params)
-    type is (mpm_scene_params_t)
-      call mpm_setup(self, params, dom, grid, timers)
-    class default
-      call fatal('mpm scene: given the parameters of another scene')
-    end select
-  end subroutine mpm_init
-
-  !> `mpm_init` with the scene's own parameters.
-  subroutine mpm_setup(self, par, dom, grid, timers)
+  !> Materials, particles, node fields, boundary conditions; keeps `ctx`.
+  subroutine mpm_setup(self, par, ctx)
     class(mpm_scene_t), intent(inout) :: self    !< scene
     type(mpm_scene_params_t), intent(in) :: par  !< the scene's groups
-    type(domain_t), intent(in) :: dom            !< decomposition
-    type(grid_t), intent(in) :: grid             !< block geometry
-    type(timer_set_t), intent(inout) :: timers   !< stage timers
+    type(scene_context_t), intent(in) :: ctx     !< decomposition, grid and timers of the run
     integer :: s, face, n
     real(wp) :: mmin
-    if (any(grid%active .and. grid%ng < 1)) call fatal('mpm scene: &grid ghost_width must be >= 1')
-    self%t_p2g = timer_register(timers, 'MPM particle to grid')
-    self%t_nodal = timer_register(timers, 'MPM nodal solve')
-    self%t_g2p = timer_register(timers, 'MPM grid to particle + stress')
-    self%t_migrate = timer_register(timers, 'MPM migration')
-    self%nsolids = par%nsolids
-    allocate(self%names(self%nsolids), self%parts(self%nsolids), self%mats(self%nsolids), &
-      self%global_np(self%nsolids), self%motions(self%nsolids), self%static(self%nsolids))
-    self%shape_kind = shape_kind_from_name(par%numerics%shape_function)
-    self%gravity = par%physics%gravity
-    self%ramp_time = par%mpm%gravity_ramp_time
-    self%damping = par%mpm%local_damping
-    self%flip = par%mpm%flip_fraction
-    mmin = huge(1.0_wp)
-    do s = 1, self%nsolids
-      associate (sp => par%solids(s))
-        self%names(s) = sp%name
-        self%mats(s) = material_init(model_from_name(sp%model), (1.0_wp - sp%porosity) * &
-          sp%density, sp%youngs_modulus, sp%poisson_ratio, sp%cohesion, sp%friction_angle, &
-          sp%dilation_angle, sp%tension_cutoff, sp%tensile_strength)
-        if (sp%max_porosity < 1.0_wp) self%mats(s)%j_loose = (1.0_wp - sp%porosity) / &
-          (1.0_wp - sp%max_porosity)
-        if (sp%min_porosity > 0.0_wp) self%mats(s)%j_dense = (1.0_wp - sp%porosity) / &
-          (1.0_wp - sp%min_porosity)
-        call set_soil_params(self%mats(s), sp)
-        self%motions(s) = rigid_motion_t(sp%prescribed_velocity, sp%acceleration_amplitude, &
-          sp%acceleration_frequency, sp%acceleration_duration)
-        call seed_solid(self%parts(s), sp, grid, self%gravity)
-        if (self%mats(s)%model == model_rigid) call move_rigid(self, s, grid, 0.0_wp, 0.0_wp)
-        self%static(s) = par%mpm%cache_static_rigid .and. &
-          self%mats(s)%model == model_rigid .and. rigid_is_static(self%motions(s))
-        if (self%parts(s)%np > 0) mmin = min(mmin, minval(self%parts(s)%mass(1:self%parts(s)%np)))
-        self%global_np(s) = global_sum(dom, int(self%parts(s)%np, i8))
-        call log_info('mpm: solid ' // trim(sp%name) // ' (' // trim(sp%model) // '): ' // &
-          int_text(int(self%global_np(s))) // ' particles')
-      end associate
-    end do
-    self%min_mass = 1.0e-12_wp * global_min(dom, mmin)
-    do face = 1, 6
-      associate (b => par%faces(face))
-        self%bc%kind(face) = bc_kind_from_name(b%solid)
-        self%bc%velocity(:, face) = b%solid_velocity
-        n = history_points_used(b%solid_velocity_times)
-        if (n > size(self%bc%times, 1)) call fatal('mpm scene: velocity history longer ' // &
-          'than the nodal table')
-        self%bc%npoints(face) = n
-        self%bc%times(1:n, face) = b%solid_velocity_times(1:n)
-        self%bc%history(:, 1:n, face) = b%solid_velocity_history(:, 1:n)
-        self%bc%traction(:, face) = b%solid_traction
-      end associate
-    end do
-    self%bc%friction_contact = trim(par%mpm%rigid_contact) == 'friction'
-    self%bc%friction = par%mpm%contact_friction
-    self%bc%smoothed_normal = trim(par%mpm%contact_normal) == 'smoothed'
-    call nodes_init(self%nodes, grid)
-    call keep_static_share(self, grid)
-    call halo_init(self%halo, dom, grid, nq)
-    call migration_init(self%mig, dom, grid)
-    self%series_path = io_join_path(trim(par%run%output_dir), trim(par%run%name) // &
-      '_mpm_series.csv')
+    self%ctx = ctx
+    associate (dom => ctx%dom, grid => ctx%grid, timers => ctx%timers)
+      if (any(grid%active .and. grid%ng < 1)) call fatal('mpm scene: &grid ghost_width must be >= 1')
+      self%t_p2g = timer_register(timers, 'MPM particle to grid')
+      self%t_nodal = timer_register(timers, 'MPM nodal solve')
+      self%t_g2p = timer_register(timers, 'MPM grid to particle + stress')
+      self%t_migrate = timer_register(timers, 'MPM migration')
+      self%nsolids = par%nsolids
+      allocate(self%names(self%nsolids), self%parts(self%nsolids), self%mats(self%nsolids), &
+        self%global_np(self%nsolids), self%motions(self%nsolids), self%static(self%nsolids))
+      self%shape_kind = shape_kind_from_name(par%numerics%shape_function)
+      self%gravity = par%physics%gravity
+      self%ramp_time = par%mpm%gravity_ramp_time
+      self%damping = par%mpm%local_damping
+      self%flip = par%mpm%flip_fraction
+      mmin = huge(1.0_wp)
+      do s = 1, self%nsolids
+        associate (sp => par%solids(s))
+          self%names(s) = sp%name
+          self%mats(s) = material_init(model_from_name(sp%model), (1.0_wp - sp%porosity) * &
+            sp%density, sp%youngs_modulus, sp%poisson_ratio, sp%cohesion, sp%friction_angle, &
+            sp%dilation_angle, sp%tension_cutoff, sp%tensile_strength)
+          if (sp%max_porosity < 1.0_wp) self%mats(s)%j_loose = (1.0_wp - sp%porosity) / &
+            (1.0_wp - sp%max_porosity)
+          if (sp%min_porosity > 0.0_wp) self%mats(s)%j_dense = (1.0_wp - sp%porosity) / &
+            (1.0_wp - sp%min_porosity)
+          call set_soil_params(self%mats(s), sp)
+          self%motions(s) = rigid_motion_t(sp%prescribed_velocity, sp%acceleration_amplitude, &
+            sp%acceleration_frequency, sp%acceleration_duration)
+          call seed_solid(self%parts(s), sp, grid, self%gravity)
+          if (self%mats(s)%model == model_rigid) call move_rigid(self, s, grid, 0.0_wp, 0.0_wp)
+          self%static(s) = par%mpm%cache_static_rigid .and. &
+            self%mats(s)%model == model_rigid .and. rigid_is_static(self%motions(s))
+          if (self%parts(s)%np > 0) mmin = min(mmin, minval(self%parts(s)%mass(1:self%parts(s)%np)))
+          self%global_np(s) = global_sum(dom, int(self%parts(s)%np, i8))
+          call log_info('mpm: solid ' // trim(sp%name) // ' (' // trim(sp%model) // '): ' // &
+            int_text(int(self%global_np(s))) // ' particles')
+        end associate
+      end do
+      self%min_mass = 1.0e-12_wp * global_min(dom, mmin)
+      do face = 1, 6
+        associate (b => par%faces(face))
+          self%bc%kind(face) = bc_kind_from_name(b%solid)
+          self%bc%velocity(:, face) = b%solid_velocity
+          n = history_points_used(b%solid_velocity_times)
+          if (n > size(self%bc%times, 1)) call fatal('mpm scene: velocity history longer ' // &
+            'than the nodal table')
+          self%bc%npoints(face) = n
+          self%bc%times(1:n, face) = b%solid_velocity_times(1:n)
+          self%bc%history(:, 1:n, face) = b%solid_velocity_history(:, 1:n)
+          self%bc%traction(:, face) = b%solid_traction
+        end associate
+      end do
+      self%bc%friction_contact = trim(par%mpm%rigid_contact) == 'friction'
+      self%bc%friction = par%mpm%contact_friction
+      self%bc%smoothed_normal = trim(par%mpm%contact_normal) == 'smoothed'
+      call nodes_init(self%nodes, grid)
+      call keep_static_share(self, grid)
+      call halo_init(self%halo, dom, grid, nq)
+      call migration_init(self%mig, dom, grid)
+      self%series_path = io_join_path(trim(par%run%output_dir), trim(par%run%name) // &
+        '_mpm_series.csv')
+    end associate
   end subroutine mpm_setup
 
   !> The `&solid` parameters of the soil models (docs/soil_models.md): Modified Cam-Clay M
@@ -208,15 +193,13 @@ contains
   !> dt = cfl min_p dx_min / (c_p + |v_p|) over all particles (global), c_p the wave speed of
   !! the particle's current deformation F (`wave_speed`: a dilated particle of a rate model is
   !! faster, c_p^2 = (lambda + 2 mu) J / rho0).
-  function mpm_stable_dt(self, dom, grid, cfl) result(dt)
+  function mpm_stable_dt(self, cfl) result(dt)
     class(mpm_scene_t), intent(inout) :: self  !< scene
-    type(domain_t), intent(in) :: dom          !< decomposition
-    type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: cfl                !< Courant number
     real(wp) :: dt
     real(wp) :: h, speed, f(3, 3)
     integer :: s, ip
-    h = minval(grid%dx, mask=grid%active)
+    h = minval(self%ctx%grid%dx, mask=self%ctx%grid%active)
     dt = huge(1.0_wp)
     do s = 1, self%nsolids
       if (self%static(s)) cycle  ! no wave, no velocity: no limit
@@ -231,67 +214,84 @@ contains
         if (speed > 0.0_wp) dt = min(dt, cfl * h / speed)
       end associate
     end do
-    dt = global_min(dom, dt)
+    dt = global_min(self%ctx%dom, dt)
   end function mpm_stable_dt
 
   !> One explicit MPM step.
-  subroutine mpm_step(self, dom, grid, time, dt, timers, accepted)
+  subroutine mpm_step(self, time, dt, accepted)
     class(mpm_scene_t), intent(inout) :: self    !< scene
-    type(domain_t), intent(in) :: dom            !< decomposition
-    type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: time                 !< time at the start of the step [s]
     real(wp), intent(in) :: dt                   !< step [s]
-    type(timer_set_t), intent(inout) :: timers   !< stage timers
     logical, intent(out) :: accepted             !< always true
-    integer :: s
-    real(wp) :: ramp
-    call timer_start(timers, self%t_p2g)
-    call p2g_solids(self, grid)
-    call p2g_complete(self%nodes, dom, grid, self%halo)
-    call timer_stop(timers, self%t_p2g)
-    call timer_start(timers, self%t_nodal)
-    ramp = 1.0_wp
-    if (self%ramp_time > 0.0_wp) ramp = min(1.0_wp, (time + dt) / self%ramp_time)
-    call nodal_bc_at_time(self%bc, time + dt)
-    call nodal_solve(self%nodes, grid, ramp * self%gravity, self%damping, dt, self%bc, &
-      self%min_mass)
-    call timer_stop(timers, self%t_nodal)
-    call timer_start(timers, self%t_g2p)
-    do s = 1, self%nsolids
-      if (self%mats(s)%model == model_rigid) then
-        if (.not. self%static(s)) call move_rigid(self, s, grid, time, dt)
-      else
-        call g2p_update(self%parts(s), self%nodes, self%mats(s), self%shape_kind, grid, dt, &
-          self%flip)
-      end if
-    end do
-    call timer_stop(timers, self%t_g2p)
-    call timer_start(timers, self%t_migrate)
-    call mpm_migrate_all(self, dom, grid, time + dt)
-    call timer_stop(timers, self%t_migrate)
-    call write_series(self, dom, time + dt)
+    associate (dom => self%ctx%dom, grid => self%ctx%grid, timers => self%ctx%timers)
+      call timer_start(timers, self%t_p2g)
+      call p2g_solids(self, grid)
+      call p2g_complete(self%nodes, dom, grid, self%halo)
+      call timer_stop(timers, self%t_p2g)
+      call timer_start(timers, self%t_nodal)
+      call nodal_bc_at_time(self%bc, time + dt)
+      call nodal_solve(self%nodes, grid, mpm_gravity(self, time + dt), self%damping, dt, &
+        self%bc, self%min_mass)
+      call timer_stop(timers, self%t_nodal)
+      call mpm_stage_g2p(self, time, dt)
+      call mpm_migrate_all(self, time + dt)
+      call write_series(self, dom, time + dt)
+    end associate
     accepted = .true.
   end subroutine mpm_step
 
-  !> Migrate the particles of every solid to their owners; particles that left the domain are
-  !! removed, counted and logged (collective).
-  subroutine mpm_migrate_all(self, dom, grid, time)
+  !> Gravity at `time` [m/s^2]: `&physics gravity` ramped linearly from 0 over `&mpm
+  !! gravity_ramp_time` (none when 0).
+  pure function mpm_gravity(self, time) result(g)
+    class(mpm_scene_t), intent(in) :: self  !< scene
+    real(wp), intent(in) :: time            !< time [s]
+    real(wp) :: g(3)
+    real(wp) :: ramp
+    ramp = 1.0_wp
+    if (self%ramp_time > 0.0_wp) ramp = min(1.0_wp, time / self%ramp_time)
+    g = ramp * self%gravity
+  end function mpm_gravity
+
+  !> G2P of the deformable solids (velocity, position, F, volume, stress; eqs. 70-75) and the
+  !! prescribed motion of the rigid ones, over the step `dt` from `time`.
+  subroutine mpm_stage_g2p(self, time, dt)
     class(mpm_scene_t), intent(inout) :: self  !< scene
-    type(domain_t), intent(in) :: dom          !< decomposition
-    type(grid_t), intent(in) :: grid           !< block geometry
-    real(wp), intent(in) :: time               !< time after the step [s]
-    integer :: s, removed
+    real(wp), intent(in) :: time               !< time at the start of the step [s]
+    real(wp), intent(in) :: dt                 !< step [s]
+    integer :: s
+    call timer_start(self%ctx%timers, self%t_g2p)
     do s = 1, self%nsolids
-      if (self%static(s)) cycle  ! never moves: stays on its rank and in the domain
-      call migrate_particles(self%mig, self%parts(s), dom, grid, removed)
-      removed = global_sum(dom, removed)
-      if (removed > 0) then
-        self%removed = self%removed + int(removed, i8)
-        call log_warning('mpm: ' // int_text(removed) // ' particles of ' // &
-          trim(self%names(s)) // ' left the domain at t = ' // real_short_text(time) // ' s')
-        self%global_np(s) = global_sum(dom, int(self%parts(s)%np, i8))
+      if (self%mats(s)%model == model_rigid) then
+        if (.not. self%static(s)) call move_rigid(self, s, self%ctx%grid, time, dt)
+      else
+        call g2p_update(self%parts(s), self%nodes, self%mats(s), self%shape_kind, self%ctx%grid, &
+          dt, self%flip)
       end if
     end do
+    call timer_stop(self%ctx%timers, self%t_g2p)
+  end subroutine mpm_stage_g2p
+
+  !> Migrate the particles of every solid to their owners; particles that left the domain are
+  !! removed, counted and logged (collective).
+  subroutine mpm_migrate_all(self, time)
+    class(mpm_scene_t), intent(inout) :: self  !< scene
+    real(wp), intent(in) :: time               !< time after the step [s]
+    integer :: s, removed
+    call timer_start(self%ctx%timers, self%t_migrate)
+    associate (dom => self%ctx%dom)
+      do s = 1, self%nsolids
+        if (self%static(s)) cycle  ! never moves: stays on its rank and in the domain
+        call migrate_particles(self%mig, self%parts(s), dom, self%ctx%grid, removed)
+        removed = global_sum(dom, removed)
+        if (removed > 0) then
+          self%removed = self%removed + int(removed, i8)
+          call log_warning('mpm: ' // int_text(removed) // ' particles of ' // &
+            trim(self%names(s)) // ' left the domain at t = ' // real_short_text(time) // ' s')
+          self%global_np(s) = global_sum(dom, int(self%parts(s)%np, i8))
+        end if
+      end do
+    end associate
+    call timer_stop(self%ctx%timers, self%t_migrate)
   end subroutine mpm_migrate_all
 
   !> Move the particles of rigid solid `s` from `time` to `time + dt` along the prescribed
@@ -381,17 +381,13 @@ contains
 
   !> Energy (kinetic + strain) of the deformable solids, the power of gravity (ramped) and of the
   !! domain-face tractions on them, the particle count and the particles lost (collective).
-  subroutine mpm_health(self, dom, grid, time, health)
+  subroutine mpm_health(self, time, health)
     class(mpm_scene_t), intent(inout) :: self        !< scene
-    type(domain_t), intent(in) :: dom                !< decomposition
-    type(grid_t), intent(in) :: grid                 !< block geometry
     real(wp), intent(in) :: time                     !< time of the state [s]
     type(scene_health_t), intent(out) :: health      !< energy, load power, particle counts
-    real(wp) :: e(3), g(3), ramp
+    real(wp) :: e(3), g(3)
     integer :: s, ip
-    ramp = 1.0_wp
-    if (self%ramp_time > 0.0_wp) ramp = min(1.0_wp, time / self%ramp_time)
-    g = merge(ramp * self%gravity, 0.0_wp, grid%active)
+    g = merge(mpm_gravity(self, time), 0.0_wp, self%ctx%grid%active)
     e = 0.0_wp
     do s = 1, self%nsolids
       if (self%mats(s)%model == model_rigid) cycle
@@ -402,8 +398,8 @@ contains
       end associate
     end do
     e(1:2) = solid_energies(self, deformable_only=.true.)
-    e(3) = e(3) + face_load_power(self%nodes, grid, self%bc, self%min_mass)
-    e = global_sum(dom, e)
+    e(3) = e(3) + face_load_power(self%nodes, self%ctx%grid, self%bc, self%min_mass)
+    e = global_sum(self%ctx%dom, e)
     health%has_solids = .true.
     health%energy = e(1) + e(2)
     health%load_power = e(3)
@@ -445,11 +441,9 @@ contains
   end subroutine write_series
 
   !> Particle datasets of every solid (dump) or the full state (checkpoint).
-  subroutine mpm_write_state(self, file, dom, grid, checkpoint)
+  subroutine mpm_write_state(self, file, checkpoint)
     class(mpm_scene_t), intent(inout) :: self  !< scene
     type(h5_file_t), intent(in) :: file        !< open file
-    type(domain_t), intent(in) :: dom          !< decomposition
-    type(grid_t), intent(in) :: grid           !< block geometry
     logical, intent(in) :: checkpoint          !< full restart state
     integer :: s
     do s = 1, self%nsolids
@@ -457,30 +451,30 @@ contains
         call write_particle_checkpoint(file, self%names(s), self%parts(s))
       else
         call write_particle_dump(file, self%names(s), self%parts(s))
-        call write_cell_dump(file, self%names(s), self%parts(s), grid)
+        call write_cell_dump(file, self%names(s), self%parts(s), self%ctx%grid)
       end if
     end do
     if (checkpoint) call h5_write_attribute(file, 'mpm_removed_particles', self%removed)
   end subroutine mpm_write_state
 
   !> Particles of a checkpoint, migrated to their owners (any rank count).
-  subroutine mpm_restore(self, file, dom, grid)
+  subroutine mpm_restore(self, file)
     class(mpm_scene_t), intent(inout) :: self  !< scene
     type(h5_file_t), intent(in) :: file        !< open checkpoint
-    type(domain_t), intent(in) :: dom          !< decomposition
-    type(grid_t), intent(in) :: grid           !< block geometry
     integer :: s, removed
     real(wp) :: lp(3)
-    do s = 1, self%nsolids
-      lp = self%parts(s)%half_width
-      call read_particle_checkpoint(file, self%names(s), self%parts(s))
-      self%parts(s)%half_width = lp
-      call migrate_particles(self%mig, self%parts(s), dom, grid, removed)
-      self%global_np(s) = global_sum(dom, int(self%parts(s)%np, i8))
-    end do
+    associate (dom => self%ctx%dom, grid => self%ctx%grid)
+      do s = 1, self%nsolids
+        lp = self%parts(s)%half_width
+        call read_particle_checkpoint(file, self%names(s), self%parts(s))
+        self%parts(s)%half_width = lp
+        call migrate_particles(self%mig, self%parts(s), dom, grid, removed)
+        self%global_np(s) = global_sum(dom, int(self%parts(s)%np, i8))
+      end do
+    end associate
     call h5_read_attribute(file, 'mpm_removed_particles', self%removed)
     self%restored = .true.
-    call keep_static_share(self, grid)  ! from the restored particles, as the continuing run
+    call keep_static_share(self, self%ctx%grid)  ! from the restored particles, as the continuing run
   end subroutine mpm_restore
 
   !> Cell averages and one particle set per solid.
@@ -499,9 +493,8 @@ contains
 
   !> True when every particle position, velocity and stress is finite (static rigid solids, whose
   !! particles never change, are not looked at).
-  function mpm_all_finite(self, grid) result(finite)
+  function mpm_all_finite(self) result(finite)
     class(mpm_scene_t), intent(in) :: self  !< scene
-    type(grid_t), intent(in) :: grid        !< block geometry
     logical :: finite
     integer :: s, n
     finite = .true.
@@ -515,10 +508,8 @@ contains
   end function mpm_all_finite
 
   !> Particle counts and removals.
-  subroutine mpm_summary(self, dom, grid)
+  subroutine mpm_summary(self)
     class(mpm_scene_t), intent(inout) :: self  !< scene
-    type(domain_t), intent(in) :: dom          !< decomposition
-    type(grid_t), intent(in) :: grid           !< block geometry
     integer :: s
     do s = 1, self%nsolids
       call log_info('mpm: solid ' // trim(self%names(s)) // ': ' // &

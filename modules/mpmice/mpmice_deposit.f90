@@ -54,7 +54,7 @@ contains
     integer :: ilo(3), ihi(3), iown(3), ivol, icap, iene, icond
     type(deposit_layout_t) :: lay
     real(wp) :: w(2, 3), wt, vg, l(3), lo, hi, wf, mc, tw(6), step, sup, sdn, wlo, whi, wlo0, whi0
-    logical :: own_planes, redirect, sweep
+    logical :: own_planes, redirect, sweep, own
     own_planes = .false.
     if (present(sliding)) own_planes = sliding .and. solid%rigid
     redirect = .false.
@@ -109,6 +109,8 @@ contains
           ff(d) = k + 1
           nf(d) = 1
           if (k + 1 < grid%lbc(d) .or. k + 1 > grid%ubc(d)) cycle
+          ! the cell below the plane keeps its own side too
+          own = lo < real(k, wp) .and. real(k, wp) <= hi .and. .not. own_planes
           do c = 1, nf(3)
             do b = 1, nf(2)
               do a = 1, nf(1)
@@ -124,11 +126,9 @@ contains
                   q(ilo(d)) = q(ilo(d)) + merge(wlo, wlo0, sweep) * wt
                   q(ihi(d)) = q(ihi(d)) + merge(whi, whi0, sweep) * wt
                 end associate
-                if (lo < real(k, wp) .and. real(k, wp) <= hi .and. .not. own_planes) then
-                  ! the cell below the plane keeps its own side too
-                  cb = [ff(1) + a - 1, ff(2) + b - 1, ff(3) + c - 1] - unit_offset(:, d)
-                  dep(iown(d), cb(1), cb(2), cb(3)) = dep(iown(d), cb(1), cb(2), cb(3)) + wt
-                end if
+                if (.not. own) cycle
+                cb = cb - unit_offset(:, d)
+                dep(iown(d), cb(1), cb(2), cb(3)) = dep(iown(d), cb(1), cb(2), cb(3)) + wt
               end do
             end do
           end do

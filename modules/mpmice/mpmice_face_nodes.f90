@@ -13,6 +13,7 @@
 module mpmice_face_nodes
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
+  use grid_sweep, only: sweep_direction
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_exchange_node_vec
   use mpm_nodes, only: mpm_nodes_t, node_mass, node_rigid_mass, node_rigid_momentum
@@ -49,9 +50,7 @@ contains
     logical :: rigid
     associate (sp => solid)
       do d = 1, 3
-        if (.not. grid%active(d)) cycle
-        o = 0
-        o(d) = 1
+        if (.not. sweep_direction(grid, d, o)) cycle
         span = merge(1, 0, grid%active)
         span(d) = 0
         r = face_range(grid, d)

@@ -6,9 +6,10 @@
 module mpmice_porous_fluid
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
-  use ice_state, only: ice_state_t
+  use ice_state, only: ice_state_t, ice_fluid_t
   use exchange_solid_phase, only: solid_phase_t
-  use ice_face_velocity, only: face_range, closed_face, upwind
+  use ice_face_velocity, only: open_face_sweep, upwind
+  use grid_sweep, only: sweep_direction
   implicit none
   private
 
@@ -34,25 +35,20 @@ contains
     integer :: m, i, j, k, d, o(3), r(2, 3)
     real(wp) :: rl, rr, mean
     do d = 1, 3
-      if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
-      r = face_range(grid, d)
+      if (.not. open_face_sweep(state, grid, d, o, r)) cycle
       do k = r(1, 3), r(2, 3)
         do j = r(1, 2), r(2, 2)
           do i = r(1, 1), r(2, 1)
-            if (closed_face(state, grid, d, [i, j, k])) cycle
             if (solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
               solid%vfrac(i, j, k) <= 0.0_wp) cycle
             do m = 1, state%nfluids
-              associate (f => state%fluid(m))
-                rl = f%rho(i - o(1), j - o(2), k - o(3))
-                rr = f%rho(i, j, k)
-                if (rl + rr <= 0.0_wp) cycle
-                mean = (rl * f%vel(i - o(1), j - o(2), k - o(3), d) + rr * f%vel(i, j, k, d)) / &
-                  (rl + rr)
-                f%uface(i, j, k, d) = f%uface(i, j, k, d) - mean + previous(d, i, j, k, m)
-              end associate
+              rl = state%fluid(m)%rho(i - o(1), j - o(2), k - o(3))
+              rr = state%fluid(m)%rho(i, j, k)
+              if (rl + rr <= 0.0_wp) cycle
+              mean = (rl * state%fluid(m)%vel(i - o(1), j - o(2), k - o(3), d) + &
+                rr * state%fluid(m)%vel(i, j, k, d)) / (rl + rr)
+              state%fluid(m)%uface(i, j, k, d) = state%fluid(m)%uface(i, j, k, d) - mean + &
+                previous(d, i, j, k, m)
             end do
           end do
         end do
@@ -75,31 +71,38 @@ contains
     type(ice_state_t), intent(inout) :: state   !< fluids (lag(:,:,:,1:3) updated, owned cells)
     type(solid_phase_t), intent(in) :: solid !< solid phase
     type(grid_t), intent(in) :: grid            !< block geometry
-    integer :: m, i, j, k, d, o(3)
-    real(wp) :: flo, fhi, ulo, uhi
+    integer :: m
     do m = 1, state%nfluids
-      associate (f => state%fluid(m), phi_s => solid%vfrac)
-        do d = 1, 3
-          if (.not. grid%active(d)) cycle
-          o = 0
-          o(d) = 1
-          do k = grid%lo(3), grid%hi(3)
-            do j = grid%lo(2), grid%hi(2)
-              do i = grid%lo(1), grid%hi(1)
-                if (f%rho(i, j, k) <= 0.0_wp .or. f%vfrac(i, j, k) <= 0.0_wp) cycle
-                if (.not. near_solid(solid, grid, [i, j, k])) cycle
-                ulo = f%uface(i, j, k, d)
-                uhi = f%uface(i + o(1), j + o(2), k + o(3), d)
-                flo = 1.0_wp - upwind(ulo, phi_s(i - o(1), j - o(2), k - o(3)), phi_s(i, j, k))
-                fhi = 1.0_wp - upwind(uhi, phi_s(i, j, k), phi_s(i + o(1), j + o(2), k + o(3)))
-                f%lag(i, j, k, d) = 0.5_wp * (flo * ulo + fhi * uhi) / (1.0_wp - phi_s(i, j, k))
-              end do
+      call blend_fluid(state%fluid(m), solid, grid)
+    end do
+  end subroutine fluid_face_blend
+
+  !> `fluid_face_blend` of one fluid `f`.
+  subroutine blend_fluid(f, solid, grid)
+    type(ice_fluid_t), intent(inout) :: f       !< the fluid (lag(:,:,:,1:3) updated)
+    type(solid_phase_t), intent(in) :: solid    !< solid phase
+    type(grid_t), intent(in) :: grid            !< block geometry
+    integer :: i, j, k, d, o(3)
+    real(wp) :: flo, fhi, ulo, uhi
+    associate (phi_s => solid%vfrac)
+      do d = 1, 3
+        if (.not. sweep_direction(grid, d, o)) cycle
+        do k = grid%lo(3), grid%hi(3)
+          do j = grid%lo(2), grid%hi(2)
+            do i = grid%lo(1), grid%hi(1)
+              if (f%rho(i, j, k) <= 0.0_wp .or. f%vfrac(i, j, k) <= 0.0_wp) cycle
+              if (.not. near_solid(solid, grid, [i, j, k])) cycle
+              ulo = f%uface(i, j, k, d)
+              uhi = f%uface(i + o(1), j + o(2), k + o(3), d)
+              flo = 1.0_wp - upwind(ulo, phi_s(i - o(1), j - o(2), k - o(3)), phi_s(i, j, k))
+              fhi = 1.0_wp - upwind(uhi, phi_s(i, j, k), phi_s(i + o(1), j + o(2), k + o(3)))
+              f%lag(i, j, k, d) = 0.5_wp * (flo * ulo + fhi * uhi) / (1.0_wp - phi_s(i, j, k))
             end do
           end do
         end do
-      end associate
-    end do
-  end subroutine fluid_face_blend
+      end do
+    end associate
+  end subroutine blend_fluid
 
   !> True when cell c or one of its face neighbours holds solid.
   pure logical function near_solid(solid, grid, c) result(near)

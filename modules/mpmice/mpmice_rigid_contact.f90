@@ -15,6 +15,7 @@
 module mpmice_rigid_contact
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
+  use grid_sweep, only: unit_offset
   use mpm_nodes, only: mpm_nodes_t, node_mass, node_rigid_mass
   use ice_state, only: ice_state_t
   use exchange_solid_phase, only: solid_phase_t
@@ -287,8 +288,7 @@ contains
     force = 0.0_wp
     do d = 1, 3
       if (.not. grid%active(d)) cycle
-      o = 0
-      o(d) = 1
+      o = unit_offset(d)
       area = grid%cell_volume / grid%dx(d)
       do k = grid%lo(3), grid%hi(3)
         do j = grid%lo(2), grid%hi(2)

@@ -30,9 +30,9 @@ module mpmice_scene
   use mpmice_kinds, only: wp, name_len
   use mpmice_errors, only: fatal, int_text, real_short_text
   use mpmice_log, only: log_info
-  use mpmice_timers, only: timer_set_t, timer_register, timer_start, timer_stop
+  use mpmice_timers, only: timer_register, timer_start, timer_stop
   use config_types, only: boundary_params_t
-  use scene_params, only: scene_params_t, mpmice_scene_params_t
+  use scene_params, only: mpmice_scene_params_t
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_free, halo_reverse_cell_vec, &
     halo_exchange_cell
@@ -41,19 +41,19 @@ module mpmice_scene
   use io_hdf5, only: h5_file_t
   use io_xdmf, only: xdmf_particles_t
   use io_files, only: io_join_path
-  use scene_interface, only: scene_t, scene_health_t
+  use scene_interface, only: scene_t, scene_health_t, scene_context_t
   use exchange_solid_phase, only: solid_phase_t, solid_phase_alloc, solid_phase_free
-  use ice_scene, only: ice_scene_t, ice_fluids_stable_dt
+  use ice_scene, only: ice_scene_t, ice_scene_setup, ice_fluids_stable_dt
   use ice_stages, only: exchange_primitives, ice_step_begin, ice_step_reject, &
     ice_stage_equilibrate, ice_stage_face_velocities, ice_stage_face_exchange, &
     ice_stage_pressure, ice_stage_lagrangian, ice_stage_cell_exchange, ice_stage_advect
   use ice_equilibration, only: ice_equilibrate
   use ice_bc, only: ice_bc_fill, bc_scalar, bc_temperature, bc_wall, bc_free_slip
-  use mpm_scene, only: mpm_scene_t, move_rigid, mpm_migrate_all, p2g_solids
+  use mpm_scene, only: mpm_scene_t, mpm_setup, mpm_gravity, mpm_stage_g2p, mpm_migrate_all, &
+    p2g_solids
   use mpm_constitutive, only: model_rigid
   use mpm_p2g, only: p2g_complete
   use mpm_nodal, only: nodal_solve, nodal_finish, nodal_bc_at_time, bc_traction
-  use mpm_g2p, only: g2p_update
   use mpm_loads, only: surface_load_t, surface_load_init, surface_load_scatter, &
     surface_load_power
   use exchange_drag, only: drag_law_from_name
@@ -70,7 +70,7 @@ module mpmice_scene
   implicit none
   private
 
-  public :: mpmice_scene_t
+  public :: mpmice_scene_t, mpmice_setup
 
   !> The parts whose stability limit can set the step (`mpmice_stable_dt`), as the summary
   !! names them.
@@ -115,7 +115,6 @@ module mpmice_scene
     !> steps of this run whose stability limit each part set (`limit_names`)
     integer :: limit_steps(size(limit_names)) = 0
   contains
-    procedure :: init => mpmice_init
     procedure :: stable_dt => mpmice_stable_dt
     procedure :: step => mpmice_step
     procedure :: write_state => mpmice_write_state
@@ -130,134 +129,120 @@ module mpmice_scene
 contains
 
   !> Fluids, solids, the solid phase on the grid; the fluids are scaled into the pore space and
-  !! equilibrated with it.
-  subroutine mpmice_init(self, params, dom, grid, timers)
-    class(mpmice_scene_t), intent(inout) :: self  !< scene
-    class(scene_params_t), intent(in) :: params   !< the scene's own parameters
-    type(domain_t), intent(in) :: dom             !< decomposition
-    type(grid_t), intent(in) :: grid              !< block geometry
-    type(timer_set_t), intent(inout) :: timers    !< stage timers
-    select type (params)
-    type is (mpmice_scene_params_t)
-      call mpmice_setup(self, params, dom, grid, timers)
-    class default
-      call fatal('mpmice scene: given the parameters of another scene')
-    end select
-  end subroutine mpmice_init
-
-  !> `mpmice_init` with the scene's own parameters.
-  subroutine mpmice_setup(self, par, dom, grid, timers)
-    class(mpmice_scene_t), intent(inout) :: self  !< scene
+  !! equilibrated with it. The fluids, the solids and the scene keep `ctx`.
+  subroutine mpmice_setup(self, par, ctx)
+    class(mpmice_scene_t), intent(inout) :: self    !< scene
     type(mpmice_scene_params_t), intent(in) :: par  !< the scene's groups
-    type(domain_t), intent(in) :: dom             !< decomposition
-    type(grid_t), intent(in) :: grid              !< block geometry
-    type(timer_set_t), intent(inout) :: timers    !< stage timers
+    type(scene_context_t), intent(in) :: ctx        !< decomposition, grid and timers of the run
     integer :: s, m, ns, its, failed, face, d
     type(boundary_params_t) :: b
-    if (par%ice%nfluids < 1 .or. par%mpm%nsolids < 1) call fatal('mpmice scene: needs at ' // &
-      'least one &fluid and one &solid group')
-    if (any(grid%active .and. grid%ng < 2)) call fatal('mpmice scene: &grid ghost_width must ' // &
-      'be >= 2')
-    call self%fl%init(par%ice, dom, grid, timers)
-    call self%so%init(par%mpm, dom, grid, timers)
-    self%t_cells = timer_register(timers, 'MPMICE solid cells')
-    self%t_nodes = timer_register(timers, 'MPMICE faces to nodes')
-    ns = par%mpm%nsolids
-    self%max_fraction = par%coupling%max_solid_fraction
-    self%relaxation = par%coupling%solid_fraction_relaxation
-    allocate(self%coupling(ns), self%loads(ns))
-    do s = 1, ns
-      associate (c => par%mpm%solids(s))
-        self%coupling(s)%drag_law = drag_law_from_name(c%drag_law)
-        self%coupling(s)%grain_size = c%grain_size
-        self%coupling(s)%drag_coefficient = c%drag_coefficient
-        self%coupling(s)%forchheimer_a = c%forchheimer_a
-        self%coupling(s)%forchheimer_b = c%forchheimer_b
-        self%coupling(s)%surface_drag_parallel = c%surface_drag_parallel
-        if (c%grain_bulk_modulus > 0.0_wp) self%coupling(s)%grain_kappa = 1.0_wp / &
-          c%grain_bulk_modulus
-        self%coupling(s)%grain_density = c%density
-        self%coupling(s)%heat_capacity = c%heat_capacity
-        self%coupling(s)%conductivity = c%conductivity
-        self%coupling(s)%rigid = trim(c%model) == 'rigid'
-        self%loads(s) = surface_load_init(c%traction, c%traction_lower, c%traction_upper, &
-          c%traction_ramp_time, grid)
-      end associate
-    end do
-    call solid_phase_alloc(self%solid, grid, self%fl%state%nfluids)
-    self%fl%label = 'MPMICE'
-    ! end-of-step face velocities for fluids and solid (docs/mpmice.md, "theta and Smagorinsky")
-    self%fl%face_time = 1.0_wp
-    ! frictional contact with rigid bodies: they keep their own velocity (docs/mpmice.md)
-    self%solid%sliding = self%so%bc%friction_contact .and. &
-      any(self%so%mats(:)%model == model_rigid)
-    self%solid%explicit_drag = trim(par%coupling%drag_scheme) == 'explicit'
-    ! a wall where the skeleton carries a surface load is a loading platen: impermeable, moving
-    ! with the skeleton; the load beyond the face's `pressure` is shared with the pore fluid
-    do face = 1, 6
-      d = (face + 1) / 2
-      if (.not. grid%active(d) .or. grid%periodic(d)) cycle
-      if (self%so%bc%kind(face) /= bc_traction) cycle
-      if (self%fl%bc%fluid(face) /= bc_wall .and. self%fl%bc%fluid(face) /= bc_free_slip) cycle
-      b = par%mpm%faces(face)
-      self%solid%platen(face) = .true.
-      self%fl%state%p_boundary(face) = b%pressure
-    end do
-    self%solid%h_exchange = par%coupling%heat_exchange_coefficient
-    allocate(self%dep(deposit_size(ns), grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
-      grid%lbc(3):grid%ubc(3)), source=0.0_wp)
-    if (any(self%so%static)) allocate(self%static_dep, mold=self%dep)
-    allocate(self%du(6, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
-      grid%lbn(3):grid%ubn(3)), source=0.0_wp)
-    allocate(self%contact_dv(3, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
-      grid%lbn(3):grid%ubn(3)), source=0.0_wp)
-    allocate(self%contact_acc, self%contact_f, mold=self%contact_dv)
-    self%contact_acc = 0.0_wp
-    self%contact_f = 0.0_wp
-    if (self%solid%sliding) call contact_force_init(self%forces, self%so, grid, &
-      io_join_path(trim(par%mpm%run%output_dir), trim(par%mpm%run%name) // '_contact_force.csv'))
-    allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
-      grid%lbc(3):grid%ubc(3)), source=0.0_wp)
-    call halo_init(self%halo, dom, grid, deposit_size(ns))
-    allocate(self%uprev(3, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
-      grid%lbc(3):grid%ubc(3), par%ice%nfluids), source=0.0_wp)
-    allocate(self%nbuf(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
-      grid%lbn(3):grid%ubn(3)), source=0.0_wp)
-    allocate(self%temp_old, self%dtemp, mold=self%phi_p)
-    self%temp_old = 0.0_wp
-    self%dtemp = 0.0_wp
-
-    ! the initial solid fraction; the fluids fill the pores (their fractions scaled by n); with
-    ! sliding rigid bodies a second deposit knows their wall cells (solid_deposit)
-    call deposit_solids(self, dom, grid)
-    if (self%solid%sliding) call deposit_solids(self, dom, grid)
-    self%solid%vfrac = self%phi_p
-    ! ghosts beyond a domain face mirror the inner cell, like the fluids' bulk densities
-    call ice_bc_fill(grid, self%fl%bc, self%solid%vfrac, bc_scalar)
-    self%phi_p = self%solid%vfrac
-    self%solid%source = 0.0_wp
-    do m = 1, self%fl%state%nfluids
-      associate (f => self%fl%state%fluid(m))
-        f%rho = f%rho * (1.0_wp - self%phi_p)
-      end associate
-    end do
-    call exchange_primitives(self%fl, dom, grid)
-    call open_face_reservoirs(self%fl%state, self%solid, grid)
-    call ice_equilibrate(self%fl%state, grid, self%fl%eq_tolerance, self%fl%eq_max, its, failed, &
-      solid=self%solid)
-    if (global_sum(dom, failed) > 0) call fatal('mpmice scene: initial pressure equilibration ' &
-      // 'with the solid failed')
-    ! geostatic stress: the skeleton carries the grains' submerged weight (a restart has it)
-    if (.not. self%so%restored) then
+    self%ctx = ctx
+    associate (dom => ctx%dom, grid => ctx%grid, timers => ctx%timers)
+      if (par%ice%nfluids < 1 .or. par%mpm%nsolids < 1) call fatal('mpmice scene: needs at ' // &
+        'least one &fluid and one &solid group')
+      if (any(grid%active .and. grid%ng < 2)) call fatal('mpmice scene: &grid ghost_width must ' // &
+        'be >= 2')
+      call ice_scene_setup(self%fl, par%ice, ctx)
+      call mpm_setup(self%so, par%mpm, ctx)
+      self%t_cells = timer_register(timers, 'MPMICE solid cells')
+      self%t_nodes = timer_register(timers, 'MPMICE faces to nodes')
+      ns = par%mpm%nsolids
+      self%max_fraction = par%coupling%max_solid_fraction
+      self%relaxation = par%coupling%solid_fraction_relaxation
+      allocate(self%coupling(ns), self%loads(ns))
       do s = 1, ns
-        if (par%mpm%solids(s)%geostatic .and. .not. self%coupling(s)%rigid) then
-          call buoyant_geostatic_stress(self%so%parts(s), self%fl%state, grid, &
-          par%mpm%solids(s)%density)
-        end if
+        associate (c => par%mpm%solids(s))
+          self%coupling(s)%drag_law = drag_law_from_name(c%drag_law)
+          self%coupling(s)%grain_size = c%grain_size
+          self%coupling(s)%drag_coefficient = c%drag_coefficient
+          self%coupling(s)%forchheimer_a = c%forchheimer_a
+          self%coupling(s)%forchheimer_b = c%forchheimer_b
+          self%coupling(s)%surface_drag_parallel = c%surface_drag_parallel
+          if (c%grain_bulk_modulus > 0.0_wp) self%coupling(s)%grain_kappa = 1.0_wp / &
+            c%grain_bulk_modulus
+          self%coupling(s)%grain_density = c%density
+          self%coupling(s)%heat_capacity = c%heat_capacity
+          self%coupling(s)%conductivity = c%conductivity
+          self%coupling(s)%rigid = trim(c%model) == 'rigid'
+          self%loads(s) = surface_load_init(c%traction, c%traction_lower, c%traction_upper, &
+            c%traction_ramp_time, grid)
+        end associate
       end do
-    end if
-    call log_info('mpmice: ' // int_text(ns) // ' solids, ' // int_text(par%ice%nfluids) // &
-      ' fluids, drag ' // trim(par%coupling%drag_scheme))
+      call solid_phase_alloc(self%solid, grid, self%fl%state%nfluids)
+      self%fl%label = 'MPMICE'
+      ! end-of-step face velocities for fluids and solid (docs/mpmice.md, "theta and Smagorinsky")
+      self%fl%face_time = 1.0_wp
+      ! frictional contact with rigid bodies: they keep their own velocity (docs/mpmice.md)
+      self%solid%sliding = self%so%bc%friction_contact .and. &
+        any(self%so%mats(:)%model == model_rigid)
+      self%solid%explicit_drag = trim(par%coupling%drag_scheme) == 'explicit'
+      ! a wall where the skeleton carries a surface load is a loading platen: impermeable, moving
+      ! with the skeleton; the load beyond the face's `pressure` is shared with the pore fluid
+      do face = 1, 6
+        d = (face + 1) / 2
+        if (.not. grid%active(d) .or. grid%periodic(d)) cycle
+        if (self%so%bc%kind(face) /= bc_traction) cycle
+        if (self%fl%bc%fluid(face) /= bc_wall .and. self%fl%bc%fluid(face) /= bc_free_slip) cycle
+        b = par%mpm%faces(face)
+        self%solid%platen(face) = .true.
+        self%fl%state%p_boundary(face) = b%pressure
+      end do
+      self%solid%h_exchange = par%coupling%heat_exchange_coefficient
+      allocate(self%dep(deposit_size(ns), grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+        grid%lbc(3):grid%ubc(3)), source=0.0_wp)
+      if (any(self%so%static)) allocate(self%static_dep, mold=self%dep)
+      allocate(self%du(6, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
+        grid%lbn(3):grid%ubn(3)), source=0.0_wp)
+      allocate(self%contact_dv(3, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
+        grid%lbn(3):grid%ubn(3)), source=0.0_wp)
+      allocate(self%contact_acc, self%contact_f, mold=self%contact_dv)
+      self%contact_acc = 0.0_wp
+      self%contact_f = 0.0_wp
+      if (self%solid%sliding) call contact_force_init(self%forces, self%so, grid, &
+        io_join_path(trim(par%mpm%run%output_dir), trim(par%mpm%run%name) // '_contact_force.csv'))
+      allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+        grid%lbc(3):grid%ubc(3)), source=0.0_wp)
+      call halo_init(self%halo, dom, grid, deposit_size(ns))
+      allocate(self%uprev(3, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+        grid%lbc(3):grid%ubc(3), par%ice%nfluids), source=0.0_wp)
+      allocate(self%nbuf(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
+        grid%lbn(3):grid%ubn(3)), source=0.0_wp)
+      allocate(self%temp_old, self%dtemp, mold=self%phi_p)
+      self%temp_old = 0.0_wp
+      self%dtemp = 0.0_wp
+
+      ! the initial solid fraction; the fluids fill the pores (their fractions scaled by n); with
+      ! sliding rigid bodies a second deposit knows their wall cells (solid_deposit)
+      call deposit_solids(self, dom, grid)
+      if (self%solid%sliding) call deposit_solids(self, dom, grid)
+      self%solid%vfrac = self%phi_p
+      ! ghosts beyond a domain face mirror the inner cell, like the fluids' bulk densities
+      call ice_bc_fill(grid, self%fl%bc, self%solid%vfrac, bc_scalar)
+      self%phi_p = self%solid%vfrac
+      self%solid%source = 0.0_wp
+      do m = 1, self%fl%state%nfluids
+        associate (f => self%fl%state%fluid(m))
+          f%rho = f%rho * (1.0_wp - self%phi_p)
+        end associate
+      end do
+      call exchange_primitives(self%fl)
+      call open_face_reservoirs(self%fl%state, self%solid, grid)
+      call ice_equilibrate(self%fl%state, grid, self%fl%eq_tolerance, self%fl%eq_max, its, failed, &
+        solid=self%solid)
+      if (global_sum(dom, failed) > 0) call fatal('mpmice scene: initial pressure equilibration ' &
+        // 'with the solid failed')
+      ! geostatic stress: the skeleton carries the grains' submerged weight (a restart has it)
+      if (.not. self%so%restored) then
+        do s = 1, ns
+          if (par%mpm%solids(s)%geostatic .and. .not. self%coupling(s)%rigid) then
+            call buoyant_geostatic_stress(self%so%parts(s), self%fl%state, grid, &
+            par%mpm%solids(s)%density)
+          end if
+        end do
+      end if
+      call log_info('mpmice: ' // int_text(ns) // ' solids, ' // int_text(par%ice%nfluids) // &
+        ' fluids, drag ' // trim(par%coupling%drag_scheme))
+    end associate
   end subroutine mpmice_setup
 
   !> Deposit every solid's particles into the cells, sum the halo, and set the cell fields of the
@@ -300,16 +285,14 @@ contains
   !> The smallest of the fluid (advective CFL, viscosity, conduction), solid (wave speed) and
   !! solid conduction (cfl times `solid_conduction_dt`) limits; counts which one set it
   !! (`limit_steps`, reported by the summary).
-  function mpmice_stable_dt(self, dom, grid, cfl) result(dt)
+  function mpmice_stable_dt(self, cfl) result(dt)
     class(mpmice_scene_t), intent(inout) :: self  !< scene
-    type(domain_t), intent(in) :: dom             !< decomposition
-    type(grid_t), intent(in) :: grid              !< block geometry
     real(wp), intent(in) :: cfl                   !< Courant number
     real(wp) :: dt
     real(wp) :: limits(size(limit_names))
     integer :: which
-    limits = [ice_fluids_stable_dt(self%fl, dom, grid, cfl, self%solid), &
-      self%so%stable_dt(dom, grid, cfl), cfl * global_min(dom, solid_conduction_dt(self%solid, grid))]
+    limits = [ice_fluids_stable_dt(self%fl, cfl, self%solid), self%so%stable_dt(cfl), &
+      cfl * global_min(self%ctx%dom, solid_conduction_dt(self%solid, self%ctx%grid))]
     which = minloc(limits, dim=1)
     dt = limits(which)
     self%limit_steps(which) = self%limit_steps(which) + 1
@@ -318,20 +301,18 @@ contains
   !> One coupled step (module header); rejected when the pressure iteration or the
   !! equilibration fails, with the state it had changed by then (the cell pressure, the fluids'
   !! final face velocities) put back, so the retry starts from the accepted state.
-  subroutine mpmice_step(self, dom, grid, time, dt, timers, accepted)
+  subroutine mpmice_step(self, time, dt, accepted)
     class(mpmice_scene_t), intent(inout) :: self  !< scene
-    type(domain_t), intent(in) :: dom             !< decomposition
-    type(grid_t), intent(in) :: grid              !< block geometry
     real(wp), intent(in) :: time                  !< time at the start of the step [s]
     real(wp), intent(in) :: dt                    !< step [s]
-    type(timer_set_t), intent(inout) :: timers    !< stage timers
     logical, intent(out) :: accepted              !< the step was taken
     integer :: s, m
-    real(wp) :: ramp
+    real(wp) :: g(3)
 
     accepted = .false.
     call ice_step_begin(self%fl)
-    associate (fl => self%fl, so => self%so, st => self%fl%state)
+    associate (fl => self%fl, so => self%so, st => self%fl%state, dom => self%ctx%dom, &
+      grid => self%ctx%grid, timers => self%ctx%timers)
       ! MPM: P2G with the effective stress and the loads, nodal v^{L-}
       call timer_start(timers, so%t_p2g)
       call p2g_solids(so, grid)
@@ -343,15 +324,14 @@ contains
       call p2g_complete(so%nodes, dom, grid, so%halo)
       call timer_stop(timers, so%t_p2g)
       call timer_start(timers, so%t_nodal)
-      ramp = 1.0_wp
-      if (so%ramp_time > 0.0_wp) ramp = min(1.0_wp, (time + dt) / so%ramp_time)
+      g = mpm_gravity(so, time + dt)
       call nodal_bc_at_time(so%bc, time + dt)
       if (self%solid%sliding) then
         call contact_pressure_accel(st, self%solid, grid, so%nodes, so%min_mass, self%contact_acc)
-        call nodal_solve(so%nodes, grid, ramp * so%gravity, so%damping, dt, so%bc, so%min_mass, &
+        call nodal_solve(so%nodes, grid, g, so%damping, dt, so%bc, so%min_mass, &
           self%contact_dv, self%contact_acc)
       else
-        call nodal_solve(so%nodes, grid, ramp * so%gravity, so%damping, dt, so%bc, so%min_mass)
+        call nodal_solve(so%nodes, grid, g, so%damping, dt, so%bc, so%min_mass)
       end if
       call timer_stop(timers, so%t_nodal)
 
@@ -368,7 +348,7 @@ contains
         self%solid%source = 0.0_wp
       call timer_stop(timers, self%t_cells)
 
-      if (.not. ice_stage_equilibrate(fl, dom, grid, time, timers, self%solid)) return
+      if (.not. ice_stage_equilibrate(fl, time, self%solid)) return
 
       ! face velocities of the fluids and of the solid, face exchange with drag
       call timer_start(timers, fl%t_face)
@@ -379,15 +359,15 @@ contains
         end do
       end do
       call timer_stop(timers, fl%t_face)
-      call ice_stage_face_velocities(fl, grid, dt, timers)
+      call ice_stage_face_velocities(fl, dt)
       call timer_start(timers, fl%t_face)
       call fluid_face_predictor_porous(st, self%solid, grid, self%uprev)
       call solid_face_predictor(st, self%solid, grid, so%nodes, dt, so%min_mass)
       call timer_stop(timers, fl%t_face)
-      call ice_stage_face_exchange(fl, grid, dt, timers, self%solid)
+      call ice_stage_face_exchange(fl, dt, self%solid)
 
       ! eq. 35 with the solid's volume flux and coefficient (ice_pressure)
-      if (.not. ice_stage_pressure(fl, dom, grid, time, dt, timers, self%solid)) then
+      if (.not. ice_stage_pressure(fl, time, dt, self%solid)) then
         ! non-finite: taken as it is, so the run loop's check fails the run and dumps the state
         if (fl%nonfinite) then
           accepted = .true.
@@ -404,7 +384,7 @@ contains
         return
       end if
 
-      call ice_stage_lagrangian(fl, dom, grid, dt, timers, self%solid)
+      call ice_stage_lagrangian(fl, dt, self%solid)
 
       ! the solid's pressure force and drag, from the faces back to the nodes
       call timer_start(timers, self%t_nodes)
@@ -425,7 +405,7 @@ contains
       self%temp_old = self%solid%temp
       call solid_conduction(self%solid, grid, dt, self%dtemp)
       call timer_stop(timers, fl%t_lagrange)
-      call ice_stage_cell_exchange(fl, grid, dt, timers, self%solid)
+      call ice_stage_cell_exchange(fl, dt, self%solid)
       call timer_start(timers, fl%t_lagrange)
       call fluid_face_blend(st, self%solid, grid)
       self%dtemp = self%solid%temp - self%temp_old
@@ -440,7 +420,7 @@ contains
       call timer_stop(timers, fl%t_lagrange)
 
       ! fluid advection; traces of a fluid in the pores take the cell's mixture values
-      call ice_stage_advect(fl, dom, grid, time, dt, timers, traces=.true., solid=self%solid)
+      call ice_stage_advect(fl, time, dt, traces=.true., solid=self%solid)
 
       call timer_start(timers, self%t_cells)
       call solid_track_fraction(st, self%solid, grid, dt, self%max_fraction)
@@ -449,19 +429,13 @@ contains
       call open_face_reservoirs(st, self%solid, grid)
       call timer_stop(timers, self%t_cells)
 
+      call mpm_stage_g2p(so, time, dt)
       call timer_start(timers, so%t_g2p)
       do s = 1, so%nsolids
-        if (so%mats(s)%model == model_rigid) then
-          if (.not. so%static(s)) call move_rigid(so, s, grid, time, dt)
-        else
-          call g2p_update(so%parts(s), so%nodes, so%mats(s), so%shape_kind, grid, dt, so%flip)
-        end if
         call solid_pore_pressure(so%parts(s), grid, st%pressure)
       end do
       call timer_stop(timers, so%t_g2p)
-      call timer_start(timers, so%t_migrate)
-      call mpm_migrate_all(so, dom, grid, time + dt)
-      call timer_stop(timers, so%t_migrate)
+      call mpm_migrate_all(so, time + dt)
       fl%steps = fl%steps + 1
       if (self%solid%sliding) call contact_force_write(self%forces, so, st, self%solid, fl%halo, &
         dom, grid, time + dt, self%dep, self%contact_f, fl%gravity)
@@ -471,47 +445,41 @@ contains
 
   !> The solids' health (`mpm_health`) with the power of their surface loads added; the fluids'
   !! forces on the solids (pressure gradient, drag) are not counted as loads.
-  subroutine mpmice_health(self, dom, grid, time, health)
+  subroutine mpmice_health(self, time, health)
     class(mpmice_scene_t), intent(inout) :: self     !< scene
-    type(domain_t), intent(in) :: dom                !< decomposition
-    type(grid_t), intent(in) :: grid                 !< block geometry
     real(wp), intent(in) :: time                     !< time of the state [s]
     type(scene_health_t), intent(out) :: health      !< energy, load power, particle counts
     real(wp) :: power
     integer :: s
-    call self%so%health(dom, grid, time, health)
+    call self%so%health(time, health)
     power = 0.0_wp
     do s = 1, self%so%nsolids
       if (self%so%mats(s)%model == model_rigid) cycle
       power = power + surface_load_power(self%loads(s), self%so%parts(s), time)
     end do
-    health%load_power = health%load_power + global_sum(dom, power)
+    health%load_power = health%load_power + global_sum(self%ctx%dom, power)
   end subroutine mpmice_health
 
 
   !> Fluid and solid datasets, plus `cell/solid_volume_fraction` (the tracked phi_s) and
   !! `cell/porosity`; a checkpoint adds the tracked fraction and the solid cell velocity.
-  subroutine mpmice_write_state(self, file, dom, grid, checkpoint)
+  subroutine mpmice_write_state(self, file, checkpoint)
     class(mpmice_scene_t), intent(inout) :: self  !< scene
     type(h5_file_t), intent(in) :: file           !< open file
-    type(domain_t), intent(in) :: dom             !< decomposition
-    type(grid_t), intent(in) :: grid              !< block geometry
     logical, intent(in) :: checkpoint             !< full restart state
-    call self%fl%write_state(file, dom, grid, checkpoint)
-    call self%so%write_state(file, dom, grid, checkpoint)
-    call solid_state_write(file, grid, self%fl%state, self%solid, self%nbuf, self%phi_p, checkpoint)
+    call self%fl%write_state(file, checkpoint)
+    call self%so%write_state(file, checkpoint)
+    call solid_state_write(file, self%ctx%grid, self%fl%state, self%solid, self%nbuf, self%phi_p, checkpoint)
   end subroutine mpmice_write_state
 
   !> Fluids, particles and the tracked solid fraction of a checkpoint.
-  subroutine mpmice_restore(self, file, dom, grid)
+  subroutine mpmice_restore(self, file)
     class(mpmice_scene_t), intent(inout) :: self  !< scene
     type(h5_file_t), intent(in) :: file           !< open checkpoint
-    type(domain_t), intent(in) :: dom             !< decomposition
-    type(grid_t), intent(in) :: grid              !< block geometry
-    call self%fl%restore(file, dom, grid)
-    call self%so%restore(file, dom, grid)
+    call self%fl%restore(file)
+    call self%so%restore(file)
     self%static_dep_ready = .false.  ! from the restored particles, as the continuing run had it
-    call solid_state_restore(file, dom, grid, self%fl, self%solid, self%halo, self%nbuf)
+    call solid_state_restore(file, self%ctx%dom, self%ctx%grid, self%fl, self%solid, self%halo, self%nbuf)
   end subroutine mpmice_restore
 
   !> Datasets of both parts and of the solid phase.
@@ -531,29 +499,26 @@ contains
   end subroutine mpmice_output_layout
 
   !> Both parts finite.
-  function mpmice_all_finite(self, grid) result(finite)
+  function mpmice_all_finite(self) result(finite)
     class(mpmice_scene_t), intent(in) :: self  !< scene
-    type(grid_t), intent(in) :: grid           !< block geometry
     logical :: finite, solids_finite
     ! both parts evaluated (a function call inside .and. may be skipped)
-    finite = self%fl%all_finite(grid)
-    solids_finite = self%so%all_finite(grid)
+    finite = self%fl%all_finite()
+    solids_finite = self%so%all_finite()
     finite = finite .and. solids_finite
-    associate (lo => grid%lo, hi => grid%hi)
+    associate (lo => self%ctx%grid%lo, hi => self%ctx%grid%hi)
       finite = finite .and. all(ieee_is_finite(self%solid%vfrac(lo(1):hi(1), &
         lo(2):hi(2), lo(3):hi(3))))
     end associate
   end function mpmice_all_finite
 
   !> Statistics of both parts.
-  subroutine mpmice_summary(self, dom, grid)
+  subroutine mpmice_summary(self)
     class(mpmice_scene_t), intent(inout) :: self  !< scene
-    type(domain_t), intent(in) :: dom             !< decomposition
-    type(grid_t), intent(in) :: grid              !< block geometry
     integer :: m, total
     character(len=:), allocatable :: line
-    call self%fl%summary(dom, grid)
-    call self%so%summary(dom, grid)
+    call self%fl%summary()
+    call self%so%summary()
     total = sum(self%limit_steps)
     if (total == 0) return
     line = 'mpmice: step limit set by'

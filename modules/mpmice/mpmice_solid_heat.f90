@@ -17,11 +17,12 @@
 module mpmice_solid_heat
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
+  use grid_sweep, only: sweep_direction
   use ice_state, only: ice_state_t
   use exchange_solid_phase, only: solid_phase_t
   use particles_store, only: particles_t
   use mpmice_deposit, only: overlap_weights, deformed_half_widths
-  use ice_viscous, only: face_mean
+  use ice_viscous, only: face_mean, face_conduction
   implicit none
   private
 
@@ -43,31 +44,26 @@ contains
       if (.not. any(sp%conductance > 0.0_wp)) return
       scratch = 0.0_wp
       do d = 1, 3
-        if (.not. grid%active(d)) cycle
-        o = 0
-        o(d) = 1
-        area = grid%cell_volume / grid%dx(d)
+        if (.not. sweep_direction(grid, d, o, area)) cycle
         do k = grid%lo(3), grid%hi(3)
           do j = grid%lo(2), grid%hi(2)
             do i = grid%lo(1), grid%hi(1)
               if (sp%heat_cap(i, j, k) <= 0.0_wp) cycle
               call face_conductances(grid, sp%conductance, [i, j, k], o, k_lo, k_hi)
-              scratch(i, j, k) = scratch(i, j, k) + dt * area / grid%dx(d) * &
-                (k_hi * (sp%temp(i + o(1), j + o(2), k + o(3)) - sp%temp(i, j, k)) - &
-                k_lo * (sp%temp(i, j, k) - sp%temp(i - o(1), j - o(2), k - o(3))))
+              scratch(i, j, k) = scratch(i, j, k) + face_conduction(dt * area / grid%dx(d), k_lo, &
+                k_hi, sp%temp(i - o(1), j - o(2), k - o(3)), sp%temp(i, j, k), &
+                sp%temp(i + o(1), j + o(2), k + o(3)))
             end do
           end do
         end do
       end do
-      do k = grid%lo(3), grid%hi(3)
-        do j = grid%lo(2), grid%hi(2)
-          do i = grid%lo(1), grid%hi(1)
-            if (sp%heat_cap(i, j, k) <= 0.0_wp) cycle
-            sp%temp(i, j, k) = sp%temp(i, j, k) + scratch(i, j, k) / &
-              (sp%heat_cap(i, j, k) * grid%cell_volume)
-          end do
-        end do
-      end do
+      associate (lo => grid%lo, hi => grid%hi)
+        where (sp%heat_cap(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) > 0.0_wp) &
+          sp%temp(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) = &
+          sp%temp(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) + &
+          scratch(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) / &
+          (sp%heat_cap(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) * grid%cell_volume)
+      end associate
     end associate
   end subroutine solid_conduction
 

@@ -3,9 +3,13 @@
 !!
 !! The loop owns the clock, output and checkpoint scheduling, failure detection, the wall-time stop,
 !! progress and timers; a scene owns its state and physics. Contract:
-!! * `init` receives only its own parameter bundle (`scene_params`: the groups it reads; another
-!!   scene's bundle is a fatal error), allocates everything (no allocation inside the time loop afterwards) and sets the
-!!   initial state; `restore` replaces the state by the one stored in a checkpoint;
+!! * each scene has its own typed setup, `<scene>_setup(self, params, ctx)`, taking only its own
+!!   parameter bundle (`scene_params`: the groups it reads) and the run's context
+!!   (`scene_context_t`: decomposition, grid, stage timers), which the scene keeps in `ctx` for
+!!   every later call; `driver_scene_params%scene_create` is the one place that picks the scene
+!!   from the bundle and calls its setup. The setup allocates everything (no allocation inside the
+!!   time loop afterwards) and sets the initial state; `restore` replaces the state by the one
+!!   stored in a checkpoint;
 !! * `stable_dt` returns the scene's stability limit [s] for the Courant number `cfl` the clock
 !!   owns (the same on every rank; `huge` if none);
 !! * `step` advances by `dt`; when it cannot (e.g. an implicit iteration did not converge) it
@@ -20,7 +24,6 @@
 module scene_interface
   use mpmice_kinds, only: wp, i8, name_len
   use mpmice_timers, only: timer_set_t
-  use scene_params, only: scene_params_t
   use parallel_domain, only: domain_t
   use grid_layout, only: grid_t
   use io_hdf5, only: h5_file_t
@@ -28,7 +31,15 @@ module scene_interface
   implicit none
   private
 
-  public :: scene_t, scene_health_t
+  public :: scene_t, scene_health_t, scene_context_t
+
+  !> What every scene method works in: the run's decomposition, block geometry and stage timers,
+  !! owned by the driver (`driver_loop%run_scene`) for the whole run; a scene's setup keeps it.
+  type :: scene_context_t
+    type(domain_t), pointer :: dom => null()        !< decomposition
+    type(grid_t), pointer :: grid => null()         !< block geometry
+    type(timer_set_t), pointer :: timers => null()  !< stage timers of the run
+  end type scene_context_t
 
   !> What the run loop's stops read from a scene (global values, the same on every rank).
   type :: scene_health_t
@@ -41,8 +52,8 @@ module scene_interface
 
   !> A scene of the time loop.
   type, abstract :: scene_t
+    type(scene_context_t) :: ctx  !< decomposition, grid and timers (set by the scene's setup)
   contains
-    procedure(scene_init_i), deferred :: init               !< allocate and set the initial state
     procedure(scene_dt_i), deferred :: stable_dt            !< stability limit of the next step [s]
     procedure(scene_step_i), deferred :: step               !< advance by dt
     procedure(scene_write_i), deferred :: write_state       !< datasets of a dump or checkpoint
@@ -55,55 +66,36 @@ module scene_interface
   end type scene_t
 
   abstract interface
-    !> Allocate the state and set the initial conditions; register timer stages in `timers`.
-    subroutine scene_init_i(self, params, dom, grid, timers)
-      import :: scene_t, scene_params_t, domain_t, grid_t, timer_set_t
-      class(scene_t), intent(inout) :: self            !< scene
-      class(scene_params_t), intent(in) :: params      !< the scene's own parameter bundle
-      type(domain_t), intent(in) :: dom            !< decomposition
-      type(grid_t), intent(in) :: grid             !< block geometry
-      type(timer_set_t), intent(inout) :: timers   !< stage timers of the run
-    end subroutine scene_init_i
-
     !> Stability limit of the next step [s], identical on every rank (huge if none).
-    function scene_dt_i(self, dom, grid, cfl) result(dt)
-      import :: scene_t, domain_t, grid_t, wp
+    function scene_dt_i(self, cfl) result(dt)
+      import :: scene_t, wp
       class(scene_t), intent(inout) :: self  !< scene
-      type(domain_t), intent(in) :: dom      !< decomposition
-      type(grid_t), intent(in) :: grid       !< block geometry
       real(wp), intent(in) :: cfl            !< Courant number (`&time cfl`, owned by the clock)
       real(wp) :: dt
     end function scene_dt_i
 
     !> Advance the state from `time` by `dt` [s]; `accepted = .false.` leaves the state unchanged.
-    subroutine scene_step_i(self, dom, grid, time, dt, timers, accepted)
-      import :: scene_t, domain_t, grid_t, timer_set_t, wp
+    subroutine scene_step_i(self, time, dt, accepted)
+      import :: scene_t, wp
       class(scene_t), intent(inout) :: self        !< scene
-      type(domain_t), intent(in) :: dom            !< decomposition
-      type(grid_t), intent(in) :: grid             !< block geometry
       real(wp), intent(in) :: time                 !< time at the start of the step [s]
       real(wp), intent(in) :: dt                   !< step [s]
-      type(timer_set_t), intent(inout) :: timers   !< stage timers
       logical, intent(out) :: accepted             !< the step was taken
     end subroutine scene_step_i
 
     !> Write the scene's datasets into the open file (collective).
-    subroutine scene_write_i(self, file, dom, grid, checkpoint)
-      import :: scene_t, h5_file_t, domain_t, grid_t
+    subroutine scene_write_i(self, file, checkpoint)
+      import :: scene_t, h5_file_t
       class(scene_t), intent(inout) :: self  !< scene
       type(h5_file_t), intent(in) :: file    !< open dump or checkpoint
-      type(domain_t), intent(in) :: dom      !< decomposition
-      type(grid_t), intent(in) :: grid       !< block geometry
       logical, intent(in) :: checkpoint      !< write the full restart state
     end subroutine scene_write_i
 
     !> Read the state from an open checkpoint (collective).
-    subroutine scene_restore_i(self, file, dom, grid)
-      import :: scene_t, h5_file_t, domain_t, grid_t
+    subroutine scene_restore_i(self, file)
+      import :: scene_t, h5_file_t
       class(scene_t), intent(inout) :: self  !< scene
       type(h5_file_t), intent(in) :: file    !< open checkpoint
-      type(domain_t), intent(in) :: dom      !< decomposition
-      type(grid_t), intent(in) :: grid       !< block geometry
     end subroutine scene_restore_i
 
     !> Cell datasets and particle sets (size 0 when none) that `write_state` puts in a dump, for
@@ -116,19 +108,16 @@ module scene_interface
     end subroutine scene_layout_i
 
     !> True when this rank's state holds no NaN or infinity.
-    function scene_finite_i(self, grid) result(finite)
-      import :: scene_t, grid_t
+    function scene_finite_i(self) result(finite)
+      import :: scene_t
       class(scene_t), intent(in) :: self  !< scene
-      type(grid_t), intent(in) :: grid    !< block geometry
       logical :: finite
     end function scene_finite_i
 
     !> Log the scene's end-of-run statistics (collective; rank 0 prints).
-    subroutine scene_summary_i(self, dom, grid)
-      import :: scene_t, domain_t, grid_t
+    subroutine scene_summary_i(self)
+      import :: scene_t
       class(scene_t), intent(inout) :: self  !< scene
-      type(domain_t), intent(in) :: dom      !< decomposition
-      type(grid_t), intent(in) :: grid       !< block geometry
     end subroutine scene_summary_i
 
     !> Release the state.
@@ -141,13 +130,10 @@ module scene_interface
 contains
 
   !> Default `health`: a scene without solids reports nothing.
-  subroutine scene_no_health(self, dom, grid, time, health)
+  subroutine scene_no_health(self, time, health)
     class(scene_t), intent(inout) :: self          !< scene
-    type(domain_t), intent(in) :: dom              !< decomposition
-    type(grid_t), intent(in) :: grid               !< block geometry
     real(wp), intent(in) :: time                   !< time of the state [s]
     type(scene_health_t), intent(out) :: health    !< nothing (has_solids = .false.)
-    if (.false.) health%energy = time + real(dom%rank + grid%ng(1), wp) + &
-      merge(1.0_wp, 0.0_wp, same_type_as(self, self))
+    if (.false.) health%energy = time + merge(1.0_wp, 0.0_wp, same_type_as(self, self))
   end subroutine scene_no_health
 end module scene_interface

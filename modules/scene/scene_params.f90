@@ -1,7 +1,8 @@
 !> The parameters each scene receives: one bundle type per scene, holding only the namelist
 !! groups that scene reads (`config_scene_groups` lists them), assembled by the driver from the
-!! whole configuration (`driver_run_mod`). A scene's `init` takes the abstract `scene_params_t`
-!! and accepts only its own bundle, so it cannot read another scene's groups.
+!! whole configuration (`driver_scene_params`). A scene's setup takes only its own bundle type,
+!! so it cannot read another scene's groups; `driver_scene_params%scene_create` picks the scene
+!! from the bundle's type.
 !!
 !! The `&boundary` groups arrive resolved per face (`faces(1:6)`, x-, x+, y-, y+, z-, z+: the
 !! face's group, or the defaults when the input has none; `config_types%boundary_for_face`).
@@ -36,8 +37,8 @@ module scene_params
     type(physics_params_t) :: physics    !< `&physics`
     type(ice_params_t) :: ice            !< `&ice`
     integer :: nfluids = 0               !< number of `&fluid` groups
-    integer :: nregions = 0              !< number of `&region` groups
     type(fluid_params_t) :: fluids(max_fluids)     !< `&fluid` occurrences 1..nfluids
+    integer :: nregions = 0              !< number of `&region` groups
     type(region_params_t) :: regions(max_regions)  !< `&region` occurrences, in order
     type(boundary_params_t) :: faces(6)            !< conditions on each face
   end type ice_scene_params_t
