@@ -21,7 +21,8 @@ module ice_stages
   use mpmice_timers, only: timer_start, timer_stop
   use parallel_halo, only: halo_t, halo_exchange_cell
   use parallel_reduce, only: global_max, global_sum
-  use solver_pressure, only: struct_solver_t, struct_solver_set_operator, struct_solver_solve
+  use solver_pressure, only: struct_solver_t, struct_solver_set_operator, struct_solver_solve, &
+    struct_solver_set_reuse, struct_solver_invalidate
   use scene_interface, only: scene_t
   use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
@@ -185,6 +186,10 @@ contains
     associate (dom => self%ctx%dom, grid => self%ctx%grid, timers => self%ctx%timers)
       call timer_start(timers, self%t_pressure)
       self%state%dp_total = 0.0_wp
+      ! one PFMG hierarchy per step: built for the first pass's operator, kept by the later
+      ! passes (their operators differ only where a face's upwind choice flipped)
+      call struct_solver_set_reuse(self%solver, self%max_outer)
+      call struct_solver_invalidate(self%solver)
       residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt, solid))
       outer = 0
       ! at least one solve: skipping it when the constraint residual is small would make the step

@@ -18,12 +18,13 @@
 !! and 3D stencils), a symmetric matrix storing the centre and the low neighbour per dimension
 !! (`HYPRE_StructMatrixSetSymmetric`), and PCG (relative two-norm residual) preconditioned by one
 !! PFMG V-cycle (zero initial guess, tolerance 0, red-black Gauss-Seidel, forward before and
-!! backward after the coarse-grid correction, one sweep each on every level, hypre's non-Galerkin
-!! 7-point coarse operators, the ones red-black relaxation works with): a symmetric
-!! preconditioner, as PCG needs. On the two-fluid 50^3 pressure equation (1000:1 density jump) it
-!! takes half the time of weighted Jacobi with Galerkin coarse operators; on a 2D 1000:1
-!! coefficient jump its iterations grow with resolution, 15 to 24 from 32^2 to 512^2, but the
-!! solve is still no slower (docs/hypre.md).
+!! backward after the coarse-grid correction, hypre's non-Galerkin 7-point coarse operators, the
+!! ones red-black relaxation works with; two sweeps each on every level in 3D, one sweep each
+!! with hypre's level skipping in 2D with square cells, one sweep each on every level
+!! otherwise: `pfmg_cycle`): a symmetric preconditioner, as PCG needs. On the two-fluid 50^3
+!! pressure equation (1000:1 density jump) it takes half the time of weighted Jacobi with
+!! Galerkin coarse operators; on a 2D 1000:1 coefficient jump its iterations grow with
+!! resolution, 17 to 27 from 32^2 to 512^2 (docs/hypre.md).
 !! Changing the operator values rebuilds the PFMG hierarchy at the next solve (hypre's PFMG cannot
 !! be set up twice), nothing else is reallocated. `struct_solver_set_reuse(solver, n)` keeps a
 !! hierarchy for up to n solves across operator changes (default 1: rebuild after every change),
@@ -81,12 +82,14 @@ module solver_pressure
   !> PFMG coarse operators: 1 = non-Galerkin (PARFLOW formula, 7-point in 3D), the ones red-black
   !! relaxation works with; 0 = Galerkin (R A P, 15- to 27-point coarse stencils in 3D).
   integer(c_int), parameter :: pfmg_rap_type = 1_c_int
-  !> Relaxation sweeps before and after the coarse-grid correction (equal: symmetric cycle).
-  integer(c_int), parameter :: pfmg_sweeps = 1_c_int
-  !> 0 = relax on every level. hypre's shortcut (1) skips levels, which suits isotropic
-  !! problems only: with a 1000:1 coefficient jump it let the iterations grow with resolution
-  !! (docs/hypre.md).
-  integer(c_int), parameter :: pfmg_skip_relax = 0_c_int
+  !> Relaxation sweeps before and after the coarse-grid correction (equal: symmetric cycle), and
+  !! whether hypre skips the relaxation on some levels (1, its shortcut for isotropic problems)
+  !! or relaxes on every level (0). Set per solver at init (`pfmg_cycle`): three active
+  !! dimensions 2 + 2 sweeps and no skip (the two-fluid ICE 50^3 benchmark: 10.4 instead of
+  !! 16.2 PCG iterations per solve, 15-20 % less solve time); two active dimensions with square
+  !! cells 1 + 1 sweeps with the skip (the coupled 2D benchmark: 7.6 instead of 6.8 iterations,
+  !! 15 % less solve time); otherwise 1 + 1 sweeps on every level (docs/hypre.md).
+  integer(c_int), parameter :: pfmg_sweeps_3d = 2_c_int
 
   !> hypre objects, index maps and work buffers of one structured SPD solver.
   type :: struct_solver_t
@@ -109,6 +112,8 @@ module solver_pressure
     integer(c_int) :: iupper(3) = 0       !< hypre box upper corner
     integer(c_int) :: nentries = 0        !< stored stencil entries (1 + ndim)
     integer(c_int) :: entries(4) = 0      !< stencil entry numbers 0..ndim
+    integer(c_int) :: sweeps = 1_c_int    !< PFMG sweeps before and after the coarse correction
+    integer(c_int) :: skip_relax = 0_c_int !< PFMG skips the relaxation on some levels (1) or not
     integer :: nowned = 0                 !< owned cells
     real(c_double), allocatable :: matrix_values(:)  !< (nentries*nowned) box values of A
     real(c_double), allocatable :: vector_values(:)  !< (nowned) box values of b or x
@@ -183,6 +188,7 @@ contains
     end do
     solver%ndim = n
     solver%nentries = int(n + 1, c_int)
+    call pfmg_cycle(grid, solver%sweeps, solver%skip_relax)
     period = 0
     do d = 1, n
       solver%ilower(d) = int(grid%lo(solver%dims(d)) - 1, c_int)
@@ -526,11 +532,11 @@ contains
       'HYPRE_StructPFMGSetRelaxType')
     call hypre_check(HYPRE_StructPFMGSetRAPType(solver%pfmg, pfmg_rap_type), &
       'HYPRE_StructPFMGSetRAPType')
-    call hypre_check(HYPRE_StructPFMGSetNumPreRelax(solver%pfmg, pfmg_sweeps), &
+    call hypre_check(HYPRE_StructPFMGSetNumPreRelax(solver%pfmg, solver%sweeps), &
       'HYPRE_StructPFMGSetNumPreRelax')
-    call hypre_check(HYPRE_StructPFMGSetNumPostRelax(solver%pfmg, pfmg_sweeps), &
+    call hypre_check(HYPRE_StructPFMGSetNumPostRelax(solver%pfmg, solver%sweeps), &
       'HYPRE_StructPFMGSetNumPostRelax')
-    call hypre_check(HYPRE_StructPFMGSetSkipRelax(solver%pfmg, pfmg_skip_relax), &
+    call hypre_check(HYPRE_StructPFMGSetSkipRelax(solver%pfmg, solver%skip_relax), &
       'HYPRE_StructPFMGSetSkipRelax')
     call hypre_check(HYPRE_StructPFMGSetPrintLevel(solver%pfmg, 0_c_int), &
       'HYPRE_StructPFMGSetPrintLevel')
@@ -558,6 +564,25 @@ contains
     solver%setup_iterations = 0
     solver%setups = solver%setups + 1
   end subroutine setup_krylov
+
+  !> The PFMG cycle of a grid (module parameters above): 2 + 2 sweeps on every level with three
+  !! active dimensions; 1 + 1 with hypre's level skipping with two whose cell widths agree to
+  !! 1 % (an isotropic operator where the coefficients are); 1 + 1 on every level otherwise.
+  subroutine pfmg_cycle(grid, sweeps, skip_relax)
+    type(grid_t), intent(in) :: grid          !< block geometry
+    integer(c_int), intent(out) :: sweeps     !< sweeps before and after the coarse correction
+    integer(c_int), intent(out) :: skip_relax !< 1: skip the relaxation on some levels
+    real(wp) :: wmin, wmax
+    sweeps = 1_c_int
+    skip_relax = 0_c_int
+    if (count(grid%active) == 3) then
+      sweeps = pfmg_sweeps_3d
+    else if (count(grid%active) == 2) then
+      wmin = minval(grid%dx, mask=grid%active)
+      wmax = maxval(grid%dx, mask=grid%active)
+      if (wmax <= 1.01_wp * wmin) skip_relax = 1_c_int
+    end if
+  end subroutine pfmg_cycle
 
   !> Direct solve on the line (`solver_line`): x = A^{-1} rhs in the owned cells and the true
   !! relative residual.
