@@ -12,9 +12,10 @@
 !! propagates it. Integer sums, maxima, minima and logical reductions are exact by nature.
 module parallel_reduce
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_positive_inf
-  use mpi_f08, only: MPI_Allreduce, MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_INTEGER8, MPI_LOGICAL, &
-    MPI_SUM, MPI_MAX, MPI_MIN, MPI_LOR, MPI_LAND, MPI_Op
+  use mpi_f08, only: MPI_Allreduce, MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_INTEGER8, MPI_SUM, &
+    MPI_MAX, MPI_MIN, MPI_Op
   use mpmice_kinds, only: wp, i8
+  use parallel_comm, only: all_and, all_or
   use parallel_domain, only: domain_t
   use grid_layout, only: grid_t
   implicit none
@@ -296,14 +297,14 @@ contains
   logical function global_any(dom, flag) result(any_flag)
     type(domain_t), intent(in) :: dom  !< decomposition (its communicator)
     logical, intent(in) :: flag        !< this rank's flag
-    any_flag = reduce_logical(dom, flag, MPI_LOR)
+    any_flag = all_or(dom%comm, flag)
   end function global_any
 
   !> True on every rank when `flag` is true on all ranks.
   logical function global_all(dom, flag) result(all_flag)
     type(domain_t), intent(in) :: dom  !< decomposition (its communicator)
     logical, intent(in) :: flag        !< this rank's flag
-    all_flag = reduce_logical(dom, flag, MPI_LAND)
+    all_flag = all_and(dom%comm, flag)
   end function global_all
 
   !> MPI_Allreduce of one real with the operation `op`.
@@ -322,11 +323,4 @@ contains
     call MPI_Allreduce(n, m, 1, MPI_INTEGER, op, dom%comm)
   end function reduce_int
 
-  !> MPI_Allreduce of one logical with the operation `op`.
-  logical function reduce_logical(dom, flag, op) result(reduced)
-    type(domain_t), intent(in) :: dom  !< decomposition (its communicator)
-    logical, intent(in) :: flag        !< this rank's flag
-    type(MPI_Op), intent(in) :: op     !< MPI_LOR or MPI_LAND
-    call MPI_Allreduce(flag, reduced, 1, MPI_LOGICAL, op, dom%comm)
-  end function reduce_logical
 end module parallel_reduce

@@ -148,23 +148,22 @@ contains
     real(wp), intent(out) :: g(3)     !< g_d
     real(wp), intent(out) :: gp(3)    !< dg_d/dx_d
     real(wp), intent(out) :: gpp(3)   !< d2g_d/dx_d2
-    real(wp) :: a, xi, length
+    real(wp) :: a, xi(3), length(3)
     integer :: d
     g = 1.0_wp
     gp = 0.0_wp
     gpp = 0.0_wp
+    call unit_coordinates(grid, x, xi, length)
     do d = 1, 3
       if (.not. grid%active(d)) cycle
-      length = grid%upper(d) - grid%lower(d)
-      xi = (x(d) - grid%lower(d)) / length
       if (grid%periodic(d)) then
         a = 2.0_wp * pi
       else
         a = wall_wavenumber
       end if
-      g(d) = sin(a * xi + phase(d))
-      gp(d) = a / length * cos(a * xi + phase(d))
-      gpp(d) = -(a / length)**2 * g(d)
+      g(d) = sin(a * xi(d) + phase(d))
+      gp(d) = a / length(d) * cos(a * xi(d) + phase(d))
+      gpp(d) = -(a / length(d))**2 * g(d)
     end do
   end subroutine shape_factors
 
@@ -175,16 +174,32 @@ contains
     real(wp), intent(in) :: x(3)      !< position [m]
     real(wp), intent(out) :: s(3)     !< s_d
     real(wp), intent(out) :: ds(3)    !< ds_d/dx_d
-    real(wp) :: xi, length
+    real(wp) :: xi(3), length(3)
     integer :: d
     s = 1.0_wp
     ds = 0.0_wp
+    call unit_coordinates(grid, x, xi, length)
     do d = 1, 3
       if (.not. grid%active(d)) cycle
-      length = grid%upper(d) - grid%lower(d)
-      xi = (x(d) - grid%lower(d)) / length
-      s(d) = sin(2.0_wp * pi * xi)
-      ds(d) = 2.0_wp * pi / length * cos(2.0_wp * pi * xi)
+      s(d) = sin(2.0_wp * pi * xi(d))
+      ds(d) = 2.0_wp * pi / length(d) * cos(2.0_wp * pi * xi(d))
     end do
   end subroutine coefficient_factors
+
+  !> Domain lengths L_d [m] and the position in them, xi_d = (x_d - lower_d) / L_d, along the
+  !! active dimensions (0 and 1 on the inactive ones).
+  pure subroutine unit_coordinates(grid, x, xi, length)
+    type(grid_t), intent(in) :: grid     !< block geometry
+    real(wp), intent(in) :: x(3)         !< position [m]
+    real(wp), intent(out) :: xi(3)       !< xi_d
+    real(wp), intent(out) :: length(3)   !< L_d [m]
+    integer :: d
+    xi = 0.0_wp
+    length = 1.0_wp
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      length(d) = grid%upper(d) - grid%lower(d)
+      xi(d) = (x(d) - grid%lower(d)) / length(d)
+    end do
+  end subroutine unit_coordinates
 end module solver_poisson_mms
