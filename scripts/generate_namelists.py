@@ -12,11 +12,11 @@ in echo order. From it this script writes
   routine per group: preset the namelist variables, read, copy back on success),
   `config_nml_assign.inc` (the group dispatch of `assign_group`), `config_nml_echo.inc` (one echo
   function per group and `echo_groups`, every group in echo order), `config_nml_ranges.inc`
-  (one range-check routine per group), `config_nml_choices.inc` (the arrays of allowed values,
-  e.g. `drag_law_names`), `config_nml_config_type.inc` (the components of `config_t`: one per
-  singleton group, a count and an array per repeated group) and `config_nml_occurrences.inc`
-  (the per-group dispatch of the repeated groups: `max_occurrences`, `occurrence_count`,
-  `reset_occurrence`);
+  (one range-check routine per group), `config_nml_ranges_public.inc` (their public
+  statement), `config_nml_choices.inc` (the arrays of allowed values, e.g. `drag_law_names`),
+  `config_nml_config_type.inc` (the components of `config_t`: one per singleton group, a count
+  and an array per repeated group) and `config_nml_occurrences.inc` (the per-group dispatch of
+  the repeated groups: `max_occurrences`, `occurrence_count`, `reset_occurrence`);
 - the variable tables of docs/namelists.md (between the `<!-- namelist table &group ... -->`
   and `<!-- end of namelist table -->` markers): `--docs FILE --write` rewrites them,
   `--docs FILE --check` exits 1 with a diff when the file differs from what the list gives.
@@ -514,6 +514,12 @@ def ranges_include(groups):
     return lines
 
 
+def ranges_public_include(groups):
+    """The public statement of the range-check routines (config_validate_ranges)."""
+    names = ", ".join(f"check_{g['name']}_ranges" for g in groups)
+    return [GENERATED] + wrap(f"public :: {names}", 2)
+
+
 def choices_include(groups):
     lines = [GENERATED]
     for g in groups:
@@ -537,6 +543,7 @@ def fortran_outputs(index, groups):
            "config_nml_config_type.inc": config_type_include(groups),
            "config_nml_occurrences.inc": occurrences_include(groups),
            "config_nml_ranges.inc": ranges_include(groups),
+           "config_nml_ranges_public.inc": ranges_public_include(groups),
            "config_nml_choices.inc": choices_include(groups)}
     for g in groups:
         out[f"config_nml_{g['name']}_type.inc"] = type_include(g)

@@ -19,10 +19,7 @@ module config_validate_ranges
   implicit none
   private
 
-  public :: check_run_ranges, check_grid_ranges, check_time_ranges, check_numerics_ranges
-  public :: check_solver_ranges, check_output_ranges, check_heat_ranges, check_physics_ranges
-  public :: check_ice_ranges, check_mpm_ranges, check_coupling_ranges, check_fluid_ranges
-  public :: check_solid_ranges, check_region_ranges, check_boundary_ranges
+  include 'config_nml_ranges_public.inc'
 
 contains
 
