@@ -42,7 +42,8 @@ Fields of a `[[variable]]` entry:
                array of them (`config_nml_choices.inc`, e.g. 'drag_law_names')
     range      the allowed interval of a real or integer, '[a, b]', '(a, b)', '[a, inf)', ...;
                a bound is a number or an earlier variable of the group ('dt_init',
-               '-base_temperature'); 'finite' for a real array (every entry finite)
+               '-base_temperature'); 'finite' for a real array (every entry finite);
+               'nonblank' for a string that must not be blank (with `error`)
     off        a value that is always allowed (switches the feature off), e.g. '0'
     error      the allowed range as the error message says it, where it is not derived from
                `range` and `unit` ('[a, inf)' gives '>= a [unit]', '(a, inf)' '> a [unit]',
@@ -125,9 +126,12 @@ def check_variable(group, v, earlier):
                 and all(isinstance(c, str) for c in v["choices"]) and "choices_name" in v):
             fail(group, v, "'choices' needs a list of strings and 'choices_name'")
     if "range" in v:
-        if v["type"] not in ("real", "integer"):
-            fail(group, v, "'range' is for reals and integers")
-        if v["range"] == "finite":
+        if v["range"] == "nonblank":
+            if v["type"] != "string" or "error" not in v:
+                fail(group, v, "range 'nonblank' is for strings and needs 'error'")
+        elif v["type"] not in ("real", "integer"):
+            fail(group, v, "'range' is for reals and integers ('nonblank' for strings)")
+        elif v["range"] == "finite":
             if v["type"] != "real" or "dims" not in v:
                 fail(group, v, "range 'finite' is for real arrays")
         else:
@@ -486,6 +490,9 @@ def ranges_include(groups):
             if "choices" in v:
                 lines += wrap(f"call check_choice(err, g, '{v['name']}', p%{v['name']}, "
                               f"{v['choices_name']})", 4)
+            elif v.get("range") == "nonblank":
+                lines += wrap(f"call check_nonblank(err, g, '{v['name']}', p%{v['name']}, "
+                              f"{literal(v['error'])})", 4)
             elif v.get("range") == "finite":
                 unit = f" [{v['unit']}]" if v.get("unit") else ""
                 lines += wrap(f"call check_finite(err, g, '{v['name']}', p%{v['name']}, "

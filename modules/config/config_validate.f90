@@ -43,7 +43,7 @@ contains
     if (err%found) return
     call check_solver_ranges(cfg%solver, 'solver', err)
     if (err%found) return
-    call check_output(cfg, err)
+    call check_output_ranges(cfg%output, 'output', err)
     if (err%found) return
     call check_heat(cfg, err)
     if (err%found) return
@@ -225,18 +225,6 @@ contains
       given(d) = n
     end do
   end subroutine check_block_cells
-
-  !> `&output`.
-  subroutine check_output(cfg, err)
-    type(config_t), intent(in) :: cfg           !< configuration
-    type(config_error_t), intent(inout) :: err  !< problem record
-    call check_output_ranges(cfg%output, 'output', err)
-    if (err%found) return
-    if (len_trim(cfg%output%fields) == 0) then
-      call set_error(err, 'output', 'fields', quoted(cfg%output%fields), &
-        '''all'' or a list of field names')
-    end if
-  end subroutine check_output
 
   !> `&heat`.
   subroutine check_heat(cfg, err)

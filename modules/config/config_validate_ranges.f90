@@ -15,7 +15,8 @@ module config_validate_ranges
     solid_shape_names, drag_law_names, rigid_contact_names, contact_normal_names, drag_scheme_names, &
     boundary_fluid_names, boundary_thermal_names, boundary_solid_names, balance_names
   use config_text, only: real_repr, ints_repr
-  use config_check_tools, only: config_error_t, check_real, check_int, check_choice, check_finite
+  use config_check_tools, only: config_error_t, check_real, check_int, check_choice, check_finite, &
+    check_nonblank
   implicit none
   private
 
