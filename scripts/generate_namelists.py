@@ -14,6 +14,7 @@ in echo order. From it this script writes
   function per group and `echo_groups`, every group in echo order), `config_nml_ranges.inc`
   (one range-check routine per group), `config_nml_ranges_public.inc` (their public
   statement), `config_nml_choices.inc` (the arrays of allowed values, e.g. `drag_law_names`),
+  `config_nml_public.inc` (the public statement of the limits and of those arrays),
   `config_nml_config_type.inc` (the components of `config_t`: one per singleton group, a count
   and an array per repeated group) and `config_nml_occurrences.inc` (the per-group dispatch of
   the repeated groups: `max_occurrences`, `occurrence_count`, `reset_occurrence`);
@@ -527,6 +528,15 @@ def ranges_public_include(groups):
     return [GENERATED] + wrap(f"public :: {names}", 2)
 
 
+def public_include(index, groups):
+    """The public statement of the size limits and the arrays of allowed values
+    (config_materials; config_types re-exports them)."""
+    limits = [lim["name"] for lim in index["limit"]]
+    choices = [v["choices_name"] for g in groups for v in g["variables"] if "choices" in v]
+    return ([GENERATED] + wrap(f"public :: {', '.join(limits)}", 2)
+            + wrap(f"public :: {', '.join(choices)}", 2))
+
+
 def choices_include(groups):
     lines = [GENERATED]
     for g in groups:
@@ -551,7 +561,8 @@ def fortran_outputs(index, groups):
            "config_nml_occurrences.inc": occurrences_include(groups),
            "config_nml_ranges.inc": ranges_include(groups),
            "config_nml_ranges_public.inc": ranges_public_include(groups),
-           "config_nml_choices.inc": choices_include(groups)}
+           "config_nml_choices.inc": choices_include(groups),
+           "config_nml_public.inc": public_include(index, groups)}
     for g in groups:
         out[f"config_nml_{g['name']}_type.inc"] = type_include(g)
     for name, lines in out.items():
