@@ -15,8 +15,8 @@ module config_materials
   implicit none
   private
 
-  public :: physics_params_t, ice_params_t, mpm_params_t, coupling_params_t
-  public :: fluid_params_t, solid_params_t, region_params_t, boundary_params_t
+  public :: physics_params_t, ice_params_t, mpm_params_t, coupling_params_t, fluid_params_t, &
+    solid_params_t, region_params_t, boundary_params_t
   public :: face_names, particles_per_cell_used, history_unset, history_points_used
   ! the size limits and the arrays of allowed values (`eos_names`, ...), from the list
   include 'config_nml_public.inc'
