@@ -76,7 +76,7 @@ contains
     real(wp), intent(out) :: coef_y(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< y low faces
     real(wp), intent(out) :: coef_z(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< z low faces
     real(wp), intent(out) :: rhs(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)    !< right-hand side
-    integer :: i, j, k, d, side, cell(3), face
+    integer :: i, j, k, d, f, side, cell(3), face
     real(wp) :: xc(3), xf(3), c
     logical :: wall
 
@@ -92,26 +92,26 @@ contains
           xc = cell_centre(grid, [1, 2, 3], cell)
           diag(i, j, k) = reaction
           rhs(i, j, k) = mms_source(grid, xc, reaction)
-          do d = 1, 3
+          do f = 1, 6  ! the faces x-, x+, y-, y+, z-, z+
+            d = (f + 1) / 2
+            side = mod(f + 1, 2)
             if (.not. grid%active(d)) cycle
-            do side = 0, 1
-              face = cell(d) + side
-              xf = xc
-              xf(d) = node_position(grid, d, face)
-              wall = .not. grid%periodic(d) .and. (face == 1 .or. face == grid%ncells(d) + 1)
-              c = mms_conductivity(grid, xf) / grid%dx(d)**2
-              if (wall) then
-                diag(i, j, k) = diag(i, j, k) + 2.0_wp * c
-                rhs(i, j, k) = rhs(i, j, k) + 2.0_wp * c * mms_exact(grid, xf)
-              else
-                diag(i, j, k) = diag(i, j, k) + c
-                if (side == 0) then
-                  if (d == 1) coef_x(i, j, k) = c
-                  if (d == 2) coef_y(i, j, k) = c
-                  if (d == 3) coef_z(i, j, k) = c
-                end if
+            face = cell(d) + side
+            xf = xc
+            xf(d) = node_position(grid, d, face)
+            wall = .not. grid%periodic(d) .and. (face == 1 .or. face == grid%ncells(d) + 1)
+            c = mms_conductivity(grid, xf) / grid%dx(d)**2
+            if (wall) then
+              diag(i, j, k) = diag(i, j, k) + 2.0_wp * c
+              rhs(i, j, k) = rhs(i, j, k) + 2.0_wp * c * mms_exact(grid, xf)
+            else
+              diag(i, j, k) = diag(i, j, k) + c
+              if (side == 0) then
+                if (d == 1) coef_x(i, j, k) = c
+                if (d == 2) coef_y(i, j, k) = c
+                if (d == 3) coef_z(i, j, k) = c
               end if
-            end do
+            end if
           end do
         end do
       end do
