@@ -11,8 +11,13 @@ in echo order. From it this script writes
   (`group_names` and the `variables` table of the parser), `config_nml_read.inc` (one read
   routine per group: preset the namelist variables, read, copy back on success),
   `config_nml_assign.inc` (the group dispatch of `assign_group`), `config_nml_echo.inc` (one echo
-  function per group), `config_nml_ranges.inc` (one range-check routine per group) and
-  `config_nml_choices.inc` (the arrays of allowed values, e.g. `drag_law_names`);
+  function per group and `echo_groups`, every group in echo order), `config_nml_ranges.inc`
+  (one range-check routine per group), `config_nml_ranges_public.inc` (their public
+  statement), `config_nml_choices.inc` (the arrays of allowed values, e.g. `drag_law_names`),
+  `config_nml_public.inc` (the public statement of the limits and of those arrays),
+  `config_nml_config_type.inc` (the components of `config_t`: one per singleton group, a count
+  and an array per repeated group) and `config_nml_occurrences.inc` (the per-group dispatch of
+  the repeated groups: `max_occurrences`, `occurrence_count`, `reset_occurrence`);
 - the variable tables of docs/namelists.md (between the `<!-- namelist table &group ... -->`
   and `<!-- end of namelist table -->` markers): `--docs FILE --write` rewrites them,
   `--docs FILE --check` exits 1 with a diff when the file differs from what the list gives.
@@ -38,7 +43,8 @@ Fields of a `[[variable]]` entry:
                array of them (`config_nml_choices.inc`, e.g. 'drag_law_names')
     range      the allowed interval of a real or integer, '[a, b]', '(a, b)', '[a, inf)', ...;
                a bound is a number or an earlier variable of the group ('dt_init',
-               '-base_temperature'); 'finite' for a real array (every entry finite)
+               '-base_temperature'); 'finite' for a real array (every entry finite);
+               'nonblank' for a string that must not be blank (with `error`)
     off        a value that is always allowed (switches the feature off), e.g. '0'
     error      the allowed range as the error message says it, where it is not derived from
                `range` and `unit` ('[a, inf)' gives '>= a [unit]', '(a, inf)' '> a [unit]',
@@ -121,9 +127,12 @@ def check_variable(group, v, earlier):
                 and all(isinstance(c, str) for c in v["choices"]) and "choices_name" in v):
             fail(group, v, "'choices' needs a list of strings and 'choices_name'")
     if "range" in v:
-        if v["type"] not in ("real", "integer"):
-            fail(group, v, "'range' is for reals and integers")
-        if v["range"] == "finite":
+        if v["range"] == "nonblank":
+            if v["type"] != "string" or "error" not in v:
+                fail(group, v, "range 'nonblank' is for strings and needs 'error'")
+        elif v["type"] not in ("real", "integer"):
+            fail(group, v, "'range' is for reals and integers ('nonblank' for strings)")
+        elif v["range"] == "finite":
             if v["type"] != "real" or "dims" not in v:
                 fail(group, v, "range 'finite' is for real arrays")
         else:
@@ -396,6 +405,79 @@ def echo_include(groups):
     return lines
 
 
+def echo_groups_include(groups):
+    """`echo_groups`: every group of a configuration in echo order (appended to the echo file)."""
+    lines = ["", "  !> Every group of `cfg` as echo text: the singletons in list order, then each "
+                 "occurrence of", "  !! the repeated groups in order.",
+             "  function echo_groups(cfg) result(text)",
+             "    type(config_t), intent(in) :: cfg  !< configuration",
+             "    character(len=:), allocatable :: text", "    integer :: k", "    text = ''"]
+    for g in groups:
+        n, c = g["name"], g.get("config_component")
+        if c:
+            lines += [f"    do k = 1, cfg%n{c}", f"      text = text // echo_{n}(cfg%{c}(k))",
+                      "    end do"]
+        else:
+            lines.append(f"    text = text // echo_{n}(cfg%{n})")
+    lines.append("  end function echo_groups")
+    return lines
+
+
+def config_type_include(groups):
+    """The components of `config_t`: one per singleton group, a count and an array per repeated
+    group."""
+    lines = [GENERATED]
+    repeated = [g for g in groups if g.get("config_component")]
+    for g in groups:
+        if not g.get("config_component"):
+            lines.append(f"    type({g['type']}) :: {g['name']}  !< `&{g['name']}`")
+    for g in repeated:
+        c = g["config_component"]
+        lines.append(f"    integer :: n{c} = 0  !< number of `&{g['name']}` groups")
+    for g in repeated:
+        c = g["config_component"]
+        lines.append(f"    type({g['type']}) :: {c}(max_{c})  !< `&{g['name']}` occurrences "
+                     f"1..n{c}, in order")
+    return lines
+
+
+def occurrences_include(groups):
+    """The per-group dispatch of the repeated groups' bookkeeping (config_occurrences)."""
+    repeated = [g for g in groups if g.get("config_component")]
+    lines = [GENERATED, "", "  !> Most occurrences of repeated group `group` (`max_fluids`, ...); 1 "
+             "for a singleton.", "  pure integer function max_occurrences(group)",
+             "    character(len=*), intent(in) :: group  !< group name without `&`",
+             "    select case (group)"]
+    for g in repeated:
+        lines += [f"    case ('{g['name']}')",
+                  f"      max_occurrences = max_{g['config_component']}"]
+    lines += ["    case default", "      max_occurrences = 1", "    end select",
+              "  end function max_occurrences", "",
+              "  !> Occurrences of repeated group `group` in `cfg` (0 for a singleton).",
+              "  pure integer function occurrence_count(cfg, group)",
+              "    type(config_t), intent(in) :: cfg      !< configuration",
+              "    character(len=*), intent(in) :: group  !< group name without `&`",
+              "    select case (group)"]
+    for g in repeated:
+        lines += [f"    case ('{g['name']}')",
+                  f"      occurrence_count = cfg%n{g['config_component']}"]
+    lines += ["    case default", "      occurrence_count = 0", "    end select",
+              "  end function occurrence_count", "",
+              "  !> Make `k` the number of occurrences of repeated group `group` and set occurrence "
+              "`k` to", "  !! the type's defaults; `k` = 0 for a singleton.",
+              "  subroutine reset_occurrence(cfg, group, k)",
+              "    type(config_t), intent(inout) :: cfg   !< configuration to update",
+              "    character(len=*), intent(in) :: group  !< repeated group name",
+              "    integer, intent(inout) :: k            !< index of the occurrence",
+              "    select case (group)"]
+    for g in repeated:
+        c = g["config_component"]
+        lines += [f"    case ('{g['name']}')", f"      cfg%n{c} = k", f"      cfg%{c}(k) = {g['type']}()"]
+    lines += ["    case default", "      k = 0", "    end select",
+              "  end subroutine reset_occurrence"]
+    return lines
+
+
 def ranges_include(groups):
     lines = [GENERATED]
     for g in groups:
@@ -409,6 +491,9 @@ def ranges_include(groups):
             if "choices" in v:
                 lines += wrap(f"call check_choice(err, g, '{v['name']}', p%{v['name']}, "
                               f"{v['choices_name']})", 4)
+            elif v.get("range") == "nonblank":
+                lines += wrap(f"call check_nonblank(err, g, '{v['name']}', p%{v['name']}, "
+                              f"{literal(v['error'])})", 4)
             elif v.get("range") == "finite":
                 unit = f" [{v['unit']}]" if v.get("unit") else ""
                 lines += wrap(f"call check_finite(err, g, '{v['name']}', p%{v['name']}, "
@@ -437,6 +522,21 @@ def ranges_include(groups):
     return lines
 
 
+def ranges_public_include(groups):
+    """The public statement of the range-check routines (config_validate_ranges)."""
+    names = ", ".join(f"check_{g['name']}_ranges" for g in groups)
+    return [GENERATED] + wrap(f"public :: {names}", 2)
+
+
+def public_include(index, groups):
+    """The public statement of the size limits and the arrays of allowed values
+    (config_materials; config_types re-exports them)."""
+    limits = [lim["name"] for lim in index["limit"]]
+    choices = [v["choices_name"] for g in groups for v in g["variables"] if "choices" in v]
+    return ([GENERATED] + wrap(f"public :: {', '.join(limits)}", 2)
+            + wrap(f"public :: {', '.join(choices)}", 2))
+
+
 def choices_include(groups):
     lines = [GENERATED]
     for g in groups:
@@ -456,9 +556,13 @@ def fortran_outputs(index, groups):
            "config_nml_table.inc": table_include(groups),
            "config_nml_read.inc": read_include(groups),
            "config_nml_assign.inc": assign_include(groups),
-           "config_nml_echo.inc": echo_include(groups),
+           "config_nml_echo.inc": echo_include(groups) + echo_groups_include(groups),
+           "config_nml_config_type.inc": config_type_include(groups),
+           "config_nml_occurrences.inc": occurrences_include(groups),
            "config_nml_ranges.inc": ranges_include(groups),
-           "config_nml_choices.inc": choices_include(groups)}
+           "config_nml_ranges_public.inc": ranges_public_include(groups),
+           "config_nml_choices.inc": choices_include(groups),
+           "config_nml_public.inc": public_include(index, groups)}
     for g in groups:
         out[f"config_nml_{g['name']}_type.inc"] = type_include(g)
     for name, lines in out.items():

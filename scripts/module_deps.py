@@ -23,10 +23,10 @@ USE_RE = re.compile(r"^\s*use\s*(?:,\s*(?:non_)?intrinsic\s*::\s*|::\s*|\s)\s*(\
 
 
 def sources(root):
-    """The Fortran sources of the library and the executables."""
+    """The Fortran sources of the library and the executables (templates included)."""
     files = []
     for top in ("modules", "src", "tools", "bench"):
-        for ext in ("*.f90", "*.F90", "*.f90.in"):
+        for ext in ("*.f90", "*.F90", "*.f90.in", "*.fypp"):
             files.extend(sorted((root / top).rglob(ext)))
     return files
 

@@ -26,9 +26,10 @@ if [ ! -x "$venv/bin/python" ]; then
   echo "setup: creating Python virtual environment in .venv"
   python3 -m venv "$venv"
 fi
-if ! "$venv/bin/python" -c "import numpy, h5py, matplotlib, pytest" 2>/dev/null; then
+# fypp expands the Fortran templates (modules/**/*.fypp) at build time
+if ! "$venv/bin/python" -c "import numpy, h5py, matplotlib, pytest, fypp" 2>/dev/null; then
   "$venv/bin/pip" install -q --upgrade pip
-  "$venv/bin/pip" install -q numpy h5py matplotlib pytest
+  "$venv/bin/pip" install -q numpy h5py matplotlib pytest fypp
 fi
 
 build_type="${BUILD_TYPE:-Release}"

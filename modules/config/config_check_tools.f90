@@ -7,7 +7,7 @@ module config_check_tools
   implicit none
   private
 
-  public :: config_error_t, set_error, check_real, check_int, check_choice, check_finite
+  public :: config_error_t, set_error, check_real, check_int, check_choice, check_finite, check_nonblank
   public :: occurrence_label
 
   !> The first problem found in a configuration.
@@ -109,6 +109,17 @@ contains
       call set_error(err, group, variable, quoted(value), 'one of ' // join_names(names, ', ', ''))
     end if
   end subroutine check_choice
+
+  !> `value` not blank; `allowed` says what is (the message's allowed part).
+  subroutine check_nonblank(err, group, variable, value, allowed)
+    type(config_error_t), intent(inout) :: err  !< problem record
+    character(len=*), intent(in) :: group       !< group label
+    character(len=*), intent(in) :: variable    !< variable name
+    character(len=*), intent(in) :: value       !< value
+    character(len=*), intent(in) :: allowed     !< what is allowed
+    if (err%found) return
+    if (len_trim(value) == 0) call set_error(err, group, variable, quoted(value), allowed)
+  end subroutine check_nonblank
 
   !> Every entry of `x` finite.
   subroutine check_finite(err, group, variable, x, unit)

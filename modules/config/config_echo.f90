@@ -32,24 +32,8 @@ contains
   function config_to_text(cfg) result(text)
     type(config_t), intent(in) :: cfg  !< configuration
     character(len=:), allocatable :: text
-    integer :: k
     text = '! MPMICE resolved input: every variable, defaults included' // nl
-    text = text // echo_run(cfg%run) // echo_grid(cfg%grid) // echo_time(cfg%time) // &
-      echo_numerics(cfg%numerics) // echo_solver(cfg%solver) // echo_output(cfg%output) // &
-      echo_heat(cfg%heat) // echo_physics(cfg%physics) // echo_ice(cfg%ice) // &
-      echo_mpm(cfg%mpm) // echo_coupling(cfg%coupling)
-    do k = 1, cfg%nfluids
-      text = text // echo_fluid(cfg%fluids(k))
-    end do
-    do k = 1, cfg%nsolids
-      text = text // echo_solid(cfg%solids(k))
-    end do
-    do k = 1, cfg%nregions
-      text = text // echo_region(cfg%regions(k))
-    end do
-    do k = 1, cfg%nboundaries
-      text = text // echo_boundary(cfg%boundaries(k))
-    end do
+    text = text // echo_groups(cfg)
   end function config_to_text
 
   include 'config_nml_echo.inc'

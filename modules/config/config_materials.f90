@@ -15,15 +15,11 @@ module config_materials
   implicit none
   private
 
-  public :: physics_params_t, ice_params_t, mpm_params_t, coupling_params_t
-  public :: fluid_params_t, solid_params_t, region_params_t, boundary_params_t
-  public :: max_fluids, max_solids, max_regions, max_boundaries, max_polygon_points
-  public :: eos_names, solid_model_names, solid_shape_names, face_names
-  public :: boundary_fluid_names, boundary_thermal_names, boundary_solid_names
-  public :: drag_law_names, drag_scheme_names, rigid_contact_names, contact_normal_names, scene_names
-  public :: shape_function_names, balance_names
-  public :: particles_per_cell_used
-  public :: max_history_points, history_unset, history_points_used, max_blocks_per_dim
+  public :: physics_params_t, ice_params_t, mpm_params_t, coupling_params_t, fluid_params_t, &
+    solid_params_t, region_params_t, boundary_params_t
+  public :: face_names, particles_per_cell_used, history_unset, history_points_used
+  ! the size limits and the arrays of allowed values (`eos_names`, ...), from the list
+  include 'config_nml_public.inc'
 
   include 'config_nml_limits.inc'
   !> Value of the unused entries of `solid_velocity_times` and `solid_velocity_history`.

@@ -41,40 +41,7 @@ contains
     end select
   end function group_selector
 
-  !> Most occurrences of repeated group `group` (`max_fluids`, ...); 1 for a singleton.
-  pure integer function max_occurrences(group)
-    character(len=*), intent(in) :: group  !< group name without `&`
-    select case (group)
-    case ('fluid')
-      max_occurrences = max_fluids
-    case ('solid')
-      max_occurrences = max_solids
-    case ('region')
-      max_occurrences = max_regions
-    case ('boundary')
-      max_occurrences = max_boundaries
-    case default
-      max_occurrences = 1
-    end select
-  end function max_occurrences
-
-  !> Occurrences of repeated group `group` in `cfg` (0 for a singleton).
-  pure integer function occurrence_count(cfg, group)
-    type(config_t), intent(in) :: cfg      !< configuration
-    character(len=*), intent(in) :: group  !< group name without `&`
-    select case (group)
-    case ('fluid')
-      occurrence_count = cfg%nfluids
-    case ('solid')
-      occurrence_count = cfg%nsolids
-    case ('region')
-      occurrence_count = cfg%nregions
-    case ('boundary')
-      occurrence_count = cfg%nboundaries
-    case default
-      occurrence_count = 0
-    end select
-  end function occurrence_count
+  include 'config_nml_occurrences.inc'
 
   !> Append a new occurrence of repeated group `group`, set to the type's defaults. `k` is its
   !! index, 0 when the group already has `max_occurrences(group)` occurrences.
@@ -87,22 +54,7 @@ contains
       k = 0
       return
     end if
-    select case (group)
-    case ('fluid')
-      cfg%nfluids = k
-      cfg%fluids(k) = fluid_params_t()
-    case ('solid')
-      cfg%nsolids = k
-      cfg%solids(k) = solid_params_t()
-    case ('region')
-      cfg%nregions = k
-      cfg%regions(k) = region_params_t()
-    case ('boundary')
-      cfg%nboundaries = k
-      cfg%boundaries(k) = boundary_params_t()
-    case default
-      k = 0
-    end select
+    call reset_occurrence(cfg, group, k)
   end subroutine new_occurrence
 
   !> Selector values (`group_selector`) of the occurrences of `group`, in order.

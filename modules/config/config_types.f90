@@ -71,27 +71,10 @@ module config_types
     include 'config_nml_heat_type.inc'
   end type heat_params_t
 
-  !> The whole configuration of a run: one component per namelist group.
+  !> The whole configuration of a run: one component per namelist group, a count and an array
+  !! per repeated group (generated from modules/config/namelist/groups.toml).
   type :: config_t
-    type(run_params_t) :: run            !< `&run`
-    type(grid_params_t) :: grid          !< `&grid`
-    type(time_params_t) :: time          !< `&time`
-    type(numerics_params_t) :: numerics  !< `&numerics`
-    type(solver_params_t) :: solver      !< `&solver`
-    type(output_params_t) :: output      !< `&output`
-    type(heat_params_t) :: heat          !< `&heat`
-    type(physics_params_t) :: physics    !< `&physics`
-    type(ice_params_t) :: ice            !< `&ice`
-    type(mpm_params_t) :: mpm            !< `&mpm`
-    type(coupling_params_t) :: coupling  !< `&coupling`
-    integer :: nfluids = 0               !< number of `&fluid` groups
-    integer :: nsolids = 0               !< number of `&solid` groups
-    integer :: nregions = 0              !< number of `&region` groups
-    integer :: nboundaries = 0           !< number of `&boundary` groups
-    type(fluid_params_t) :: fluids(max_fluids)              !< `&fluid` occurrences 1..nfluids
-    type(solid_params_t) :: solids(max_solids)              !< `&solid` occurrences 1..nsolids
-    type(region_params_t) :: regions(max_regions)           !< `&region` occurrences, in order
-    type(boundary_params_t) :: boundaries(max_boundaries)   !< `&boundary` occurrences
+    include 'config_nml_config_type.inc'
   end type config_t
 
 contains

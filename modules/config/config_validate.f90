@@ -37,13 +37,13 @@ contains
     if (err%found) return
     call check_grid(cfg, nranks, err)
     if (err%found) return
-    call check_time(cfg, err)
+    call check_time_ranges(cfg%time, 'time', err)
     if (err%found) return
-    call check_numerics(cfg, err)
+    call check_numerics_ranges(cfg%numerics, 'numerics', err)
     if (err%found) return
-    call check_solver(cfg, err)
+    call check_solver_ranges(cfg%solver, 'solver', err)
     if (err%found) return
-    call check_output(cfg, err)
+    call check_output_ranges(cfg%output, 'output', err)
     if (err%found) return
     call check_heat(cfg, err)
     if (err%found) return
@@ -225,39 +225,6 @@ contains
       given(d) = n
     end do
   end subroutine check_block_cells
-
-  !> `&time`.
-  subroutine check_time(cfg, err)
-    type(config_t), intent(in) :: cfg           !< configuration
-    type(config_error_t), intent(inout) :: err  !< problem record
-    call check_time_ranges(cfg%time, 'time', err)
-  end subroutine check_time
-
-  !> `&numerics`.
-  subroutine check_numerics(cfg, err)
-    type(config_t), intent(in) :: cfg           !< configuration
-    type(config_error_t), intent(inout) :: err  !< problem record
-    call check_numerics_ranges(cfg%numerics, 'numerics', err)
-  end subroutine check_numerics
-
-  !> `&solver`.
-  subroutine check_solver(cfg, err)
-    type(config_t), intent(in) :: cfg           !< configuration
-    type(config_error_t), intent(inout) :: err  !< problem record
-    call check_solver_ranges(cfg%solver, 'solver', err)
-  end subroutine check_solver
-
-  !> `&output`.
-  subroutine check_output(cfg, err)
-    type(config_t), intent(in) :: cfg           !< configuration
-    type(config_error_t), intent(inout) :: err  !< problem record
-    call check_output_ranges(cfg%output, 'output', err)
-    if (err%found) return
-    if (len_trim(cfg%output%fields) == 0) then
-      call set_error(err, 'output', 'fields', quoted(cfg%output%fields), &
-        '''all'' or a list of field names')
-    end if
-  end subroutine check_output
 
   !> `&heat`.
   subroutine check_heat(cfg, err)

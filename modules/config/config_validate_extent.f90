@@ -25,75 +25,71 @@ contains
   subroutine check_extents(cfg, err)
     type(config_t), intent(in) :: cfg           !< configuration
     type(config_error_t), intent(inout) :: err  !< problem record
-    integer :: k
-    do k = 1, cfg%nregions
-      call check_region_inside(cfg, k, err)
-    end do
-    do k = 1, cfg%nsolids
-      call check_solid_inside(cfg, k, err)
-    end do
+    call check_regions_inside(cfg, err)
+    call check_solids_inside(cfg, err)
     if (cfg%run%scene == 'ice' .or. cfg%run%scene == 'mpmice') call check_fraction_sum(cfg, err)
   end subroutine check_extents
 
-  !> `&region(k)` contains at least one cell centre.
-  subroutine check_region_inside(cfg, k, err)
+  !> Each `&region` contains at least one cell centre.
+  subroutine check_regions_inside(cfg, err)
     type(config_t), intent(in) :: cfg           !< configuration
-    integer, intent(in) :: k                    !< occurrence
     type(config_error_t), intent(inout) :: err  !< problem record
-    integer :: d, first, last
-    if (err%found) return
-    associate (r => cfg%regions(k))
-      do d = 1, 3
-        if (cfg%grid%ncells(d) <= 1) cycle
-        first = first_cell_at_or_above(cfg, d, r%lower(d))
-        last = last_cell_at_or_below(cfg, d, r%upper(d))
-        if (first > last) then
-          call set_error(err, occurrence_label('region', k), 'upper', reals_repr(r%upper), &
-            'a box (lower = ' // reals_repr(r%lower) // ') holding at least one cell centre ' &
-            // 'of the domain &grid lower = ' // reals_repr(cfg%grid%lower) // ', upper = ' // &
-            reals_repr(cfg%grid%upper) // ' [m]')
-          return
-        end if
-      end do
-    end associate
-  end subroutine check_region_inside
+    integer :: k, d, first, last
+    do k = 1, cfg%nregions
+      if (err%found) return
+      associate (r => cfg%regions(k))
+        do d = 1, 3
+          if (cfg%grid%ncells(d) <= 1) cycle
+          call cells_between(cfg, d, r%lower(d), r%upper(d), first, last)
+          if (first > last) then
+            call set_error(err, occurrence_label('region', k), 'upper', reals_repr(r%upper), &
+              'a box (lower = ' // reals_repr(r%lower) // ') holding at least one cell centre ' &
+              // 'of the domain &grid lower = ' // reals_repr(cfg%grid%lower) // ', upper = ' &
+              // reals_repr(cfg%grid%upper) // ' [m]')
+            return
+          end if
+        end do
+      end associate
+    end do
+  end subroutine check_regions_inside
 
-  !> `&solid(k)` (box without rotation, or polygon) overlaps the domain along every active
+  !> Each `&solid` (box without rotation, or polygon) overlaps the domain along every active
   !! dimension; a half space or rotated box is not checked here.
-  subroutine check_solid_inside(cfg, k, err)
+  subroutine check_solids_inside(cfg, err)
     type(config_t), intent(in) :: cfg           !< configuration
-    integer, intent(in) :: k                    !< occurrence
     type(config_error_t), intent(inout) :: err  !< problem record
     real(wp) :: lo(3), hi(3)
     character(len=:), allocatable :: variable, value
-    integer :: n
-    if (err%found) return
-    associate (s => cfg%solids(k))
-      select case (s%shape)
-      case ('box')
-        if (s%rotation_deg /= 0.0_wp) return
-        lo = s%lower
-        hi = s%upper
-        variable = 'upper'
-        value = reals_repr(s%upper)
-      case ('polygon')
-        n = s%npoints
-        if (n < 1) return
-        lo = [minval(s%polygon_x(1:n)), minval(s%polygon_y(1:n)), cfg%grid%lower(3)]
-        hi = [maxval(s%polygon_x(1:n)), maxval(s%polygon_y(1:n)), cfg%grid%upper(3)]
-        variable = 'polygon_x'
-        value = reals_repr(s%polygon_x(1:n))
-      case default
-        return
-      end select
-      if (any(cfg%grid%ncells > 1 .and. (hi <= cfg%grid%lower .or. lo >= cfg%grid%upper))) then
-        call set_error(err, occurrence_label('solid', k), variable, value, 'a solid ' // &
-          '(bounding box ' // reals_repr(lo) // ' to ' // reals_repr(hi) // ') overlapping ' &
-          // 'the domain &grid lower = ' // reals_repr(cfg%grid%lower) // ', upper = ' // &
-          reals_repr(cfg%grid%upper) // ' [m]')
-      end if
-    end associate
-  end subroutine check_solid_inside
+    integer :: k, n
+    do k = 1, cfg%nsolids
+      if (err%found) return
+      associate (s => cfg%solids(k))
+        select case (s%shape)
+        case ('box')
+          if (s%rotation_deg /= 0.0_wp) cycle
+          lo = s%lower
+          hi = s%upper
+          variable = 'upper'
+          value = reals_repr(s%upper)
+        case ('polygon')
+          n = s%npoints
+          if (n < 1) cycle
+          lo = [minval(s%polygon_x(1:n)), minval(s%polygon_y(1:n)), cfg%grid%lower(3)]
+          hi = [maxval(s%polygon_x(1:n)), maxval(s%polygon_y(1:n)), cfg%grid%upper(3)]
+          variable = 'polygon_x'
+          value = reals_repr(s%polygon_x(1:n))
+        case default
+          cycle
+        end select
+        if (any(cfg%grid%ncells > 1 .and. (hi <= cfg%grid%lower .or. lo >= cfg%grid%upper))) then
+          call set_error(err, occurrence_label('solid', k), variable, value, 'a solid ' // &
+            '(bounding box ' // reals_repr(lo) // ' to ' // reals_repr(hi) // ') overlapping ' &
+            // 'the domain &grid lower = ' // reals_repr(cfg%grid%lower) // ', upper = ' // &
+            reals_repr(cfg%grid%upper) // ' [m]')
+        end if
+      end associate
+    end do
+  end subroutine check_solids_inside
 
   !> The `&fluid` and `&region` volume fractions sum to one in every cell.
   subroutine check_fraction_sum(cfg, err)
@@ -180,17 +176,16 @@ contains
     type(config_t), intent(in) :: cfg           !< configuration
     integer, intent(in) :: d                    !< dimension
     integer, allocatable, intent(out) :: cand(:)
-    integer :: r, n, i, list(6 * cfg%nregions + 2), count
+    integer :: r, n, i, first, last, list(6 * cfg%nregions + 2), count
     n = cfg%grid%ncells(d)
     count = 2
     list(1) = 1
     list(2) = n
     if (n > 1) then
       do r = 1, cfg%nregions
-        i = first_cell_at_or_above(cfg, d, cfg%regions(r)%lower(d))
-        list(count + 1:count + 3) = [i - 1, i, i + 1]
-        i = last_cell_at_or_below(cfg, d, cfg%regions(r)%upper(d))
-        list(count + 4:count + 6) = [i - 1, i, i + 1]
+        call cells_between(cfg, d, cfg%regions(r)%lower(d), cfg%regions(r)%upper(d), first, last)
+        list(count + 1:count + 3) = [first - 1, first, first + 1]
+        list(count + 4:count + 6) = [last - 1, last, last + 1]
         count = count + 6
       end do
     end if
@@ -198,35 +193,39 @@ contains
     cand = pack(list(1:count), [(all(list(1:i - 1) /= list(i)), i = 1, count)])
   end subroutine candidates
 
-  !> First cell of dimension `d` whose centre is >= `b` (ncells + 1: none).
-  pure integer function first_cell_at_or_above(cfg, d, b)
+  !> The cells of dimension `d` whose centres lie in [`lower`, `upper`]: `first` to `last`
+  !! (none when `first > last`). A centre that lies on a bound counts as inside.
+  pure subroutine cells_between(cfg, d, lower, upper, first, last)
     type(config_t), intent(in) :: cfg  !< configuration
     integer, intent(in) :: d           !< dimension
-    real(wp), intent(in) :: b          !< bound [m]
+    real(wp), intent(in) :: lower      !< low bound [m]
+    real(wp), intent(in) :: upper      !< high bound [m]
+    integer, intent(out) :: first      !< first cell whose centre is >= lower (ncells + 1: none)
+    integer, intent(out) :: last       !< last cell whose centre is <= upper (0: none)
     real(wp) :: h, s
-    call cell_coordinate(cfg, d, b, h, s)
-    first_cell_at_or_above = max(1, ceiling(s))
-    if (first_cell_at_or_above > 1) then
-      if (cfg%grid%lower(d) + (real(first_cell_at_or_above - 1, wp) - 0.5_wp) * h >= b) then
-        first_cell_at_or_above = first_cell_at_or_above - 1
-      end if
+    integer :: n
+    n = cfg%grid%ncells(d)
+    call cell_coordinate(cfg, d, lower, h, s)
+    first = max(1, ceiling(s))
+    call cell_coordinate(cfg, d, upper, h, s)
+    last = min(n, floor(s))
+    ! s is rounded: the centre next to each end may still lie on the bound
+    if (first > 1) then
+      if (cell_centre(cfg, d, first - 1, h) >= lower) first = first - 1
     end if
-  end function first_cell_at_or_above
+    if (last < n) then
+      if (cell_centre(cfg, d, last + 1, h) <= upper) last = last + 1
+    end if
+  end subroutine cells_between
 
-  !> Last cell of dimension `d` whose centre is <= `b` (0: none).
-  pure integer function last_cell_at_or_below(cfg, d, b)
+  !> Centre of cell `i` of dimension `d` of cell width `h` [m].
+  pure real(wp) function cell_centre(cfg, d, i, h)
     type(config_t), intent(in) :: cfg  !< configuration
     integer, intent(in) :: d           !< dimension
-    real(wp), intent(in) :: b          !< bound [m]
-    real(wp) :: h, s
-    call cell_coordinate(cfg, d, b, h, s)
-    last_cell_at_or_below = min(cfg%grid%ncells(d), floor(s))
-    if (last_cell_at_or_below < cfg%grid%ncells(d)) then
-      if (cfg%grid%lower(d) + (real(last_cell_at_or_below + 1, wp) - 0.5_wp) * h <= b) then
-        last_cell_at_or_below = last_cell_at_or_below + 1
-      end if
-    end if
-  end function last_cell_at_or_below
+    integer, intent(in) :: i           !< cell index
+    real(wp), intent(in) :: h          !< cell width [m]
+    cell_centre = cfg%grid%lower(d) + (real(i, wp) - 0.5_wp) * h
+  end function cell_centre
 
   !> Cell width `h` of dimension `d` and the position of bound `b` in cells, `s` = (b - lower)/h
   !! + 1/2 (cell i has its centre at s = i), clamped to [0, ncells + 1].

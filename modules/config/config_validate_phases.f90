@@ -8,7 +8,7 @@
 !! on). Where regions and solids lie against the domain, and whether the initial volume fractions
 !! sum to one in every cell, is checked by `config_validate_extent` (called last).
 module config_validate_phases
-  use mpmice_kinds, only: wp
+  use mpmice_kinds, only: wp, name_len
   use config_types, only: config_t, solid_params_t, face_names, max_polygon_points, &
     boundary_params_t, max_history_points, history_unset, history_points_used
   use config_text, only: real_repr, reals_repr, ints_repr, quoted, join_names
@@ -34,7 +34,8 @@ contains
     integer :: k
     call check_singletons(cfg, err)
     do k = 1, cfg%nfluids
-      call check_fluid(cfg, k, err)
+      call check_material_name(cfg, 'fluid', k, cfg%fluids(k)%name, err)
+      call check_fluid_ranges(cfg%fluids(k), occurrence_label('fluid', k), err)
     end do
     do k = 1, cfg%nsolids
       call check_solid(cfg, k, err)
@@ -76,7 +77,9 @@ contains
     type(config_error_t), intent(inout) :: err  !< problem record
     character(len=*), parameter :: letters = 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ'
     character(len=*), parameter :: name_chars = letters // '0123456789_'
-    integer :: j
+    character(len=name_len) :: other
+    character(len=:), allocatable :: other_label
+    integer :: j, position
     if (err%found) return
     if (len_trim(name) == 0) then
       call set_error(err, occurrence_label(group, k), 'name', quoted(name), &
@@ -88,35 +91,24 @@ contains
         'an identifier: letter first, then letters, digits, ''_''')
       return
     end if
-    do j = 1, cfg%nfluids
-      if (group == 'fluid' .and. j >= k) exit
-      if (cfg%fluids(j)%name == name) then
-        call set_error(err, occurrence_label(group, k), 'name', quoted(name), &
-          'unique among &fluid and &solid names (already used by ' // &
-          '&' // occurrence_label('fluid', j) // ')')
-        return
+    ! the materials before this one: the fluids in order, then the solids
+    position = k
+    if (group == 'solid') position = cfg%nfluids + k
+    do j = 1, position - 1
+      if (j <= cfg%nfluids) then
+        other = cfg%fluids(j)%name
+        other_label = occurrence_label('fluid', j)
+      else
+        other = cfg%solids(j - cfg%nfluids)%name
+        other_label = occurrence_label('solid', j - cfg%nfluids)
       end if
-    end do
-    if (group == 'fluid') return
-    do j = 1, k - 1
-      if (cfg%solids(j)%name == name) then
+      if (other == name) then
         call set_error(err, occurrence_label(group, k), 'name', quoted(name), &
-          'unique among &fluid and &solid names (already used by ' // &
-          '&' // occurrence_label('solid', j) // ')')
+          'unique among &fluid and &solid names (already used by &' // other_label // ')')
         return
       end if
     end do
   end subroutine check_material_name
-
-  !> `&fluid(k)`.
-  subroutine check_fluid(cfg, k, err)
-    type(config_t), intent(in) :: cfg           !< configuration
-    integer, intent(in) :: k                    !< occurrence
-    type(config_error_t), intent(inout) :: err  !< problem record
-    if (err%found) return
-    call check_material_name(cfg, 'fluid', k, cfg%fluids(k)%name, err)
-    call check_fluid_ranges(cfg%fluids(k), occurrence_label('fluid', k), err)
-  end subroutine check_fluid
 
   !> `&solid(k)`: the name, the ranges, then the conditions between its variables: tensile
   !! strength, geometry and particles, packing limits, the loaded box, the porosity the soil

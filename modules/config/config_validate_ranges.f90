@@ -15,14 +15,12 @@ module config_validate_ranges
     solid_shape_names, drag_law_names, rigid_contact_names, contact_normal_names, drag_scheme_names, &
     boundary_fluid_names, boundary_thermal_names, boundary_solid_names, balance_names
   use config_text, only: real_repr, ints_repr
-  use config_check_tools, only: config_error_t, check_real, check_int, check_choice, check_finite
+  use config_check_tools, only: config_error_t, check_real, check_int, check_choice, check_finite, &
+    check_nonblank
   implicit none
   private
 
-  public :: check_run_ranges, check_grid_ranges, check_time_ranges, check_numerics_ranges
-  public :: check_solver_ranges, check_output_ranges, check_heat_ranges, check_physics_ranges
-  public :: check_ice_ranges, check_mpm_ranges, check_coupling_ranges, check_fluid_ranges
-  public :: check_solid_ranges, check_region_ranges, check_boundary_ranges
+  include 'config_nml_ranges_public.inc'
 
 contains
 

@@ -293,21 +293,19 @@ contains
   pure function xml_text(raw) result(text)
     character(len=*), intent(in) :: raw  !< unescaped text
     character(len=:), allocatable :: text
-    integer :: i
+    character(len=*), parameter :: special = '&<>"'  !< the characters that are escaped
+    !> their entities, in the order of `special`
+    character(len=6), parameter :: entity(len(special)) = &
+      [character(len=6) :: '&amp;', '&lt;', '&gt;', '&quot;']
+    integer :: i, k
     text = ''
     do i = 1, len(raw)
-      select case (raw(i:i))
-      case ('&')
-        text = text // '&amp;'
-      case ('<')
-        text = text // '&lt;'
-      case ('>')
-        text = text // '&gt;'
-      case ('"')
-        text = text // '&quot;'
-      case default
+      k = index(special, raw(i:i))
+      if (k > 0) then
+        text = text // trim(entity(k))
+      else
         text = text // raw(i:i)
-      end select
+      end if
     end do
   end function xml_text
 

@@ -15,7 +15,7 @@ module parallel_comm
     MPI_Alltoallv, MPI_Cart_rank, MPI_Get_library_version, MPI_Initialized, MPI_Finalized, &
     MPI_Abort, MPI_IN_PLACE, MPI_INTEGER, MPI_CHARACTER, &
     MPI_INTEGER8, MPI_LOGICAL, MPI_DOUBLE_PRECISION, MPI_2DOUBLE_PRECISION, MPI_SUM, &
-    MPI_MAXLOC, MPI_LAND, MPI_LOR, MPI_MAX_LIBRARY_VERSION_STRING
+    MPI_MAXLOC, MPI_LAND, MPI_MAX_LIBRARY_VERSION_STRING
   use, intrinsic :: iso_c_binding, only: c_int, c_ptr
   use mpmice_kinds, only: wp, i8
   use mpmice_errors, only: set_exit_hooks
@@ -121,12 +121,15 @@ contains
     call MPI_Barrier(comm)
   end subroutine barrier
 
-  !> Broadcast of one integer.
+  !> Broadcast of one integer: an integer vector of length 1.
   subroutine bcast_int(comm, value, root)
     type(MPI_Comm), intent(in) :: comm  !< communicator
     integer, intent(inout) :: value     !< sent by root, received elsewhere
     integer, intent(in) :: root         !< sending rank
-    call MPI_Bcast(value, 1, MPI_INTEGER, root, comm)
+    integer :: buffer(1)
+    buffer(1) = value
+    call bcast_int_array(comm, buffer, root)
+    value = buffer(1)
   end subroutine bcast_int
 
   !> Broadcast of an integer array.
@@ -137,12 +140,15 @@ contains
     call MPI_Bcast(values, size(values), MPI_INTEGER, root, comm)
   end subroutine bcast_int_array
 
-  !> Broadcast of one logical.
+  !> Broadcast of one logical, as the integer 1 (true) or 0 (false).
   subroutine bcast_logical(comm, value, root)
     type(MPI_Comm), intent(in) :: comm  !< communicator
     logical, intent(inout) :: value     !< sent by root, received elsewhere
     integer, intent(in) :: root         !< sending rank
-    call MPI_Bcast(value, 1, MPI_LOGICAL, root, comm)
+    integer :: flag
+    flag = merge(1, 0, value)
+    call bcast_int(comm, flag, root)
+    value = flag == 1
   end subroutine bcast_logical
 
   !> Broadcast of a real array.
@@ -217,11 +223,11 @@ contains
     call MPI_Allreduce(flag, all_true, 1, MPI_LOGICAL, MPI_LAND, comm)
   end function all_and
 
-  !> True when `flag` is true on any rank.
+  !> True when `flag` is true on any rank: not false on every rank.
   logical function all_or(comm, flag) result(any_true)
     type(MPI_Comm), intent(in) :: comm  !< communicator
     logical, intent(in) :: flag         !< this rank's flag
-    call MPI_Allreduce(flag, any_true, 1, MPI_LOGICAL, MPI_LOR, comm)
+    any_true = .not. all_and(comm, .not. flag)
   end function all_or
 
   !> Exclusive prefix sum of `count` over the ranks (0 on rank 0) and the total.

@@ -32,7 +32,7 @@ contains
     type(solid_params_t), intent(in) :: s      !< `&solid` parameters
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
-    integer :: ppc(3), i, j, k, a, b, c, n, dv, dd
+    integer :: ppc(3), sub(3), i, j, k, m, n, dv, dd
     integer(i8) :: cell_id, nsub
     real(wp) :: xp(3), vol, rho, sv, k0, gmag
     call particles_reserve(p, max(p%np, 1))   ! arrays allocated even on a rank without particles
@@ -49,36 +49,33 @@ contains
       do j = grid%lo(2), grid%hi(2)
         do i = grid%lo(1), grid%hi(1)
           cell_id = (int(k - 1, i8) * grid%ncells(2) + int(j - 1, i8)) * grid%ncells(1) + (i - 1)
-          do c = 1, ppc(3)
-            do b = 1, ppc(2)
-              do a = 1, ppc(1)
-                xp = seed_point(grid%lower, grid%dx, [i, j, k], [a, b, c], ppc)
-                if (.not. inside_shape(s, grid%active, xp)) cycle
-                call particles_reserve(p, p%np + 1)
-                n = p%np + 1
-                p%np = n
-                p%x(:, n) = xp
-                p%v(:, n) = merge(s%velocity, 0.0_wp, grid%active) * velocity_profile(s, xp)
-                p%volume(n) = vol
-                p%volume0(n) = vol
-                p%mass(n) = rho * vol
-                p%f(:, n) = identity_f
-                p%stress(:, n) = 0.0_wp
-                p%plastic_strain(n) = 0.0_wp
-                p%hardening(n) = 0.0_wp
-                p%cyclic(:, n) = 0.0_wp
-                p%temperature(n) = s%temperature
-                p%pore_pressure(n) = 0.0_wp
-                p%id(n) = cell_id * nsub + int(((c - 1) * ppc(2) + (b - 1)) * ppc(1) + a, i8)
-                if (s%geostatic .and. gmag > 0.0_wp) then
-                  sv = -rho * gmag * depth_below_surface(s, grid, xp, dv, gravity(dv) < 0.0_wp)
-                  do dd = 1, 3
-                    p%stress(dd, n) = merge(sv, k0 * sv, dd == dv)
-                  end do
-                end if
-                p%stress_unrot(:, n) = p%stress(:, n)
+          do m = 1, product(ppc)
+            sub = sub_point(m, ppc)
+            xp = seed_point(grid%lower, grid%dx, [i, j, k], sub, ppc)
+            if (.not. inside_shape(s, grid%active, xp)) cycle
+            call particles_reserve(p, p%np + 1)
+            n = p%np + 1
+            p%np = n
+            p%x(:, n) = xp
+            p%v(:, n) = merge(s%velocity, 0.0_wp, grid%active) * velocity_profile(s, xp)
+            p%volume(n) = vol
+            p%volume0(n) = vol
+            p%mass(n) = rho * vol
+            p%f(:, n) = identity_f
+            p%stress(:, n) = 0.0_wp
+            p%plastic_strain(n) = 0.0_wp
+            p%hardening(n) = 0.0_wp
+            p%cyclic(:, n) = 0.0_wp
+            p%temperature(n) = s%temperature
+            p%pore_pressure(n) = 0.0_wp
+            p%id(n) = cell_id * nsub + int(m, i8)
+            if (s%geostatic .and. gmag > 0.0_wp) then
+              sv = -rho * gmag * depth_below_surface(s, grid, xp, dv, gravity(dv) < 0.0_wp)
+              do dd = 1, 3
+                p%stress(dd, n) = merge(sv, k0 * sv, dd == dv)
               end do
-            end do
+            end if
+            p%stress_unrot(:, n) = p%stress(:, n)
           end do
         end do
       end do
@@ -100,6 +97,17 @@ contains
       xp(d) = lower(d) + (real(cell(d) - 1, wp) + (real(sub(d), wp) - 0.5_wp) / ppc(d)) * dx(d)
     end do
   end function seed_point
+
+  !> Indices (1..ppc per dimension) of sub-point `m` (1..product(ppc)) of a cell: the first
+  !! dimension fastest, so that `m` numbers the sub-points in the order `seed_solid` seeds them.
+  pure function sub_point(m, ppc) result(sub)
+    integer, intent(in) :: m       !< sub-point number
+    integer, intent(in) :: ppc(3)  !< particles per cell per dimension
+    integer :: sub(3)
+    sub(1) = mod(m - 1, ppc(1)) + 1
+    sub(2) = mod((m - 1) / ppc(1), ppc(2)) + 1
+    sub(3) = (m - 1) / (ppc(1) * ppc(2)) + 1
+  end function sub_point
 
   !> Factor of the initial velocity at `x`: the product of sin(k_d (x_d - lower_d)) over the
   !! entries k_d /= 0 of `velocity_wavenumber` (1 when all are 0).

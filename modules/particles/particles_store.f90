@@ -13,7 +13,7 @@ module particles_store
   implicit none
   private
 
-  public :: particles_t, particles_reserve, particles_resize, particles_copy, particles_compact
+  public :: particles_t, particles_reserve, particles_resize, particles_compact
   public :: particles_free, identity_f, n_cyclic_state
 
   !> Entries of the per-particle cyclic state (`mpm_critical_state_sand`'s css_n_cyclic).
@@ -102,28 +102,6 @@ contains
     p%np = n
     p%capacity = cap
   end subroutine particles_resize
-
-  !> Copy particle `i` of `src` to slot `j` of `dst` (capacity must suffice).
-  pure subroutine particles_copy(src, i, dst, j)
-    type(particles_t), intent(in) :: src     !< source store
-    integer, intent(in) :: i                 !< source slot
-    type(particles_t), intent(inout) :: dst  !< destination store
-    integer, intent(in) :: j                 !< destination slot
-    dst%x(:, j) = src%x(:, i)
-    dst%v(:, j) = src%v(:, i)
-    dst%mass(j) = src%mass(i)
-    dst%volume(j) = src%volume(i)
-    dst%volume0(j) = src%volume0(i)
-    dst%f(:, j) = src%f(:, i)
-    dst%stress(:, j) = src%stress(:, i)
-    dst%stress_unrot(:, j) = src%stress_unrot(:, i)
-    dst%plastic_strain(j) = src%plastic_strain(i)
-    dst%hardening(j) = src%hardening(i)
-    dst%cyclic(:, j) = src%cyclic(:, i)
-    dst%temperature(j) = src%temperature(i)
-    dst%pore_pressure(j) = src%pore_pressure(i)
-    dst%id(j) = src%id(i)
-  end subroutine particles_copy
 
   !> Remove the particles with `keep(i) = .false.`, preserving the order of the others.
   subroutine particles_compact(p, keep)

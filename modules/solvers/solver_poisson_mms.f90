@@ -76,7 +76,7 @@ contains
     real(wp), intent(out) :: coef_y(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< y low faces
     real(wp), intent(out) :: coef_z(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< z low faces
     real(wp), intent(out) :: rhs(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)    !< right-hand side
-    integer :: i, j, k, d, side, cell(3), face
+    integer :: i, j, k, d, f, side, cell(3), face
     real(wp) :: xc(3), xf(3), c
     logical :: wall
 
@@ -92,26 +92,26 @@ contains
           xc = cell_centre(grid, [1, 2, 3], cell)
           diag(i, j, k) = reaction
           rhs(i, j, k) = mms_source(grid, xc, reaction)
-          do d = 1, 3
+          do f = 1, 6  ! the faces x-, x+, y-, y+, z-, z+
+            d = (f + 1) / 2
+            side = mod(f + 1, 2)
             if (.not. grid%active(d)) cycle
-            do side = 0, 1
-              face = cell(d) + side
-              xf = xc
-              xf(d) = node_position(grid, d, face)
-              wall = .not. grid%periodic(d) .and. (face == 1 .or. face == grid%ncells(d) + 1)
-              c = mms_conductivity(grid, xf) / grid%dx(d)**2
-              if (wall) then
-                diag(i, j, k) = diag(i, j, k) + 2.0_wp * c
-                rhs(i, j, k) = rhs(i, j, k) + 2.0_wp * c * mms_exact(grid, xf)
-              else
-                diag(i, j, k) = diag(i, j, k) + c
-                if (side == 0) then
-                  if (d == 1) coef_x(i, j, k) = c
-                  if (d == 2) coef_y(i, j, k) = c
-                  if (d == 3) coef_z(i, j, k) = c
-                end if
+            face = cell(d) + side
+            xf = xc
+            xf(d) = node_position(grid, d, face)
+            wall = .not. grid%periodic(d) .and. (face == 1 .or. face == grid%ncells(d) + 1)
+            c = mms_conductivity(grid, xf) / grid%dx(d)**2
+            if (wall) then
+              diag(i, j, k) = diag(i, j, k) + 2.0_wp * c
+              rhs(i, j, k) = rhs(i, j, k) + 2.0_wp * c * mms_exact(grid, xf)
+            else
+              diag(i, j, k) = diag(i, j, k) + c
+              if (side == 0) then
+                if (d == 1) coef_x(i, j, k) = c
+                if (d == 2) coef_y(i, j, k) = c
+                if (d == 3) coef_z(i, j, k) = c
               end if
-            end do
+            end if
           end do
         end do
       end do
@@ -148,23 +148,22 @@ contains
     real(wp), intent(out) :: g(3)     !< g_d
     real(wp), intent(out) :: gp(3)    !< dg_d/dx_d
     real(wp), intent(out) :: gpp(3)   !< d2g_d/dx_d2
-    real(wp) :: a, xi, length
+    real(wp) :: a, xi(3), length(3)
     integer :: d
     g = 1.0_wp
     gp = 0.0_wp
     gpp = 0.0_wp
+    call unit_coordinates(grid, x, xi, length)
     do d = 1, 3
       if (.not. grid%active(d)) cycle
-      length = grid%upper(d) - grid%lower(d)
-      xi = (x(d) - grid%lower(d)) / length
       if (grid%periodic(d)) then
         a = 2.0_wp * pi
       else
         a = wall_wavenumber
       end if
-      g(d) = sin(a * xi + phase(d))
-      gp(d) = a / length * cos(a * xi + phase(d))
-      gpp(d) = -(a / length)**2 * g(d)
+      g(d) = sin(a * xi(d) + phase(d))
+      gp(d) = a / length(d) * cos(a * xi(d) + phase(d))
+      gpp(d) = -(a / length(d))**2 * g(d)
     end do
   end subroutine shape_factors
 
@@ -175,16 +174,32 @@ contains
     real(wp), intent(in) :: x(3)      !< position [m]
     real(wp), intent(out) :: s(3)     !< s_d
     real(wp), intent(out) :: ds(3)    !< ds_d/dx_d
-    real(wp) :: xi, length
+    real(wp) :: xi(3), length(3)
     integer :: d
     s = 1.0_wp
     ds = 0.0_wp
+    call unit_coordinates(grid, x, xi, length)
     do d = 1, 3
       if (.not. grid%active(d)) cycle
-      length = grid%upper(d) - grid%lower(d)
-      xi = (x(d) - grid%lower(d)) / length
-      s(d) = sin(2.0_wp * pi * xi)
-      ds(d) = 2.0_wp * pi / length * cos(2.0_wp * pi * xi)
+      s(d) = sin(2.0_wp * pi * xi(d))
+      ds(d) = 2.0_wp * pi / length(d) * cos(2.0_wp * pi * xi(d))
     end do
   end subroutine coefficient_factors
+
+  !> Domain lengths L_d [m] and the position in them, xi_d = (x_d - lower_d) / L_d, along the
+  !! active dimensions (0 and 1 on the inactive ones).
+  pure subroutine unit_coordinates(grid, x, xi, length)
+    type(grid_t), intent(in) :: grid     !< block geometry
+    real(wp), intent(in) :: x(3)         !< position [m]
+    real(wp), intent(out) :: xi(3)       !< xi_d
+    real(wp), intent(out) :: length(3)   !< L_d [m]
+    integer :: d
+    xi = 0.0_wp
+    length = 1.0_wp
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      length(d) = grid%upper(d) - grid%lower(d)
+      xi(d) = (x(d) - grid%lower(d)) / length(d)
+    end do
+  end subroutine unit_coordinates
 end module solver_poisson_mms

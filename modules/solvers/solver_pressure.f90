@@ -496,18 +496,18 @@ contains
     call destroy_krylov(solver)
     if (c_associated(solver%x)) call hypre_check(HYPRE_StructVectorDestroy(solver%x), &
       'HYPRE_StructVectorDestroy')
+    solver%x = c_null_ptr
     if (c_associated(solver%b)) call hypre_check(HYPRE_StructVectorDestroy(solver%b), &
       'HYPRE_StructVectorDestroy')
+    solver%b = c_null_ptr
     if (c_associated(solver%matrix)) call hypre_check(HYPRE_StructMatrixDestroy(solver%matrix), &
       'HYPRE_StructMatrixDestroy')
+    solver%matrix = c_null_ptr
     if (c_associated(solver%stencil)) call hypre_check( &
       HYPRE_StructStencilDestroy(solver%stencil), 'HYPRE_StructStencilDestroy')
+    solver%stencil = c_null_ptr
     if (c_associated(solver%grid)) call hypre_check(HYPRE_StructGridDestroy(solver%grid), &
       'HYPRE_StructGridDestroy')
-    solver%x = c_null_ptr
-    solver%b = c_null_ptr
-    solver%matrix = c_null_ptr
-    solver%stencil = c_null_ptr
     solver%grid = c_null_ptr
     solver%comm = c_null_ptr
     if (allocated(solver%matrix_values)) deallocate(solver%matrix_values)

@@ -57,8 +57,10 @@ class Mpmice(CMakePackage):
         depends_on("py-matplotlib", type="run")
 
     # The build generates the namelist code from modules/config/namelist/*.toml with
-    # scripts/generate_namelists.py (standard library only, tomllib: Python 3.11).
+    # scripts/generate_namelists.py (standard library only, tomllib: Python 3.11), and expands the
+    # Fortran templates (modules/**/*.fypp) with fypp (cmake/mpmice_fypp.cmake).
     depends_on("python@3.11:", type="build")
+    depends_on("py-fypp", type="build")
 
     def cmake_args(self):
         return [

@@ -52,7 +52,8 @@ def test_mpi_c_bindings_only_in_allowed_folders():
     """No file of modules/ or src/ outside MPI_FOLDERS binds an MPI C function (`bind(c,
     name='MPI_...')`): the C handle of a communicator for hypre comes from parallel_comm."""
     bound = []
-    for path in sorted((ROOT / "modules").rglob("*.f90")) + sorted((ROOT / "src").rglob("*.f90")):
+    sources = [path for ext in ("*.f90", "*.fypp") for path in sorted((ROOT / "modules").rglob(ext))]
+    for path in sources + sorted((ROOT / "src").rglob("*.f90")):
         rel = path.relative_to(ROOT)
         text = path.read_text(encoding="utf-8").lower()
         if "name='mpi_" in text.replace('"', "'").replace(" ", ""):
