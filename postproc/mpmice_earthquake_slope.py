@@ -23,7 +23,9 @@ effective stress (means over the particles within 0.25 m of four points: the ban
 the basal layer under the crest and both flanks), with 1 - sigma'_v / sigma'_v0 of the same
 particles beside it; then the noise's p99 averaged over the dumps 0.2-0.85 s and its largest
 value there. A third table gives r_u per shaking cycle (at the cycle's end and its largest value
-within it). The base's shaking (amplitude, frequency, duration) is read from the run's echo
+within it); a fourth the monitors' initial tau/p' and tau_xy/sigma'_v0, and per cycle their
+cyclic stress ratio (half the range of the mean tau_xy over the cycle's dumps / sigma'_v0) and
+the spread (standard deviation) of their particles' volumetric strain V/V0 - 1. The base's shaking (amplitude, frequency, duration) is read from the run's echo
 quake.used.nml. --compare draws r_u and the crest displacement of several runs into
 earthquake_slope_ru.png, and the base acceleration over r_u at each monitor into
 earthquake_slope_ru_cycles.png.
@@ -198,6 +200,50 @@ def effective_stress_ratio(sigma_v: np.ndarray, sigma_v0: np.ndarray) -> float:
     return float(1.0 - np.mean(sigma_v) / np.mean(sigma_v0))
 
 
+def shear_ratio(parts: dict, index: np.ndarray) -> np.ndarray:
+    """tau / p' of particles `index`: tau = sqrt(s:s / 2) of the effective stress's deviator
+    (plane strain, sigma'_zz included), p' = -tr(sigma') / 3 [-] (0 where p' <= 0)."""
+    sxx, syy, szz, sxy = (parts[f"stress_{c}"][index] for c in ("xx", "yy", "zz", "xy"))
+    p = -(sxx + syy + szz) / 3.0
+    tau = np.sqrt(0.5 * ((sxx + p) ** 2 + (syy + p) ** 2 + (szz + p) ** 2) + sxy**2)
+    return np.where(p > 0.0, tau / np.where(p > 0.0, p, 1.0), 0.0)
+
+
+def cycle_diagnostics(rows: list[dict], shaking: tuple[float, float, float]) -> list[dict]:
+    """Per shaking cycle (as :func:`cycle_table`) and r_u monitor: the cyclic stress ratio CSR
+    = half the range of the monitor's mean tau_xy over the cycle's dumps / its mean initial
+    sigma'_v0, and the spread (standard deviation) of its particles' volumetric strain
+    V / V0 - 1 at the cycle's end."""
+    _, f, duration = shaking
+    t = np.array([r["time"] for r in rows])
+    table = []
+    for n in range(1, int(round(duration * f)) + 1):
+        t0, t1 = (n - 1) / f, n / f
+        if t[-1] < t1 - 1e-9:
+            break
+        inside = [r for r in rows if t0 < r["time"] <= t1 + 1e-9]
+        end = rows[int(np.argmin(np.abs(t - t1)))]
+        csr = {}
+        for k in RU_MONITORS:
+            tau = [r["tau_xy"][k] for r in inside]
+            csr[k] = 0.5 * (max(tau) - min(tau)) / end["sigma_v0"][k]
+        table.append({"cycle": n, "csr": csr, "ev_spread": dict(end["ev_spread"])})
+    return table
+
+
+def print_cycle_diagnostics(rows: list[dict], table: list[dict]) -> None:
+    """The initial tau / p' and tau_xy / sigma'_v0 of each r_u monitor, then per cycle the CSR
+    and the particles' volumetric strain spread (:func:`cycle_diagnostics`)."""
+    first = rows[0]
+    print("initial tau/p' (tau_xy/sigma'_v0): " + " / ".join(
+        f"{first['tau_over_p'][k]:.3f} ({first['tau_xy'][k] / first['sigma_v0'][k]:+.3f})"
+        for k in RU_MONITORS))
+    print("cycle  CSR / spread of eps_v at the cycle's end: " + " / ".join(RU_MONITORS))
+    for c in table:
+        cells = " / ".join(f"{c['csr'][k]:4.2f} {c['ev_spread'][k]:.1e}" for k in RU_MONITORS)
+        print(f"{c['cycle']:5d}  {cells}")
+
+
 def analyse(dumps: list[dict], shaking: tuple[float, float, float] | None = None) -> list[dict]:
     """One row of measured quantities per dump (see the module header); `shaking` (a, f,
     duration: :func:`base_shaking`) sets the prescribed base motion (default: the shipped 1 g)."""
@@ -234,6 +280,11 @@ def analyse(dumps: list[dict], shaking: tuple[float, float, float] | None = None
             "ru": {k: pore_pressure_ratio(pex[i], sv0[i]) for k, i in ru_monitors.items()},
             "ru_effective": {k: effective_stress_ratio(-s["stress_yy"][i], sv0[i])
                              for k, i in ru_monitors.items()},
+            "tau_xy": {k: float(np.mean(s["stress_xy"][i])) for k, i in ru_monitors.items()},
+            "sigma_v0": {k: float(np.mean(sv0[i])) for k, i in ru_monitors.items()},
+            "ev_spread": {k: float(np.std(s["volume"][i] / s0["volume"][i] - 1.0))
+                          for k, i in ru_monitors.items()},
+            "tau_over_p": {k: float(np.mean(shear_ratio(s, i))) for k, i in ru_monitors.items()},
             "crest_ux": float(np.mean(ux[crest])), "crest_uy": float(np.mean(uy[crest])),
             "roughness_p99": rough[0], "roughness_max": rough[1],
             "eta": eta, "level": level, "eta_max": float(np.nanmax(eta)), "eta_min": float(np.nanmin(eta)),
@@ -414,6 +465,7 @@ def compare_main(argv) -> int:
         print(f"== {label}: {path}")
         print_table(runs[label])
         print_cycle_table(cycle_table(runs[label], runs[label][0]["shaking"]))
+        print_cycle_diagnostics(runs[label], cycle_diagnostics(runs[label], runs[label][0]["shaking"]))
     os.makedirs(args.out, exist_ok=True)
     print(f"plot: {compare(runs, args.out)}")
     print(f"plot: {cycles_figure(runs, args.out)}")
@@ -429,6 +481,7 @@ def main(argv=None) -> int:
     rows = analyse(dumps, base_shaking(args.dir))
     print_table(rows)
     print_cycle_table(cycle_table(rows, rows[0]["shaking"]))
+    print_cycle_diagnostics(rows, cycle_diagnostics(rows, rows[0]["shaking"]))
     for path in plot(dumps, rows, args.out or args.dir):
         print(f"plot: {path}")
     return 0

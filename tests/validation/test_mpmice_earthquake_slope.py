@@ -5,6 +5,8 @@ checks the masses, the base's prescribed motion, that the sediment is carried by
 yields, and the size of the surface wave. The loose / dense critical-state sand pair
 (namelists/mpmice_earthquake_slope_{loose,dense}_2d.nml, the same coarse run, ~2 x 5 s): the
 loose basal layer liquefies (r_u -> 1), the dense one sucks."""
+import math
+
 import numpy as np
 import pytest
 
@@ -144,3 +146,24 @@ def test_base_shaking_and_cycle_table(tmp_path):
     key = "layer, crest"
     assert table[0]["end"][key] == pytest.approx(0.5) and table[0]["max"][key] == pytest.approx(0.9)
     assert table[1]["end"][key] == pytest.approx(1.0) and table[1]["max"][key] == pytest.approx(1.0)
+
+
+def test_cycle_diagnostics_and_shear_ratio():
+    """The per-cycle cyclic stress ratio (half the range of a monitor's mean tau_xy over the
+    cycle's dumps / sigma'_v0) and volume spread at the cycle's end on synthetic rows, and
+    tau / p' of a K0 = 0.5 plane-strain state (sqrt(1/12) / (2/3) = 0.433) and of a pure shear."""
+    shaking = (0.981, 2.0, 1.0)
+    times = np.arange(0.0, 1.0 + 1e-9, 0.025)            # dumps at the peaks of sin(4 pi t)
+    rows = [{"time": float(t), "sigma_v0": {k: 2.0e4 for k in quake.RU_MONITORS},
+             "tau_xy": {k: 3.0e3 * math.sin(4.0 * math.pi * t) for k in quake.RU_MONITORS},
+             "ev_spread": {k: 1e-3 * t for k in quake.RU_MONITORS}} for t in times]
+    table = quake.cycle_diagnostics(rows, shaking)
+    assert [c["cycle"] for c in table] == [1, 2]
+    key = "layer, crest"
+    assert table[0]["csr"][key] == pytest.approx(0.15)         # 3 kPa / 20 kPa
+    assert table[1]["ev_spread"][key] == pytest.approx(1e-3)
+    parts = {"stress_xx": np.array([-0.5e4, -1e4]), "stress_yy": np.array([-1e4, -1e4]),
+             "stress_zz": np.array([-0.5e4, -1e4]), "stress_xy": np.array([0.0, 3e3])}
+    ratio = quake.shear_ratio(parts, np.array([0, 1]))
+    assert ratio[0] == pytest.approx(math.sqrt(1.0 / 12.0) * 1.5)
+    assert ratio[1] == pytest.approx(0.3)
