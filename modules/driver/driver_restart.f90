@@ -8,7 +8,9 @@
 !! * a `--set` changes a variable that the checkpoint cannot honour: anything except the
 !!   variables of `restart_changeable` (run control, decomposition, time-step limits, solver
 !!   tolerances, output selection). The grid, the scene, the materials, the boundaries and the
-!!   initial conditions are those of the stored state.
+!!   initial conditions are those of the stored state;
+!! * a solid's model needs per-particle state that the checkpoint lacks (`model_state`: Cam-Clay's
+!!   `hardening`, the densifying sand's `cyclic` and `cyclic_half_time`).
 !!
 !! A restart continues its own run in the checkpoint's folder: unless a `--set` gives another
 !! `&run output_dir`, the output folder is the folder that holds the checkpoint (as named on the
@@ -23,6 +25,7 @@ module driver_restart
   use config_echo, only: config_to_text
   use io_files, only: io_dirname
   use io_hdf5_probe, only: checkpoint_probe_t, h5_probe_checkpoint
+  use mpm_constitutive, only: model_state, model_from_name
   use driver_output, only: checkpoint_version
   implicit none
   private
@@ -103,6 +106,7 @@ contains
       else
         call refuse_changes(config_to_text(stored), config_to_text(cfg), stat, errmsg)
       end if
+      if (stat == 0) call check_model_state(path, stored, info%datasets, stat, errmsg)
       same_dir = cfg%run%output_dir == stored%run%output_dir
     end if
     call bcast_status(stat, errmsg, comm)
@@ -110,6 +114,37 @@ contains
     call bcast(comm, same_dir, 0)
     if (same_dir) cfg%run%output_dir = io_dirname(path)
   end subroutine restart_load
+
+  !> `stat` = 1 and the error line when a solid of `stored` needs model-specific particle state
+  !! (`mpm_constitutive%model_state`) that the checkpoint `path` lacks.
+  subroutine check_model_state(path, stored, datasets, stat, errmsg)
+    character(len=*), intent(in) :: path                   !< checkpoint
+    type(config_t), intent(in) :: stored                   !< its stored input
+    character(len=*), intent(in) :: datasets(:)            !< its datasets (`h5_probe_checkpoint`)
+    integer, intent(inout) :: stat                         !< 1 on refusal
+    character(len=:), allocatable, intent(inout) :: errmsg !< error line
+    character(len=:), allocatable :: g, missing
+    logical :: hardening, cyclic
+    integer :: k
+    do k = 1, stored%nsolids
+      associate (sp => stored%solids(k))
+        call model_state(model_from_name(sp%model), sp%densification_c1, hardening, cyclic)
+        g = 'checkpoint/particles/' // trim(sp%name) // '/'
+        missing = ''
+        if (cyclic) then
+          if (.not. any(datasets == g // 'cyclic_half_time')) missing = g // 'cyclic_half_time'
+          if (.not. any(datasets == g // 'cyclic')) missing = g // 'cyclic'
+        end if
+        if (hardening .and. .not. any(datasets == g // 'hardening')) missing = g // 'hardening'
+        if (len(missing) > 0) then
+          stat = 1
+          errmsg = cannot_restart(path, 'it lacks /' // missing // ', which &solid ' // &
+            trim(sp%name) // ' (model ' // trim(sp%model) // ') needs')
+          return
+        end if
+      end associate
+    end do
+  end subroutine check_model_state
 
   !> `stat` = 1 and the error line when the first `--set` change between the echo texts
   !! `old_text` (stored input) and `new_text` (with the `--set` texts) is not in

@@ -19,7 +19,7 @@ module mpm_constitutive
 
   public :: material_t, material_init, constitutive_update, wave_speed
   public :: model_linear_elastic, model_neo_hookean, model_mohr_coulomb, model_rigid
-  public :: model_from_name, model_cam_clay, model_critical_state_sand
+  public :: model_from_name, model_cam_clay, model_critical_state_sand, model_state
 
   integer, parameter :: model_linear_elastic = 1  !< linear (hypo-)elastic
   integer, parameter :: model_neo_hookean = 2     !< compressible Neo-Hookean
@@ -59,6 +59,19 @@ contains
     if (name == 'modified_cam_clay') model = model_cam_clay
     if (model == 0) model = model_linear_elastic
   end function model_from_name
+
+  !> The per-particle state a solid's model carries beyond the common fields: the Cam-Clay
+  !! preconsolidation pressure (`hardening`, model `cam_clay`) and the critical-state sand's
+  !! cyclic densification state (`cyclic`, model `critical_state_sand` with
+  !! `&solid densification_c1 > 0`). `constitutive_update` reads and writes nothing else.
+  pure subroutine model_state(model, densification_c1, hardening, cyclic)
+    integer, intent(in) :: model              !< model id (`model_from_name`)
+    real(wp), intent(in) :: densification_c1  !< `&solid densification_c1` [-]
+    logical, intent(out) :: hardening         !< carries p_c
+    logical, intent(out) :: cyclic            !< carries the cyclic state
+    hardening = model == model_cam_clay
+    cyclic = model == model_critical_state_sand .and. densification_c1 > 0.0_wp
+  end subroutine model_state
 
   !> Material from the namelist parameters (angles in degrees).
   pure function material_init(model, density, youngs, poisson, cohesion, phi_deg, psi_deg, &

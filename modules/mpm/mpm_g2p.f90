@@ -71,8 +71,20 @@ contains
       p%f(4:6, ip) = fnew(:, 2)
       p%f(7:9, ip) = fnew(:, 3)
       p%volume(ip) = det3(fnew) * p%volume0(ip)                           ! eq. 75
-      call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
-        p%plastic_strain(ip), p%hardening(ip), p%cyclic(:, ip))
+      ! the model-specific state only where the store carries it (`particles_store`)
+      if (p%has_hardening .and. p%has_cyclic) then
+        call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
+          p%plastic_strain(ip), p%hardening(ip), p%cyclic(:, ip))
+      else if (p%has_hardening) then
+        call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
+          p%plastic_strain(ip), hardening=p%hardening(ip))
+      else if (p%has_cyclic) then
+        call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
+          p%plastic_strain(ip), cyclic=p%cyclic(:, ip))
+      else
+        call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
+          p%plastic_strain(ip))
+      end if
     end do
   end subroutine g2p_update
 end module mpm_g2p

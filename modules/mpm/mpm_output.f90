@@ -3,7 +3,9 @@
 !! hardening, id}` and
 !! `/cell/<solid>/{volume_fraction, velocity_x, velocity_y, velocity_z, temperature}` (particle
 !! volume per cell volume; mass-weighted particle averages, 0 in empty cells), and checkpoints
-!! `/checkpoint/particles/<solid>/...` with the full state (bitwise restart).
+!! `/checkpoint/particles/<solid>/...` with the full state (bitwise restart). The dumps always
+!! hold `hardening` (0 unless the solid is Cam-Clay); a checkpoint holds `hardening` and
+!! `cyclic`, `cyclic_half_time` only for a solid whose model carries them (`particles_store`).
 module mpm_output
   use mpmice_kinds, only: wp, i8, name_len
   use io_hdf5, only: h5_file_t, h5_write_particles, h5_read_particles, h5_write_cell_field, &
@@ -11,6 +13,7 @@ module mpm_output
   use grid_layout, only: grid_t
   use io_xdmf, only: xdmf_particles_t
   use particles_store, only: particles_t, particles_resize, n_cyclic_state
+  use mpmice_errors, only: fatal
   implicit none
   private
 
@@ -55,7 +58,12 @@ contains
     call h5_write_particles(file, g // 'volume', p%volume(1:n))
     call h5_write_particles(file, g // 'mass', p%mass(1:n))
     call h5_write_particles(file, g // 'plastic_strain', p%plastic_strain(1:n))
-    call h5_write_particles(file, g // 'hardening', p%hardening(1:n))
+    if (p%has_hardening) then
+      call h5_write_particles(file, g // 'hardening', p%hardening(1:n))
+    else
+      tmp(:) = 0.0_wp  ! the dump layout is the same for every model
+      call h5_write_particles(file, g // 'hardening', tmp)
+    end if
     call h5_write_particles(file, g // 'id', p%id(1:n))
   end subroutine write_particle_dump
 
@@ -110,7 +118,10 @@ contains
   end subroutine read_particle_checkpoint
 
   !> Write (`write`) or read the particle arrays of a checkpoint but the ids, particles 1..n,
-  !! under the group `g`: the one list of what a bitwise restart needs.
+  !! under the group `g`: the one list of what a bitwise restart needs. The model-specific
+  !! state is written and read only when the store carries it; a checkpoint that holds it for
+  !! a store without it restarts (the datasets are skipped). A store that needs it from a
+  !! checkpoint without it stops here (`driver_restart` refuses such a restart before).
   subroutine checkpoint_state(file, g, p, n, write)
     type(h5_file_t), intent(in) :: file      !< open checkpoint
     character(len=*), intent(in) :: g        !< group path, ending in '/'
@@ -127,23 +138,31 @@ contains
     call transfer(file, g // 'volume', p%volume(1:n), write)
     call transfer(file, g // 'volume0', p%volume0(1:n), write)
     call transfer(file, g // 'plastic_strain', p%plastic_strain(1:n), write)
-    call transfer(file, g // 'hardening', p%hardening(1:n), write)
-    ! the sand's cyclic densification state; a checkpoint without it (written before the
-    ! state existed) restarts from zero, as the particles were seeded
-    if (write .or. h5_exists(file, g // 'cyclic')) then
-      call transfer(file, g // 'cyclic', p%cyclic(1:cyclic_main, 1:n), write)
-    else
-      p%cyclic(1:cyclic_main, 1:n) = 0.0_wp
+    if (p%has_hardening) then
+      call require(file, g // 'hardening', write)
+      call transfer(file, g // 'hardening', p%hardening(1:n), write)
     end if
-    ! the time since the last reversal, its own dataset (`cyclic` keeps its five rows)
-    if (write .or. h5_exists(file, g // 'cyclic_half_time')) then
+    if (p%has_cyclic) then
+      ! the sand's cyclic densification state; the time since the last reversal is its own
+      ! dataset (`cyclic` keeps its five rows)
+      call require(file, g // 'cyclic', write)
+      call require(file, g // 'cyclic_half_time', write)
+      call transfer(file, g // 'cyclic', p%cyclic(1:cyclic_main, 1:n), write)
       call transfer(file, g // 'cyclic_half_time', p%cyclic(n_cyclic_state, 1:n), write)
-    else
-      p%cyclic(n_cyclic_state, 1:n) = 0.0_wp
     end if
     call transfer(file, g // 'temperature', p%temperature(1:n), write)
     call transfer(file, g // 'pore_pressure', p%pore_pressure(1:n), write)
   end subroutine checkpoint_state
+
+  !> Stop when reading a checkpoint that lacks the dataset `path` (collective).
+  subroutine require(file, path, write)
+    type(h5_file_t), intent(in) :: file      !< open checkpoint
+    character(len=*), intent(in) :: path     !< dataset path
+    logical, intent(in) :: write             !< write (nothing to check), else read
+    if (write) return
+    if (.not. h5_exists(file, path)) call fatal('checkpoint lacks ' // path // &
+      ', which the solid''s model needs')
+  end subroutine require
 
   !> Write this rank's rows of the 2-D particle dataset `path`, or read them into `values`
   !! (same extent).

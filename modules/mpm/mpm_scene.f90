@@ -23,7 +23,7 @@ module mpm_scene
   use io_files, only: io_join_path, io_open_series
   use io_xdmf, only: xdmf_particles_t
   use scene_interface, only: scene_t, scene_health_t, scene_context_t
-  use particles_store, only: particles_t, particles_free
+  use particles_store, only: particles_t, particles_free, particles_select_state
   use particles_seeding, only: seed_solid
   use mpm_shape, only: shape_kind_from_name
   use mpm_nodes, only: mpm_nodes_t, nodes_init, nodes_free, nq, node_rigid_mass
@@ -32,7 +32,7 @@ module mpm_scene
     nodal_bc_at_time
   use mpm_g2p, only: g2p_update
   use mpm_constitutive, only: material_t, material_init, model_from_name, wave_speed, &
-    model_rigid
+    model_rigid, model_state
   use mpm_rigid, only: rigid_motion_t, rigid_velocity, rigid_displacement, rigid_is_static
   use particles_migration, only: migration_t, migration_init, migrate_particles
   use mpm_output, only: write_particle_dump, write_particle_checkpoint, &
@@ -91,6 +91,7 @@ contains
     type(scene_context_t), intent(in) :: ctx     !< decomposition, grid and timers of the run
     integer :: s, face, n
     real(wp) :: mmin
+    logical :: keep_hardening, keep_cyclic
     self%ctx = ctx
     associate (dom => ctx%dom, grid => ctx%grid, timers => ctx%timers)
       if (any(grid%active .and. grid%ng < 1)) call fatal('mpm scene: &grid ghost_width must be >= 1')
@@ -120,6 +121,8 @@ contains
           call set_soil_params(self%mats(s), sp)
           self%motions(s) = rigid_motion_t(sp%prescribed_velocity, sp%acceleration_amplitude, &
             sp%acceleration_frequency, sp%acceleration_duration)
+          call model_state(self%mats(s)%model, self%mats(s)%css%c1, keep_hardening, keep_cyclic)
+          call particles_select_state(self%parts(s), keep_hardening, keep_cyclic)
           call seed_solid(self%parts(s), sp, grid, self%gravity)
           if (self%mats(s)%model == model_rigid) call move_rigid(self, s, grid, 0.0_wp, 0.0_wp)
           self%static(s) = par%mpm%cache_static_rigid .and. &

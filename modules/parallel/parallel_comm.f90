@@ -254,10 +254,10 @@ contains
   subroutine alltoallv_real(comm, send, send_counts, send_displs, recv, recv_counts, &
     recv_displs)
     type(MPI_Comm), intent(in) :: comm          !< communicator
-    real(wp), intent(in) :: send(:, :)          !< values to send (contiguous)
+    real(wp), intent(in) :: send(:)             !< values to send
     integer, intent(in) :: send_counts(0:)      !< (0:nranks-1) values for each rank
     integer, intent(in) :: send_displs(0:)      !< (0:nranks-1) their offsets
-    real(wp), intent(inout) :: recv(:, :)       !< received values (contiguous)
+    real(wp), intent(inout) :: recv(:)          !< received values
     integer, intent(in) :: recv_counts(0:)      !< (0:nranks-1) values from each rank
     integer, intent(in) :: recv_displs(0:)      !< (0:nranks-1) their offsets
     call MPI_Alltoallv(send, send_counts, send_displs, MPI_DOUBLE_PRECISION, recv, &

@@ -4,9 +4,10 @@
 !!
 !! Owners come from tables built once (`migration_init`): the block coordinate of every global
 !! cell index per dimension and the rank of every block (MPI_Cart_rank). Particles travel packed
-!! as `nfield` reals (the 64-bit id bit-copied) through one MPI_Alltoall of counts and one
-!! MPI_Alltoallv; received particles are appended in source-rank order. The send buffers grow
-!! amortised and are kept between calls.
+!! as `particle_reals(p)` reals (the 64-bit id bit-copied; the model-specific state only when the
+!! store carries it: `n_common` + 1 for Cam-Clay's p_c, + `n_cyclic_state` for the sand's cyclic
+!! state) through one MPI_Alltoall of counts and one MPI_Alltoallv; received particles are
+!! appended in source-rank order. The send buffers grow amortised and are kept between calls.
 module particles_migration
   use mpmice_kinds, only: wp, i8
   use grid_layout, only: grid_t
@@ -16,17 +17,18 @@ module particles_migration
   implicit none
   private
 
-  public :: migration_t, migration_init, migrate_particles, nfield
+  public :: migration_t, migration_init, migrate_particles, particle_reals, nfield
 
-  integer, parameter :: nfield = 35 + n_cyclic_state  !< reals per packed particle
+  integer, parameter :: n_common = 34                 !< reals of every packed particle
+  integer, parameter :: nfield = n_common + 1 + n_cyclic_state  !< most reals per particle
 
   !> Ownership tables and buffers of the migration.
   type :: migration_t
     integer, allocatable :: coord_of_cell(:, :)   !< (max ncells, 3) block coordinate of a cell
     integer, allocatable :: rank_of(:, :, :)      !< (0:dims-1, ...) rank of a block
     integer, allocatable :: dest(:)               !< destination rank per particle (-1: leaves)
-    real(wp), allocatable :: sendbuf(:, :)        !< (nfield, n) packed outgoing particles
-    real(wp), allocatable :: recvbuf(:, :)        !< (nfield, n) packed incoming particles
+    real(wp), allocatable :: sendbuf(:)           !< (reals * n) packed outgoing particles
+    real(wp), allocatable :: recvbuf(:)           !< (reals * n) packed incoming particles
     integer, allocatable :: scount(:), rcount(:), sdispl(:), rdispl(:)  !< per rank (reals)
   end type migration_t
 
@@ -61,8 +63,17 @@ contains
     end do
     allocate(mig%scount(0:dom%nranks - 1), mig%rcount(0:dom%nranks - 1), &
       mig%sdispl(0:dom%nranks - 1), mig%rdispl(0:dom%nranks - 1))
-    allocate(mig%dest(0), mig%sendbuf(nfield, 0), mig%recvbuf(nfield, 0))
+    allocate(mig%dest(0), mig%sendbuf(0), mig%recvbuf(0))
   end subroutine migration_init
+
+  !> Reals per packed particle of store `p`: the common fields and the model-specific state
+  !! the store carries.
+  pure integer function particle_reals(p) result(nf)
+    type(particles_t), intent(in) :: p  !< store
+    nf = n_common
+    if (p%has_hardening) nf = nf + 1
+    if (p%has_cyclic) nf = nf + n_cyclic_state
+  end function particle_reals
 
   !> Send every particle of `p` to its owner; `removed` = particles of this rank that left the
   !! domain (local count). Collective.
@@ -72,7 +83,7 @@ contains
     type(domain_t), intent(in) :: dom        !< decomposition
     type(grid_t), intent(in) :: grid         !< block geometry
     integer, intent(out) :: removed          !< particles removed (left the domain)
-    integer :: ip, d, ci, coords(3), r, nsend, nrecv, slot(0:dom%nranks - 1), n0, i
+    integer :: ip, d, ci, coords(3), r, nsend, nrecv, slot(0:dom%nranks - 1), n0, i, nf
     logical, allocatable :: keep(:)
     real(wp) :: span
 
@@ -108,23 +119,24 @@ contains
       if (mig%dest(ip) /= dom%rank) mig%scount(mig%dest(ip)) = mig%scount(mig%dest(ip)) + 1
     end do
 
+    nf = particle_reals(p)
     if (dom%nranks > 1) then
       nsend = sum(mig%scount)
-      call reserve_columns(mig%sendbuf, nsend)
+      call reserve_reals(mig%sendbuf, nsend * nf)
       slot = exclusive_offsets(mig%scount, 1)
-      mig%sdispl(:) = slot * nfield
+      mig%sdispl(:) = slot * nf
       do ip = 1, p%np
         r = mig%dest(ip)
         if (r < 0 .or. r == dom%rank) cycle
         slot(r) = slot(r) + 1
-        call pack_particle(p, ip, mig%sendbuf(:, slot(r)))
+        call pack_particle(p, ip, mig%sendbuf((slot(r) - 1) * nf + 1:slot(r) * nf))
       end do
       call alltoall_counts(dom%comm, mig%scount, mig%rcount)
       nrecv = sum(mig%rcount)
-      call reserve_columns(mig%recvbuf, nrecv)
-      mig%rdispl(:) = exclusive_offsets(mig%rcount, nfield)
-      call alltoallv_real(dom%comm, mig%sendbuf, mig%scount * nfield, mig%sdispl, mig%recvbuf, &
-        mig%rcount * nfield, mig%rdispl)
+      call reserve_reals(mig%recvbuf, nrecv * nf)
+      mig%rdispl(:) = exclusive_offsets(mig%rcount, nf)
+      call alltoallv_real(dom%comm, mig%sendbuf, mig%scount * nf, mig%sdispl, mig%recvbuf, &
+        mig%rcount * nf, mig%rdispl)
     else
       nrecv = 0
     end if
@@ -138,24 +150,23 @@ contains
       n0 = p%np
       call particles_reserve(p, n0 + nrecv)
       do i = 1, nrecv
-        call unpack_particle(mig%recvbuf(:, i), p, n0 + i)
+        call unpack_particle(mig%recvbuf((i - 1) * nf + 1:i * nf), p, n0 + i)
       end do
       p%np = n0 + nrecv
     end if
   end subroutine migrate_particles
 
-  !> Grow the message buffer `buf(nfield, :)` to at least `n` columns (at least doubling, so
-  !! that a growing exchange reallocates rarely; the contents are not kept).
-  subroutine reserve_columns(buf, n)
-    real(wp), allocatable, intent(inout) :: buf(:, :)  !< (nfield, capacity) buffer
-    integer, intent(in) :: n                           !< columns needed
-    integer :: rows, capacity
-    if (size(buf, 2) >= n) return
-    rows = size(buf, 1)
-    capacity = max(n, 2 * size(buf, 2))
+  !> Grow the message buffer `buf` to at least `n` reals (at least doubling, so that a growing
+  !! exchange reallocates rarely; the contents are not kept).
+  subroutine reserve_reals(buf, n)
+    real(wp), allocatable, intent(inout) :: buf(:)  !< buffer
+    integer, intent(in) :: n                        !< reals needed
+    integer :: capacity
+    if (size(buf) >= n) return
+    capacity = max(n, 2 * size(buf))
     deallocate(buf)
-    allocate(buf(rows, capacity))
-  end subroutine reserve_columns
+    allocate(buf(capacity))
+  end subroutine reserve_reals
 
   !> Offsets of consecutive blocks of `counts(r) * scale` entries, rank 0 first: the
   !! displacements of an all-to-all exchange.
@@ -170,11 +181,12 @@ contains
     end do
   end function exclusive_offsets
 
-  !> Pack particle `ip` into `buf(nfield)`.
+  !> Pack particle `ip` into `buf(particle_reals(p))`.
   pure subroutine pack_particle(p, ip, buf)
     type(particles_t), intent(in) :: p   !< particles
     integer, intent(in) :: ip            !< particle
-    real(wp), intent(out) :: buf(nfield) !< packed values
+    real(wp), intent(out) :: buf(:)      !< packed values
+    integer :: k
     buf(1:3) = p%x(:, ip)
     buf(4:6) = p%v(:, ip)
     buf(7) = p%mass(ip)
@@ -187,15 +199,20 @@ contains
     buf(32) = p%temperature(ip)
     buf(33) = p%pore_pressure(ip)
     buf(34) = transfer(p%id(ip), 1.0_wp)
-    buf(35) = p%hardening(ip)
-    buf(36:nfield) = p%cyclic(:, ip)
+    k = n_common
+    if (p%has_hardening) then
+      buf(k + 1) = p%hardening(ip)
+      k = k + 1
+    end if
+    if (p%has_cyclic) buf(k + 1:k + n_cyclic_state) = p%cyclic(:, ip)
   end subroutine pack_particle
 
-  !> Unpack `buf(nfield)` into slot `ip` of `p` (capacity must suffice).
+  !> Unpack `buf(particle_reals(p))` into slot `ip` of `p` (capacity must suffice).
   pure subroutine unpack_particle(buf, p, ip)
-    real(wp), intent(in) :: buf(nfield)   !< packed values
+    real(wp), intent(in) :: buf(:)        !< packed values
     type(particles_t), intent(inout) :: p !< particles
     integer, intent(in) :: ip             !< slot
+    integer :: k
     p%x(:, ip) = buf(1:3)
     p%v(:, ip) = buf(4:6)
     p%mass(ip) = buf(7)
@@ -208,7 +225,11 @@ contains
     p%temperature(ip) = buf(32)
     p%pore_pressure(ip) = buf(33)
     p%id(ip) = transfer(buf(34), 1_i8)
-    p%hardening(ip) = buf(35)
-    p%cyclic(:, ip) = buf(36:nfield)
+    k = n_common
+    if (p%has_hardening) then
+      p%hardening(ip) = buf(k + 1)
+      k = k + 1
+    end if
+    if (p%has_cyclic) p%cyclic(:, ip) = buf(k + 1:k + n_cyclic_state)
   end subroutine unpack_particle
 end module particles_migration

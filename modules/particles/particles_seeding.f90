@@ -64,8 +64,8 @@ contains
             p%f(:, n) = identity_f
             p%stress(:, n) = 0.0_wp
             p%plastic_strain(n) = 0.0_wp
-            p%hardening(n) = 0.0_wp
-            p%cyclic(:, n) = 0.0_wp
+            if (p%has_hardening) p%hardening(n) = 0.0_wp
+            if (p%has_cyclic) p%cyclic(:, n) = 0.0_wp
             p%temperature(n) = s%temperature
             p%pore_pressure(n) = 0.0_wp
             p%id(n) = cell_id * nsub + int(m, i8)

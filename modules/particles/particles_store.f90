@@ -8,13 +8,19 @@
 !!   tension positive [Pa]. `stress` is the Cauchy (effective) stress in the current frame, used by
 !!   P2G; `stress_unrot` = R^T stress R is the same stress in the polar-decomposition frame of
 !!   eqs. 12-15, the state of the rate-form constitutive models.
+!!
+!! The model-specific state exists only in a store whose solid's model uses it
+!! (`mpm_constitutive%model_state`, set by `particles_select_state` before the first
+!! allocation): `hardening` (Cam-Clay) when `has_hardening`, `cyclic` (critical-state sand with
+!! densification) when `has_cyclic`; otherwise those arrays stay unallocated, and are neither
+!! migrated nor checkpointed.
 module particles_store
   use mpmice_kinds, only: wp, i8
   implicit none
   private
 
   public :: particles_t, particles_reserve, particles_resize, particles_compact
-  public :: particles_free, identity_f, n_cyclic_state
+  public :: particles_free, identity_f, n_cyclic_state, particles_select_state
 
   !> Entries of the per-particle cyclic state (`mpm_critical_state_sand`'s css_n_cyclic).
   integer, parameter :: n_cyclic_state = 6
@@ -28,6 +34,8 @@ module particles_store
     integer :: np = 0                          !< particles in use
     integer :: capacity = 0                    !< allocated length
     real(wp) :: half_width(3) = 0.0_wp         !< GIMP particle half-width l_p per dimension [m]
+    logical :: has_hardening = .false.         !< `hardening` allocated (Cam-Clay)
+    logical :: has_cyclic = .false.            !< `cyclic` allocated (sand with densification)
     real(wp), allocatable :: x(:, :)           !< (3, np) position [m]
     real(wp), allocatable :: v(:, :)           !< (3, np) velocity [m/s]
     real(wp), allocatable :: mass(:)           !< mass [kg]
@@ -38,10 +46,11 @@ module particles_store
     real(wp), allocatable :: stress_unrot(:, :) !< (6, np) stress in the rotated frame [Pa]
     real(wp), allocatable :: plastic_strain(:) !< accumulated equivalent plastic strain [-]
     !> hardening variable of the model: Modified Cam-Clay preconsolidation pressure p_c [Pa]
-    !! (0: not yet set; unused by the other models)
+    !! (0: not yet set); allocated only when `has_hardening`
     real(wp), allocatable :: hardening(:)
     !> (n_cyclic_state, np) cyclic densification state of the critical-state sand
-    !! (`css_densify`: eps_vd, gamma_xy, its last reversal and extreme, reversals); 0 at seeding
+    !! (`css_densify`: eps_vd, gamma_xy, its last reversal and extreme, reversals, time since
+    !! the last reversal); 0 at seeding; allocated only when `has_cyclic`
     real(wp), allocatable :: cyclic(:, :)
     real(wp), allocatable :: temperature(:)    !< temperature [K]
     real(wp), allocatable :: pore_pressure(:)  !< pore pressure (0 without a fluid) [Pa]
@@ -49,6 +58,15 @@ module particles_store
   end type particles_t
 
 contains
+
+  !> Choose the model-specific state of an empty store (before its first allocation).
+  subroutine particles_select_state(p, hardening, cyclic)
+    type(particles_t), intent(inout) :: p  !< store, not yet allocated
+    logical, intent(in) :: hardening       !< keep the Cam-Clay p_c
+    logical, intent(in) :: cyclic          !< keep the sand's cyclic state
+    p%has_hardening = hardening
+    p%has_cyclic = cyclic
+  end subroutine particles_select_state
 
   !> Make room for at least `n` particles, keeping the first `np`. Grows to max(n, 2 capacity)
   !! so repeated calls cost amortised O(1) per particle.
@@ -68,7 +86,9 @@ contains
     n = min(p%np, cap)
     allocate(q%x(3, cap), q%v(3, cap), q%mass(cap), q%volume(cap), q%volume0(cap), q%f(9, cap), &
       q%stress(6, cap), q%stress_unrot(6, cap), q%plastic_strain(cap), q%temperature(cap), &
-      q%pore_pressure(cap), q%id(cap), q%hardening(cap), q%cyclic(n_cyclic_state, cap))
+      q%pore_pressure(cap), q%id(cap))
+    if (p%has_hardening) allocate(q%hardening(cap))
+    if (p%has_cyclic) allocate(q%cyclic(n_cyclic_state, cap))
     if (n > 0) then
       q%x(:, 1:n) = p%x(:, 1:n)
       q%v(:, 1:n) = p%v(:, 1:n)
@@ -79,8 +99,8 @@ contains
       q%stress(:, 1:n) = p%stress(:, 1:n)
       q%stress_unrot(:, 1:n) = p%stress_unrot(:, 1:n)
       q%plastic_strain(1:n) = p%plastic_strain(1:n)
-      q%hardening(1:n) = p%hardening(1:n)
-      q%cyclic(:, 1:n) = p%cyclic(:, 1:n)
+      if (p%has_hardening) q%hardening(1:n) = p%hardening(1:n)
+      if (p%has_cyclic) q%cyclic(:, 1:n) = p%cyclic(:, 1:n)
       q%temperature(1:n) = p%temperature(1:n)
       q%pore_pressure(1:n) = p%pore_pressure(1:n)
       q%id(1:n) = p%id(1:n)
@@ -94,8 +114,8 @@ contains
     call move_alloc(q%stress, p%stress)
     call move_alloc(q%stress_unrot, p%stress_unrot)
     call move_alloc(q%plastic_strain, p%plastic_strain)
-    call move_alloc(q%hardening, p%hardening)
-    call move_alloc(q%cyclic, p%cyclic)
+    if (p%has_hardening) call move_alloc(q%hardening, p%hardening)
+    if (p%has_cyclic) call move_alloc(q%cyclic, p%cyclic)
     call move_alloc(q%temperature, p%temperature)
     call move_alloc(q%pore_pressure, p%pore_pressure)
     call move_alloc(q%id, p%id)
@@ -122,8 +142,8 @@ contains
       p%stress(:, j) = p%stress(:, i)
       p%stress_unrot(:, j) = p%stress_unrot(:, i)
       p%plastic_strain(j) = p%plastic_strain(i)
-      p%hardening(j) = p%hardening(i)
-      p%cyclic(:, j) = p%cyclic(:, i)
+      if (p%has_hardening) p%hardening(j) = p%hardening(i)
+      if (p%has_cyclic) p%cyclic(:, j) = p%cyclic(:, i)
       p%temperature(j) = p%temperature(i)
       p%pore_pressure(j) = p%pore_pressure(i)
       p%id(j) = p%id(i)
@@ -135,8 +155,9 @@ contains
   subroutine particles_free(p)
     type(particles_t), intent(inout) :: p  !< store
     if (allocated(p%x)) deallocate(p%x, p%v, p%mass, p%volume, p%volume0, p%f, p%stress, &
-      p%stress_unrot, p%plastic_strain, p%temperature, p%pore_pressure, p%id, &
-      p%hardening, p%cyclic)
+      p%stress_unrot, p%plastic_strain, p%temperature, p%pore_pressure, p%id)
+    if (allocated(p%hardening)) deallocate(p%hardening)
+    if (allocated(p%cyclic)) deallocate(p%cyclic)
     p%np = 0
     p%capacity = 0
   end subroutine particles_free
