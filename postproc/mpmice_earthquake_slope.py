@@ -25,7 +25,7 @@ particles beside it; then the noise's p99 averaged over the dumps 0.2-0.85 s and
 value there. A third table gives r_u per shaking cycle (at the cycle's end and its largest value
 within it); a fourth the monitors' initial tau/p' and tau_xy/sigma'_v0, and per cycle their
 cyclic stress ratio (half the range of the mean tau_xy over the cycle's dumps / sigma'_v0) and
-the spread (standard deviation) of their particles' volumetric strain V/V0 - 1. The base's shaking (amplitude, frequency, duration) is read from the run's echo
+the spread (standard deviation) of their particles' volumetric strain V/V0 - 1. The base's shaking (amplitude, frequency, duration, start) is read from the run's echo
 quake.used.nml. --compare draws r_u and the crest displacement of several runs into
 earthquake_slope_ru.png, and the base acceleration over r_u at each monitor into
 earthquake_slope_ru_cycles.png.
