@@ -25,7 +25,7 @@ particles beside it; then the noise's p99 averaged over the dumps 0.2-0.85 s and
 value there. A third table gives r_u per shaking cycle (at the cycle's end and its largest value
 within it); a fourth the monitors' initial tau/p' and tau_xy/sigma'_v0, and per cycle their
 cyclic stress ratio (half the range of the mean tau_xy over the cycle's dumps / sigma'_v0) and
-the spread (standard deviation) of their particles' volumetric strain V/V0 - 1. The base's shaking (amplitude, frequency, duration) is read from the run's echo
+the spread (standard deviation) of their particles' volumetric strain V/V0 - 1. The base's shaking (amplitude, frequency, duration, start) is read from the run's echo
 quake.used.nml. --compare draws r_u and the crest displacement of several runs into
 earthquake_slope_ru.png, and the base acceleration over r_u at each monitor into
 earthquake_slope_ru_cycles.png.
@@ -67,22 +67,31 @@ CREST_Y0 = 2.3               # m: particles starting above it are the crest's
 
 
 def prescribed_displacement(t: float, a: float = AMPLITUDE, f: float = FREQUENCY,
-                            duration: float = DURATION) -> float:
-    """x(t) - x(0) [m] of a base with a(t) = a sin(2 pi f t) starting from rest, a = 0 after
-    `duration` (the velocity v(duration) kept)."""
+                            duration: float = DURATION, start: float = 0.0) -> float:
+    """x(t) - x(0) [m] of a base with a(t) = a sin(2 pi f (t - start)) starting from rest at
+    `start` (`&solid acceleration_start`; at rest before), a = 0 after `start + duration` (the
+    velocity kept)."""
     w = 2.0 * math.pi * f
+    t = max(t - start, 0.0)
     ts = min(t, duration) if duration > 0.0 else t
     return a / w * (ts - math.sin(w * ts) / w) + a * (1.0 - math.cos(w * ts)) / w * (t - ts)
 
 
-def base_shaking(run_dir: str) -> tuple[float, float, float]:
-    """The base's shaking (amplitude a [m/s^2] along x, frequency [Hz], duration [s]) as the
-    run's echo ``<run_dir>/quake.used.nml`` gives it; the shipped scene's 1 g, 2 Hz, 1 s when
-    the echo is missing."""
+def shaking_parts(shaking: tuple) -> tuple[float, float, float, float]:
+    """(a, f, duration, start) of a shaking tuple of :func:`base_shaking` (start 0 when a
+    3-tuple (a, f, duration) is given)."""
+    a, f, duration = shaking[:3]
+    return a, f, duration, (shaking[3] if len(shaking) > 3 else 0.0)
+
+
+def base_shaking(run_dir: str) -> tuple[float, float, float, float]:
+    """The base's shaking (amplitude a [m/s^2] along x, frequency [Hz], duration [s], start
+    [s]) as the run's echo ``<run_dir>/quake.used.nml`` gives it; the shipped scene's 1 g,
+    2 Hz, 1 s from 0 s when the echo is missing."""
     from postproc.namelist import parse_namelist_groups
     path = os.path.join(run_dir, f"{NAME}.used.nml")
     if not os.path.exists(path):
-        return AMPLITUDE, FREQUENCY, DURATION
+        return AMPLITUDE, FREQUENCY, DURATION, 0.0
     with open(path, encoding="utf-8") as handle:
         groups = parse_namelist_groups(handle.read())
     for group, values in groups:
@@ -90,25 +99,27 @@ def base_shaking(run_dir: str) -> tuple[float, float, float]:
             amp = values.get("acceleration_amplitude", [AMPLITUDE])
             amp = amp[0] if isinstance(amp, list) else amp
             return (float(amp), float(values.get("acceleration_frequency", FREQUENCY)),
-                    float(values.get("acceleration_duration", DURATION)))
-    return AMPLITUDE, FREQUENCY, DURATION
+                    float(values.get("acceleration_duration", DURATION)),
+                    float(values.get("acceleration_start", 0.0)))
+    return AMPLITUDE, FREQUENCY, DURATION, 0.0
 
 
 def base_acceleration(t: np.ndarray, shaking: tuple[float, float, float]) -> np.ndarray:
-    """a(t) [m/s^2] of the base: a sin(2 pi f t) while t <= duration, then 0."""
-    a, f, duration = shaking
-    t = np.asarray(t, dtype=float)
-    return np.where(t <= duration, a * np.sin(2.0 * math.pi * f * t), 0.0)
+    """a(t) [m/s^2] of the base: a sin(2 pi f (t - start)) while start <= t <= start +
+    duration, else 0."""
+    a, f, duration, start = shaking_parts(shaking)
+    t = np.asarray(t, dtype=float) - start
+    return np.where((t >= 0.0) & (t <= duration), a * np.sin(2.0 * math.pi * f * t), 0.0)
 
 
 def cycle_table(rows: list[dict], shaking: tuple[float, float, float]) -> list[dict]:
-    """Per shaking cycle n (t in ((n-1)/f, n/f]): r_u at each monitor at the cycle's end (the
-    dump nearest n/f) and its largest value within the cycle."""
-    _, f, duration = shaking
+    """Per shaking cycle n (t in (start + (n-1)/f, start + n/f]): r_u at each monitor at the
+    cycle's end (the dump nearest start + n/f) and its largest value within the cycle."""
+    _, f, duration, start = shaking_parts(shaking)
     t = np.array([r["time"] for r in rows])
     table = []
     for n in range(1, int(round(duration * f)) + 1):
-        t0, t1 = (n - 1) / f, n / f
+        t0, t1 = start + (n - 1) / f, start + n / f
         if t[-1] < t1 - 1e-9:
             break
         inside = [r for r in rows if t0 < r["time"] <= t1 + 1e-9]
@@ -214,11 +225,11 @@ def cycle_diagnostics(rows: list[dict], shaking: tuple[float, float, float]) -> 
     = half the range of the monitor's mean tau_xy over the cycle's dumps / its mean initial
     sigma'_v0, and the spread (standard deviation) of its particles' volumetric strain
     V / V0 - 1 at the cycle's end."""
-    _, f, duration = shaking
+    _, f, duration, start = shaking_parts(shaking)
     t = np.array([r["time"] for r in rows])
     table = []
     for n in range(1, int(round(duration * f)) + 1):
-        t0, t1 = (n - 1) / f, n / f
+        t0, t1 = start + (n - 1) / f, start + n / f
         if t[-1] < t1 - 1e-9:
             break
         inside = [r for r in rows if t0 < r["time"] <= t1 + 1e-9]
@@ -247,7 +258,7 @@ def print_cycle_diagnostics(rows: list[dict], table: list[dict]) -> None:
 def analyse(dumps: list[dict], shaking: tuple[float, float, float] | None = None) -> list[dict]:
     """One row of measured quantities per dump (see the module header); `shaking` (a, f,
     duration: :func:`base_shaking`) sets the prescribed base motion (default: the shipped 1 g)."""
-    a_base, f_base, d_base = shaking or (AMPLITUDE, FREQUENCY, DURATION)
+    a_base, f_base, d_base, s_base = shaking_parts(shaking or (AMPLITUDE, FREQUENCY, DURATION))
     length = domain_length(dumps[0])
     s0, b0 = by_id(dumps[0]["particles"][SEDIMENT]), by_id(dumps[0]["particles"][BASE])
     monitors = {k: np.flatnonzero((s0["x"] - px) ** 2 + (s0["y"] - py) ** 2 < MONITOR_RADIUS**2)
@@ -271,8 +282,9 @@ def analyse(dumps: list[dict], shaking: tuple[float, float, float] | None = None
         m = masses(d)
         rough = pore_pressure_roughness(d)
         rows.append({
-            "time": float(d["time"]), "base_dx": base_dx, "shaking": (a_base, f_base, d_base),
-            "base_dx_prescribed": prescribed_displacement(float(d["time"]), a_base, f_base, d_base),
+            "time": float(d["time"]), "base_dx": base_dx, "shaking": (a_base, f_base, d_base, s_base),
+            "base_dx_prescribed": prescribed_displacement(float(d["time"]), a_base, f_base, d_base,
+                                                          s_base),
             "rel_disp_max": float(np.max(rel)), "ux": ux, "uy": uy, "rel": rel,
             "plastic_max": float(np.max(s["plastic_strain"])), "plastic": s["plastic_strain"],
             "pex": pex, "pex_min": float(np.min(pex)), "pex_max": float(np.max(pex)),
@@ -367,9 +379,10 @@ def print_table(rows: list[dict]) -> None:
         ru = " / ".join(f"{v:5.2f}" for v in r["ru"].values())
         re = " / ".join(f"{v:5.2f}" for v in r["ru_effective"].values())
         print(f"{r['time']:7.3f} {r['crest_ux']:9.3f}/{r['crest_uy']:.3f}  {ru}  ({re})")
-    shaking = [r for r in rows if 0.2 <= r["time"] <= 0.85 + 1e-9]
+    start = shaking_parts(rows[0]["shaking"])[3]
+    shaking = [r for r in rows if start + 0.2 <= r["time"] <= start + 0.85 + 1e-9]
     if shaking:
-        print(f"noise 0.2-0.85 s: p99 mean {np.mean([r['roughness_p99'] for r in shaking]) / 1e3:.1f} kPa,"
+        print(f"noise {start + 0.2:.2f}-{start + 0.85:.2f} s: p99 mean {np.mean([r['roughness_p99'] for r in shaking]) / 1e3:.1f} kPa,"
               f" largest {max(r['roughness_max'] for r in shaking) / 1e3:.1f} kPa")
 
 
@@ -395,7 +408,8 @@ def compare(runs: dict[str, list[dict]], out: str) -> str:
                     label=label)
     for ax, key in zip(axes, RU_MONITORS):
         ax.axhline(1.0, color="k", lw=0.8)
-        ax.axvspan(0.0, rows[0]["shaking"][2], color="0.9", zorder=0)
+        _, _, duration, start = shaking_parts(rows[0]["shaking"])
+        ax.axvspan(start, start + duration, color="0.9", zorder=0)
         ax.set_title(f"r_u, {key}", fontsize=9)
         ax.set_xlabel("t [s]")
     axes[0].set_ylabel("excess pore pressure / initial sigma'_v")
@@ -437,8 +451,8 @@ def cycles_figure(runs: dict[str, list[dict]], out: str) -> str:
         ax.axhline(0.0, color="0.6", lw=0.6)
         ax.set_ylabel(f"r_u, {key}", fontsize=8)
     for ax in axes:
-        f = next(iter(runs.values()))[0]["shaking"][1]
-        for c in np.arange(1.0 / f, t_end + 1e-9, 1.0 / f):
+        _, f, _, start = shaking_parts(next(iter(runs.values()))[0]["shaking"])
+        for c in np.arange(start + 1.0 / f, t_end + 1e-9, 1.0 / f):
             ax.axvline(c, color="0.85", lw=0.6, zorder=0)
     axes[-1].set_xlabel("t [s] (grey lines: the end of each shaking cycle)")
     fig.tight_layout()

@@ -76,6 +76,8 @@ module mpm_critical_state_sand
     real(wp) :: evd_max = 0.0_wp         !< largest eps_vd [-] (0: no bound)
     logical :: elastic_amp = .false.     !< cycle the elastic shear strain tau_xy / G
     real(wp) :: t_min = 0.0_wp           !< shortest half cycle counted [s]
+    real(wp) :: t_start = 0.0_wp         !< densification counted from this time [s] (the
+                                         !! caller passes C_1 = 0 before it)
   end type css_params_t
 
   integer, parameter :: max_iterations = 200  !< cap of the scalar solve

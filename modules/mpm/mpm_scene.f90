@@ -120,7 +120,7 @@ contains
             (1.0_wp - sp%min_porosity)
           call set_soil_params(self%mats(s), sp)
           self%motions(s) = rigid_motion_t(sp%prescribed_velocity, sp%acceleration_amplitude, &
-            sp%acceleration_frequency, sp%acceleration_duration)
+            sp%acceleration_frequency, sp%acceleration_duration, sp%acceleration_start)
           call model_state(self%mats(s)%model, self%mats(s)%css%c1, keep_hardening, keep_cyclic)
           call particles_select_state(self%parts(s), keep_hardening, keep_cyclic)
           call seed_solid(self%parts(s), sp, grid, self%gravity)
@@ -190,6 +190,7 @@ contains
     mat%css%evd_max = sp%densification_max
     mat%css%elastic_amp = sp%densification_elastic
     mat%css%t_min = sp%densification_min_half_cycle
+    mat%css%t_start = sp%densification_start
     mat%solid_fraction0 = 1.0_wp - sp%porosity
   end subroutine set_soil_params
 
@@ -262,10 +263,17 @@ contains
     real(wp), intent(in) :: time               !< time at the start of the step [s]
     real(wp), intent(in) :: dt                 !< step [s]
     integer :: s
+    type(material_t) :: settling
     call timer_start(self%ctx%timers, self%t_g2p)
     do s = 1, self%nsolids
       if (self%mats(s)%model == model_rigid) then
         if (.not. self%static(s)) call move_rigid(self, s, self%ctx%grid, time, dt)
+      else if (time < self%mats(s)%css%t_start) then
+        ! before `&solid densification_start`: no densification, the cyclic state untouched
+        settling = self%mats(s)
+        settling%css%c1 = 0.0_wp
+        call g2p_update(self%parts(s), self%nodes, settling, self%shape_kind, self%ctx%grid, &
+          dt, self%flip)
       else
         call g2p_update(self%parts(s), self%nodes, self%mats(s), self%shape_kind, self%ctx%grid, &
           dt, self%flip)

@@ -129,13 +129,14 @@ def test_base_shaking_and_cycle_table(tmp_path):
     """The shaking read back from a run's echo (the base's amplitude, frequency and duration;
     the shipped 1 g, 2 Hz, 1 s without an echo), a(t) zero after the shaking, and the r_u per
     cycle on synthetic rows: at each cycle's end and the largest within it."""
-    assert quake.base_shaking(str(tmp_path)) == (quake.AMPLITUDE, quake.FREQUENCY, quake.DURATION)
+    assert quake.base_shaking(str(tmp_path)) == (quake.AMPLITUDE, quake.FREQUENCY, quake.DURATION,
+                                                 0.0)
     (tmp_path / "quake.used.nml").write_text(
         "&solid\n  name = 'sediment'\n  acceleration_amplitude = 0.0, 0.0, 0.0\n/\n"
         "&solid\n  name = 'base'\n  acceleration_amplitude = 1.4715, 0.0, 0.0\n"
         "  acceleration_frequency = 2.0\n  acceleration_duration = 2.5\n/\n")
     shaking = quake.base_shaking(str(tmp_path))
-    assert shaking == pytest.approx((1.4715, 2.0, 2.5))
+    assert shaking == pytest.approx((1.4715, 2.0, 2.5, 0.0))
     acc = quake.base_acceleration(np.array([0.125, 2.625]), shaking)
     assert acc[0] == pytest.approx(1.4715) and acc[1] == 0.0
     times = np.arange(0.0, 1.0 + 1e-9, 0.05)
@@ -167,3 +168,25 @@ def test_cycle_diagnostics_and_shear_ratio():
     ratio = quake.shear_ratio(parts, np.array([0, 1]))
     assert ratio[0] == pytest.approx(math.sqrt(1.0 / 12.0) * 1.5)
     assert ratio[1] == pytest.approx(0.3)
+
+
+def test_shaking_start_shifts_the_cycles(tmp_path):
+    """`&solid acceleration_start` read back from the echo: a(t) and the base displacement are
+    zero before it, the cycles are counted from it, and the displacement is that of a shaking
+    started at 0, shifted."""
+    (tmp_path / "quake.used.nml").write_text(
+        "&solid\n  name = 'base'\n  acceleration_amplitude = 0.4905, 0.0, 0.0\n"
+        "  acceleration_frequency = 2.0\n  acceleration_duration = 1.0\n"
+        "  acceleration_start = 1.5\n/\n")
+    shaking = quake.base_shaking(str(tmp_path))
+    assert shaking == pytest.approx((0.4905, 2.0, 1.0, 1.5))
+    acc = quake.base_acceleration(np.array([0.125, 1.625, 2.625]), shaking)
+    assert acc[0] == 0.0 and acc[1] == pytest.approx(0.4905) and acc[2] == 0.0
+    assert quake.prescribed_displacement(1.4, *shaking) == 0.0
+    assert quake.prescribed_displacement(3.2, *shaking) == pytest.approx(
+        quake.prescribed_displacement(1.7, 0.4905, 2.0, 1.0), abs=1e-15)
+    rows = [{"time": float(t), "ru": {k: float(t) for k in quake.RU_MONITORS}}
+            for t in np.arange(0.0, 2.5 + 1e-9, 0.05)]
+    table = quake.cycle_table(rows, shaking)
+    assert [c["cycle"] for c in table] == [1, 2]
+    assert [c["time"] for c in table] == pytest.approx([2.0, 2.5])
