@@ -112,18 +112,24 @@ def base_acceleration(t: np.ndarray, shaking: tuple[float, float, float]) -> np.
     return np.where((t >= 0.0) & (t <= duration), a * np.sin(2.0 * math.pi * f * t), 0.0)
 
 
-def cycle_table(rows: list[dict], shaking: tuple[float, float, float]) -> list[dict]:
-    """Per shaking cycle n (t in (start + (n-1)/f, start + n/f]): r_u at each monitor at the
-    cycle's end (the dump nearest start + n/f) and its largest value within the cycle."""
+def shaking_cycles(rows: list[dict], shaking: tuple[float, float, float]):
+    """Yield (n, the rows inside cycle n, the row nearest the cycle's end) for each shaking cycle n
+    (t in (start + (n-1)/f, start + n/f]) that the rows cover to its end."""
     _, f, duration, start = shaking_parts(shaking)
     t = np.array([r["time"] for r in rows])
-    table = []
     for n in range(1, int(round(duration * f)) + 1):
         t0, t1 = start + (n - 1) / f, start + n / f
         if t[-1] < t1 - 1e-9:
-            break
+            return
         inside = [r for r in rows if t0 < r["time"] <= t1 + 1e-9]
-        end = rows[int(np.argmin(np.abs(t - t1)))]
+        yield n, inside, rows[int(np.argmin(np.abs(t - t1)))]
+
+
+def cycle_table(rows: list[dict], shaking: tuple[float, float, float]) -> list[dict]:
+    """Per shaking cycle n (t in (start + (n-1)/f, start + n/f]): r_u at each monitor at the
+    cycle's end (the dump nearest start + n/f) and its largest value within the cycle."""
+    table = []
+    for n, inside, end in shaking_cycles(rows, shaking):
         table.append({"cycle": n, "time": end["time"], "end": dict(end["ru"]),
                       "max": {k: max(r["ru"][k] for r in inside) for k in RU_MONITORS}})
     return table
@@ -225,15 +231,8 @@ def cycle_diagnostics(rows: list[dict], shaking: tuple[float, float, float]) -> 
     = half the range of the monitor's mean tau_xy over the cycle's dumps / its mean initial
     sigma'_v0, and the spread (standard deviation) of its particles' volumetric strain
     V / V0 - 1 at the cycle's end."""
-    _, f, duration, start = shaking_parts(shaking)
-    t = np.array([r["time"] for r in rows])
     table = []
-    for n in range(1, int(round(duration * f)) + 1):
-        t0, t1 = start + (n - 1) / f, start + n / f
-        if t[-1] < t1 - 1e-9:
-            break
-        inside = [r for r in rows if t0 < r["time"] <= t1 + 1e-9]
-        end = rows[int(np.argmin(np.abs(t - t1)))]
+    for n, inside, end in shaking_cycles(rows, shaking):
         csr = {}
         for k in RU_MONITORS:
             tau = [r["tau_xy"][k] for r in inside]
