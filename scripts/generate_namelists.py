@@ -441,41 +441,41 @@ def config_type_include(groups):
     return lines
 
 
+def group_select(repeated, body, default):
+    """A `select case (group)` over the repeated groups: `body(g)` gives the statements of group
+    g's case, `default` the statement of the singletons."""
+    lines = ["    select case (group)"]
+    for g in repeated:
+        lines += [f"    case ('{g['name']}')"] + [f"      {s}" for s in body(g)]
+    return lines + ["    case default", f"      {default}", "    end select"]
+
+
 def occurrences_include(groups):
     """The per-group dispatch of the repeated groups' bookkeeping (config_occurrences)."""
     repeated = [g for g in groups if g.get("config_component")]
     lines = [GENERATED, "", "  !> Most occurrences of repeated group `group` (`max_fluids`, ...); 1 "
              "for a singleton.", "  pure integer function max_occurrences(group)",
-             "    character(len=*), intent(in) :: group  !< group name without `&`",
-             "    select case (group)"]
-    for g in repeated:
-        lines += [f"    case ('{g['name']}')",
-                  f"      max_occurrences = max_{g['config_component']}"]
-    lines += ["    case default", "      max_occurrences = 1", "    end select",
-              "  end function max_occurrences", "",
+             "    character(len=*), intent(in) :: group  !< group name without `&`"]
+    lines += group_select(repeated, lambda g: [f"max_occurrences = max_{g['config_component']}"],
+                          "max_occurrences = 1")
+    lines += ["  end function max_occurrences", "",
               "  !> Occurrences of repeated group `group` in `cfg` (0 for a singleton).",
               "  pure integer function occurrence_count(cfg, group)",
               "    type(config_t), intent(in) :: cfg      !< configuration",
-              "    character(len=*), intent(in) :: group  !< group name without `&`",
-              "    select case (group)"]
-    for g in repeated:
-        lines += [f"    case ('{g['name']}')",
-                  f"      occurrence_count = cfg%n{g['config_component']}"]
-    lines += ["    case default", "      occurrence_count = 0", "    end select",
-              "  end function occurrence_count", "",
+              "    character(len=*), intent(in) :: group  !< group name without `&`"]
+    lines += group_select(repeated, lambda g: [f"occurrence_count = cfg%n{g['config_component']}"],
+                          "occurrence_count = 0")
+    lines += ["  end function occurrence_count", "",
               "  !> Make `k` the number of occurrences of repeated group `group` and set occurrence "
               "`k` to", "  !! the type's defaults; `k` = 0 for a singleton.",
               "  subroutine reset_occurrence(cfg, group, k)",
               "    type(config_t), intent(inout) :: cfg   !< configuration to update",
               "    character(len=*), intent(in) :: group  !< repeated group name",
-              "    integer, intent(inout) :: k            !< index of the occurrence",
-              "    select case (group)"]
-    for g in repeated:
-        c = g["config_component"]
-        lines += [f"    case ('{g['name']}')", f"      cfg%n{c} = k", f"      cfg%{c}(k) = {g['type']}()"]
-    lines += ["    case default", "      k = 0", "    end select",
-              "  end subroutine reset_occurrence"]
-    return lines
+              "    integer, intent(inout) :: k            !< index of the occurrence"]
+    lines += group_select(repeated, lambda g: [f"cfg%n{g['config_component']} = k",
+                                               f"cfg%{g['config_component']}(k) = {g['type']}()"],
+                          "k = 0")
+    return lines + ["  end subroutine reset_occurrence"]
 
 
 def ranges_include(groups):
