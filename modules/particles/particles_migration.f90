@@ -17,10 +17,9 @@ module particles_migration
   implicit none
   private
 
-  public :: migration_t, migration_init, migrate_particles, particle_reals, nfield
+  public :: migration_t, migration_init, migrate_particles
 
   integer, parameter :: n_common = 34                 !< reals of every packed particle
-  integer, parameter :: nfield = n_common + 1 + n_cyclic_state  !< most reals per particle
 
   !> Ownership tables and buffers of the migration.
   type :: migration_t
