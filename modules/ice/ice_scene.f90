@@ -19,7 +19,7 @@ module ice_scene
   use parallel_reduce, only: global_max, global_min, global_sum
   use grid_layout, only: grid_t
   use scene_interface, only: scene_context_t
-  use solver_pressure, only: struct_solver_init, struct_solver_free, struct_solver_invalidate
+  use solver_pressure, only: struct_solver_init, struct_solver_free, struct_solver_set_reuse
   use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field
   use io_xdmf, only: xdmf_particles_t
   use ice_eos, only: eos_t, eos_kind_from_name, eos_sound_speed2
@@ -117,6 +117,9 @@ contains
       call halo_init(self%halo, dom, grid, 1)
       call struct_solver_init(self%solver, dom, grid, par%solver%tolerance, &
         par%solver%max_iterations, par%solver%print_level)
+      ! one PFMG hierarchy per step (`ice_stage_pressure` invalidates it at the step's start),
+      ! kept by the later outer passes
+      call struct_solver_set_reuse(self%solver, self%max_outer)
       call exchange_primitives(self)
       call ice_equilibrate(self%state, grid, self%eq_tolerance, self%eq_max, its, failed)
       failed = global_sum(dom, failed)
@@ -228,8 +231,6 @@ contains
     integer :: m, d
     prefix = ''
     if (checkpoint) prefix = 'checkpoint/'
-    ! a restart starts with a fresh preconditioner: so does the run that goes on
-    if (checkpoint) call struct_solver_invalidate(self%solver)
     associate (grid => self%ctx%grid)
       call h5_write_cell_field(file, prefix // 'cell/pressure', grid, self%state%pressure)
       do m = 1, self%state%nfluids

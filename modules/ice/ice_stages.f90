@@ -22,7 +22,7 @@ module ice_stages
   use parallel_halo, only: halo_t, halo_exchange_cell
   use parallel_reduce, only: global_max, global_sum
   use solver_pressure, only: struct_solver_t, struct_solver_set_operator, struct_solver_solve, &
-    struct_solver_set_reuse, struct_solver_invalidate
+    struct_solver_invalidate
   use scene_interface, only: scene_t
   use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
@@ -187,8 +187,8 @@ contains
       call timer_start(timers, self%t_pressure)
       self%state%dp_total = 0.0_wp
       ! one PFMG hierarchy per step: built for the first pass's operator, kept by the later
-      ! passes (their operators differ only where a face's upwind choice flipped)
-      call struct_solver_set_reuse(self%solver, self%max_outer)
+      ! passes (their operators differ only where a face's upwind choice flipped; the reuse
+      ! count is set at `ice_scene_setup`); a step, and so a restart, starts with a fresh one
       call struct_solver_invalidate(self%solver)
       residual = global_max(dom, ice_pressure_rhs(self%state, grid, dt, solid))
       outer = 0

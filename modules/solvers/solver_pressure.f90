@@ -302,9 +302,10 @@ contains
     solver%reuse = n
   end subroutine struct_solver_set_reuse
 
-  !> Force a PFMG rebuild at the next solve and restart the reuse count. Scenes call it when they
-  !! write a checkpoint: a run restarted from the checkpoint starts with a fresh solver, so both
-  !! runs then rebuild at the same solve and continue bitwise identically. No effect on the
+  !> Force a PFMG rebuild at the next solve and restart the reuse count. ICE calls it at the start
+  !! of every pressure stage, the heat scene when it writes a checkpoint: a run restarted from a
+  !! checkpoint starts with a fresh solver, so both runs then rebuild at the same solve and
+  !! continue bitwise identically. No effect on the
   !! direct path, whose factorisation always belongs to the current operator.
   subroutine struct_solver_invalidate(solver)
     type(struct_solver_t), intent(inout) :: solver  !< solver (initialised or not)
