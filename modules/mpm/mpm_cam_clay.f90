@@ -96,16 +96,22 @@ contains
   !> Stress update over one step: `deps` is the strain increment in the rotated frame
   !! (tension positive, tensor shear components), `v_end` the specific volume at the end of
   !! the step. Updates `sig` [Pa] and `pc` [Pa] (0 on entry: set by `mcc_initial_pc`);
-  !! `deps_p` is the equivalent plastic strain increment sqrt(2/3 e^p:e^p) [-].
-  pure subroutine mcc_update(prm, deps, v_end, sig, pc, deps_p)
+  !! `deps_p` is the equivalent plastic strain increment sqrt(2/3 e^p:e^p) [-]. With
+  !! `elastic_only` the elastic predictor is the stress (no return, p_c unchanged; `&solid
+  !! plastic_start`).
+  pure subroutine mcc_update(prm, deps, v_end, sig, pc, deps_p, elastic_only)
     type(mcc_params_t), intent(in) :: prm  !< parameters
     real(wp), intent(in) :: deps(6)        !< strain increment [-]
     real(wp), intent(in) :: v_end          !< specific volume at the end of the step [-]
     real(wp), intent(inout) :: sig(6)      !< stress [Pa]
     real(wp), intent(inout) :: pc          !< preconsolidation pressure [Pa]
     real(wp), intent(out) :: deps_p        !< equivalent plastic strain increment [-]
+    logical, intent(in), optional :: elastic_only  !< elastic predictor only (default: no)
     real(wp) :: size, tr, v_start, v_mid, dep
     integer :: n, k
+    logical :: elastic
+    elastic = .false.
+    if (present(elastic_only)) elastic = elastic_only
     if (pc <= 0.0_wp) pc = mcc_initial_pc(prm, sig)
     size = sqrt(sum(deps(1:3)**2) + 2.0_wp * sum(deps(4:6)**2))
     n = max(1, ceiling(size / max_substep_strain))
@@ -114,7 +120,7 @@ contains
     deps_p = 0.0_wp
     do k = 1, n
       v_mid = v_start * exp(tr * (real(k, wp) - 0.5_wp) / real(n, wp))
-      call mcc_substep(prm, deps / real(n, wp), v_mid, sig, pc, dep)
+      call mcc_substep(prm, deps / real(n, wp), v_mid, elastic, sig, pc, dep)
       deps_p = deps_p + dep
     end do
   end subroutine mcc_update
@@ -146,11 +152,13 @@ contains
     p = max(p, 0.0_wp)
   end function elastic_pressure
 
-  !> One substep: elastic predictor, then the closest-point return if the trial state yields.
-  pure subroutine mcc_substep(prm, deps, v, sig, pc, deps_p)
+  !> One substep: elastic predictor, then the closest-point return if the trial state yields
+  !! (never with `elastic`).
+  pure subroutine mcc_substep(prm, deps, v, elastic, sig, pc, deps_p)
     type(mcc_params_t), intent(in) :: prm  !< parameters
     real(wp), intent(in) :: deps(6)        !< strain increment [-]
     real(wp), intent(in) :: v              !< specific volume [-]
+    logical, intent(in) :: elastic         !< elastic predictor only
     real(wp), intent(inout) :: sig(6)      !< stress [Pa]
     real(wp), intent(inout) :: pc          !< preconsolidation pressure [Pa]
     real(wp), intent(out) :: deps_p        !< equivalent plastic strain increment [-]
@@ -169,7 +177,7 @@ contains
       2.0_wp * (s_tr(4)**2 + s_tr(5)**2 + s_tr(6)**2)))
     f_tr = q_tr**2 / m2 + p_tr * (p_tr - pc)
     deps_p = 0.0_wp
-    if (f_tr <= 1.0e-14_wp * pc**2) then
+    if (elastic .or. f_tr <= 1.0e-14_wp * pc**2) then
       sig = s_tr
       sig(1:3) = sig(1:3) - p_tr
       return

@@ -20,6 +20,7 @@ module mpm_constitutive
   public :: material_t, material_init, constitutive_update, wave_speed
   public :: model_linear_elastic, model_neo_hookean, model_mohr_coulomb, model_rigid
   public :: model_from_name, model_cam_clay, model_critical_state_sand, model_state
+  public :: material_at
 
   integer, parameter :: model_linear_elastic = 1  !< linear (hypo-)elastic
   integer, parameter :: model_neo_hookean = 2     !< compressible Neo-Hookean
@@ -48,6 +49,11 @@ module mpm_constitutive
     !> J at which a contractant Mohr-Coulomb particle (psi < 0) reaches its densest packing
     !! (porosity `&solid min_porosity`): from there it flows at psi = 0 (no further compaction)
     real(wp) :: j_dense = 0.0_wp
+    !> `&solid plastic_start` [s]: before it the plastic models update their stress elastically
+    !! (`material_at` sets `elastic_only` for the steps that start earlier)
+    real(wp) :: plastic_start = 0.0_wp
+    !> elastic law only: no return to the yield surface (nor tension cut-off), no densification
+    logical :: elastic_only = .false.
   end type material_t
 
 contains
@@ -72,6 +78,23 @@ contains
     hardening = model == model_cam_clay
     cyclic = model == model_critical_state_sand .and. densification_c1 > 0.0_wp
   end subroutine model_state
+
+  !> The material in effect over a step that starts at `time` [s]: `mat` itself, except
+  !! * before `mat%plastic_start` (`&solid plastic_start`, elastic gravity loading): the
+  !!   elastic law only (`elastic_only`: the plastic models' elastic trial stress is the
+  !!   stress, with no return, no tension cut-off and no densification; the stress-free
+  !!   suspension above `j_loose` stays, since grains out of contact carry no stress);
+  !! * before `mat%css%t_start` (`&solid densification_start`): no cyclic densification
+  !!   (C_1 = 0, the particle's cyclic state is left untouched).
+  !! Both times are absolute, so a restart (which keeps `&solid`) resumes the same phase.
+  pure function material_at(mat, time) result(now)
+    type(material_t), intent(in) :: mat  !< material of the namelist
+    real(wp), intent(in) :: time         !< time at the start of the step [s]
+    type(material_t) :: now
+    now = mat
+    now%elastic_only = time < mat%plastic_start
+    if (now%elastic_only .or. time < mat%css%t_start) now%css%c1 = 0.0_wp
+  end function material_at
 
   !> Material from the namelist parameters (angles in degrees).
   pure function material_init(model, density, youngs, poisson, cohesion, phi_deg, psi_deg, &
@@ -153,6 +176,9 @@ contains
   !! of a reversal is taken from the elastic volumetric strain, sigma_ii += K d eps_vd. With
   !! `mat%css%elastic_amp` the cycled strain is tau_xy / G of the trial stress (the state
   !! starts at the initial stress's value), otherwise the total gamma_xy = 2 eps_xy.
+  !! With `mat%elastic_only` (`material_at` before `&solid plastic_start`) the stress is the
+  !! model's elastic trial stress: linear (lambda, mu) for Mohr-Coulomb and the sand, the
+  !! pressure-dependent law of Cam-Clay (p_c set but not hardened); no plastic strain.
   pure subroutine constitutive_update(mat, f, l, dt, stress_unrot, stress, plastic_strain, &
     hardening, cyclic)
     type(material_t), intent(in) :: mat              !< material
@@ -184,7 +210,8 @@ contains
       if (mat%model == model_cam_clay) then
         pc = 0.0_wp
         if (present(hardening)) pc = hardening
-        call mcc_update(mat%mcc, deps, mat%mcc%v0 * det3(f), stress_unrot, pc, dep)
+        call mcc_update(mat%mcc, deps, mat%mcc%v0 * det3(f), stress_unrot, pc, dep, &
+          mat%elastic_only)
         if (present(hardening)) hardening = pc
         plastic_strain = plastic_strain + dep
         stress = rotate_from(r, stress_unrot)                ! eq. 15
@@ -199,14 +226,17 @@ contains
         dgamma = stress_unrot(4) / mat%mu + dgamma - cyclic(css_gamma)
       end if
       stress_unrot = stress_unrot + elastic_increment(mat%lambda, mat%mu, deps)
-      if (mat%model == model_critical_state_sand) then
+      ! with `elastic_only` (elastic gravity loading, `&solid plastic_start`) the trial stress
+      ! stands, within the yield surface's apex: no densification, no return
+      if (mat%elastic_only) call apex_limit(mat, stress_unrot)
+      if (mat%model == model_critical_state_sand .and. .not. mat%elastic_only) then
         if (mat%css%c1 > 0.0_wp .and. present(cyclic)) then
           call css_densify(mat%css, dgamma, dt, cyclic, devd)
           stress_unrot(1:3) = stress_unrot(1:3) + (mat%lambda + 2.0_wp * mat%mu / 3.0_wp) * devd
         end if
         call css_return(mat%css, mat%solid_fraction0 / det3(f), dt, stress_unrot, dep)
         plastic_strain = plastic_strain + dep
-      else if (mat%model == model_mohr_coulomb) then
+      else if (mat%model == model_mohr_coulomb .and. .not. mat%elastic_only) then
         if (mat%mc%psi < 0.0_wp .and. det3(f) <= mat%j_dense) then
           ! contractant sand at its densest packing: plastic flow without volume change
           dense = mat%mc
@@ -222,4 +252,29 @@ contains
       ! rigid: no stress
     end select
   end subroutine constitutive_update
+
+  !> The one plastic rule of the elastic phase (`elastic_only`): no mean stress beyond the apex
+  !! of the yield surface, where the model has no shear strength either. A trial stress `sig`
+  !! [Pa] (tension positive) whose mean stress passes the apex becomes the apex stress: zero
+  !! for the critical-state sand (p' <= 0, the no-tension rule of `css_return`), the isotropic
+  !! tension c cot(phi) for Mohr-Coulomb with phi > 0 (its apex in `mc_return`). Modified
+  !! Cam-Clay's elastic law has no tension (p' >= 0, `mcc_update`); the elastic model has no
+  !! apex. Without it, a cohesionless skeleton would carry tension at the free surface.
+  pure subroutine apex_limit(mat, sig)
+    type(material_t), intent(in) :: mat  !< material
+    real(wp), intent(inout) :: sig(6)    !< trial stress in, limited stress out [Pa]
+    real(wp) :: apex
+    select case (mat%model)
+    case (model_critical_state_sand)
+      apex = 0.0_wp
+    case (model_mohr_coulomb)
+      if (sin(mat%mc%phi) <= 0.0_wp) return
+      apex = mat%mc%cohesion * cos(mat%mc%phi) / sin(mat%mc%phi)
+    case default
+      return
+    end select
+    if ((sig(1) + sig(2) + sig(3)) / 3.0_wp < apex) return
+    sig(1:3) = apex
+    sig(4:6) = 0.0_wp
+  end subroutine apex_limit
 end module mpm_constitutive

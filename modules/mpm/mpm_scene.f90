@@ -31,8 +31,8 @@ module mpm_scene
   use mpm_nodal, only: nodal_bc_t, nodal_solve, bc_kind_from_name, face_load_power, &
     nodal_bc_at_time
   use mpm_g2p, only: g2p_update
-  use mpm_constitutive, only: material_t, material_init, model_from_name, wave_speed, &
-    model_rigid, model_state
+  use mpm_constitutive, only: material_t, material_init, material_at, model_from_name, &
+    wave_speed, model_rigid, model_state
   use mpm_rigid, only: rigid_motion_t, rigid_velocity, rigid_displacement, rigid_is_static
   use particles_migration, only: migration_t, migration_init, migrate_particles
   use mpm_output, only: write_particle_dump, write_particle_checkpoint, &
@@ -191,6 +191,7 @@ contains
     mat%css%elastic_amp = sp%densification_elastic
     mat%css%t_min = sp%densification_min_half_cycle
     mat%css%t_start = sp%densification_start
+    mat%plastic_start = sp%plastic_start
     mat%solid_fraction0 = 1.0_wp - sp%porosity
   end subroutine set_soil_params
 
@@ -263,20 +264,15 @@ contains
     real(wp), intent(in) :: time               !< time at the start of the step [s]
     real(wp), intent(in) :: dt                 !< step [s]
     integer :: s
-    type(material_t) :: settling
     call timer_start(self%ctx%timers, self%t_g2p)
     do s = 1, self%nsolids
       if (self%mats(s)%model == model_rigid) then
         if (.not. self%static(s)) call move_rigid(self, s, self%ctx%grid, time, dt)
-      else if (time < self%mats(s)%css%t_start) then
-        ! before `&solid densification_start`: no densification, the cyclic state untouched
-        settling = self%mats(s)
-        settling%css%c1 = 0.0_wp
-        call g2p_update(self%parts(s), self%nodes, settling, self%shape_kind, self%ctx%grid, &
-          dt, self%flip)
       else
-        call g2p_update(self%parts(s), self%nodes, self%mats(s), self%shape_kind, self%ctx%grid, &
-          dt, self%flip)
+        ! the material of this step: elastic before `&solid plastic_start`, no densification
+        ! before `densification_start` (`material_at`)
+        call g2p_update(self%parts(s), self%nodes, material_at(self%mats(s), time), &
+          self%shape_kind, self%ctx%grid, dt, self%flip)
       end if
     end do
     call timer_stop(self%ctx%timers, self%t_g2p)

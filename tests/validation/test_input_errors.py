@@ -213,6 +213,8 @@ BAD_MPMICE_INPUTS = [
      ["--set", "&solid(1) critical_solid_fraction = 1.2", "0 < phi_m < 1"]),
     ("sand_fluid_viscosity_negative", "", ["&solid name = 'soil', fluid_viscosity = -1 /"],
      ["--set", "&solid(1) fluid_viscosity = -1.0", ">= 0 [Pa s]"]),
+    ("plastic_start_negative", "", ["&solid name = 'soil', plastic_start = -1 /"],
+     ["--set", "&solid(1) plastic_start = -1.0", ">= 0 [s]"]),
 ] + [
     # &boundary velocity history (solid_velocity_times / solid_velocity_history)
     ("history_times_not_increasing",
