@@ -1,0 +1,85 @@
+"""The state of a settling bank of critical-state sand, per dump (docs/soil_models.md,
+"Elastic gravity loading"): the sediment's kinetic energy and largest particle speed (is it at
+rest?), the share of its particles with p' <= 10 Pa, the share beyond the yield surface and the
+mobilised strength tau / (mu p') of those with p' > 10 Pa, and the share that has yielded
+(plastic strain > 0).
+
+tau = sqrt(s:s / 2); mu = mu_1 + K (phi - phi_m) is the quasi-static strength of the packing
+phi = phi0 V0 / V (`&solid fluid_viscosity = 0`; phi0 = 1 - porosity, V the particle volume,
+V0 the first dump's); beyond yield: tau > 1.0001 mu p'.
+
+    python -m postproc.mpmice_settle_state --dir RUN_DIR --phi0 0.57 --times 2.0 2.05 --until 2.0
+"""
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from postproc.mpmice_io import list_dumps, read_dump
+
+SEDIMENT = "sediment"
+LOW_PRESSURE = 10.0   # Pa
+
+
+def by_id(parts: dict) -> dict:
+    """The particle arrays sorted by particle id."""
+    order = np.argsort(parts["id"])
+    return {k: np.asarray(v)[order] for k, v in parts.items() if np.ndim(v) >= 1
+            and len(v) == len(order)}
+
+
+def state(parts: dict, volume0: np.ndarray, phi0: float, mu1: float, k_dil: float,
+          phi_m: float) -> dict:
+    """Kinetic energy [J], largest speed [m/s] and the shares [-] of one dump's sediment."""
+    v2 = parts["velocity_x"] ** 2 + parts["velocity_y"] ** 2 + parts["velocity_z"] ** 2
+    sxx, syy, szz, sxy = (parts[k] for k in ("stress_xx", "stress_yy", "stress_zz", "stress_xy"))
+    syz, sxz = parts["stress_yz"], parts["stress_xz"]
+    p = -(sxx + syy + szz) / 3.0
+    tau = np.sqrt(0.5 * ((sxx + p) ** 2 + (syy + p) ** 2 + (szz + p) ** 2)
+                  + sxy ** 2 + syz ** 2 + sxz ** 2)
+    mu = mu1 + k_dil * (phi0 * volume0 / parts["volume"] - phi_m)
+    loaded = p > LOW_PRESSURE
+    mobilised = tau[loaded] / (mu[loaded] * p[loaded])
+    return {"kinetic": float(0.5 * np.sum(parts["mass"] * v2)), "speed": float(np.sqrt(v2.max())),
+            "low": float(np.mean(~loaded)), "beyond": float(np.sum(mobilised > 1.0001) / len(p)),
+            "mobilised": np.percentile(mobilised, [10, 50, 90]),
+            "yielded": float(np.mean(parts["plastic_strain"] > 0.0))}
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description="kinetic energy, p' <= 10 Pa and yield state "
+                                     "of a settling critical-state sand bank, per dump")
+    parser.add_argument("--dir", required=True, help="run output folder")
+    parser.add_argument("--name", default="quake", help="&run name")
+    parser.add_argument("--phi0", type=float, required=True, help="1 - porosity")
+    parser.add_argument("--mu1", type=float, default=0.577)
+    parser.add_argument("--k-dil", type=float, default=4.09)
+    parser.add_argument("--phi-m", type=float, default=0.585)
+    parser.add_argument("--times", type=float, nargs="*", help="only these dump times [s]")
+    parser.add_argument("--until", type=float, default=float("inf"),
+                        help="the largest kinetic energy over the dumps up to this time [s]")
+    args = parser.parse_args(argv)
+    paths = list_dumps(args.dir, args.name)
+    volume0 = by_id(read_dump(paths[0])["particles"][SEDIMENT])["volume"]
+    print("  t [s]  kinetic [J]  v max [mm/s]  p'<=10 Pa  beyond yield  tau/(mu p') p10/p50/p90"
+          "  yielded")
+    peak = (0.0, 0.0)
+    for path in paths:
+        dump = read_dump(path)
+        t = float(dump["time"])
+        s = state(by_id(dump["particles"][SEDIMENT]), volume0, args.phi0, args.mu1, args.k_dil,
+                  args.phi_m)
+        if t <= args.until + 1e-9:
+            peak = max(peak, (s["kinetic"], t))
+        if args.times and not any(abs(t - x) < 1e-6 for x in args.times):
+            continue
+        mob = "/".join(f"{m:.2f}" for m in s["mobilised"])
+        print(f"{t:7.3f} {s['kinetic']:12.3e} {s['speed'] * 1e3:13.2f} {s['low'] * 100:9.1f} %"
+              f" {s['beyond'] * 100:11.1f} %  {mob:>24s} {s['yielded'] * 100:7.1f} %")
+    print(f"largest kinetic energy up to {min(args.until, t):.3f} s: {peak[0]:.3e} J at {peak[1]:.3f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
