@@ -27,8 +27,9 @@ from postproc.run_case import run_mpmice
 
 SHAKE = str(mpmice_terzaghi.ROOT) + "/namelists/mpmice_cyclic_shear_column_1d.nml"
 SHAKE_NAME = "shake_column"
-SAND = ("&solid name = 'soil', model = '{model}', max_porosity = 0.5, porosity = 0.38, "
-        "plastic_start = {start} /")
+SAND = "&solid name = 'soil', model = 'critical_state_sand', max_porosity = 0.5, porosity = 0.38, "
+#: the same skeleton, linear elastic (no loosest packing: the column stays far denser than it)
+ELASTIC = "&solid name = 'soil', model = 'linear_elastic', porosity = 0.38 /"
 RUN = "end_time = 0.75, output_interval = 0.25"
 
 
@@ -45,11 +46,10 @@ def plastic_strain(path) -> np.ndarray:
 
 def test_elastic_before_plastic_start(solver, tmp_path):
     dumps = {}
-    for label, model, start in (("plastic", "critical_state_sand", 0.0),
-                                ("late", "critical_state_sand", 0.3),
-                                ("elastic", "linear_elastic", 0.0)):
+    for label, solid in (("plastic", SAND + "plastic_start = 0.0 /"),
+                         ("late", SAND + "plastic_start = 0.3 /"), ("elastic", ELASTIC)):
         out = tmp_path / label
-        run_mpmice([SHAKE, "--set", SAND.format(model=model, start=start),
+        run_mpmice([SHAKE, "--set", solid,
                     "--set", f"&run output_dir = '{out}', {RUN} /"], cwd=str(tmp_path), timeout=300)
         dumps[label] = list_dumps(str(out), SHAKE_NAME)
         assert len(dumps[label]) == 4
