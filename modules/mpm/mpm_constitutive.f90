@@ -52,7 +52,8 @@ module mpm_constitutive
     !> `&solid plastic_start` [s]: before it the plastic models update their stress elastically
     !! (`material_at` sets `elastic_only` for the steps that start earlier)
     real(wp) :: plastic_start = 0.0_wp
-    !> elastic law only: no return to the yield surface (nor tension cut-off), no densification
+    !> elastic law only: no return to the yield surface but to its apex (`apex_limit`), no
+    !! tension cut-off, no densification
     logical :: elastic_only = .false.
   end type material_t
 
@@ -82,8 +83,9 @@ contains
   !> The material in effect over a step that starts at `time` [s]: `mat` itself, except
   !! * before `mat%plastic_start` (`&solid plastic_start`, elastic gravity loading): the
   !!   elastic law only (`elastic_only`: the plastic models' elastic trial stress is the
-  !!   stress, with no return, no tension cut-off and no densification; the stress-free
-  !!   suspension above `j_loose` stays, since grains out of contact carry no stress);
+  !!   stress, limited only to the yield surface's apex (`apex_limit`), with no tension
+  !!   cut-off and no densification; the stress-free suspension above `j_loose` stays, since
+  !!   grains out of contact carry no stress);
   !! * before `mat%css%t_start` (`&solid densification_start`): no cyclic densification
   !!   (C_1 = 0, the particle's cyclic state is left untouched).
   !! Both times are absolute, so a restart (which keeps `&solid`) resumes the same phase.
@@ -178,7 +180,8 @@ contains
   !! starts at the initial stress's value), otherwise the total gamma_xy = 2 eps_xy.
   !! With `mat%elastic_only` (`material_at` before `&solid plastic_start`) the stress is the
   !! model's elastic trial stress: linear (lambda, mu) for Mohr-Coulomb and the sand, the
-  !! pressure-dependent law of Cam-Clay (p_c set but not hardened); no plastic strain.
+  !! pressure-dependent law of Cam-Clay (p_c set but not hardened), limited to the yield
+  !! surface's apex (`apex_limit`); no plastic strain.
   pure subroutine constitutive_update(mat, f, l, dt, stress_unrot, stress, plastic_strain, &
     hardening, cyclic)
     type(material_t), intent(in) :: mat              !< material
