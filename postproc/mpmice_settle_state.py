@@ -9,6 +9,10 @@ phi = phi0 V0 / V (`&solid fluid_viscosity = 0`; phi0 = 1 - porosity, V the part
 V0 the first dump's); beyond yield: tau > 1.0001 mu p'.
 
     python -m postproc.mpmice_settle_state --dir RUN_DIR --phi0 0.57 --times 2.0 2.05 --until 2.0
+
+With ``--by-depth T`` it also prints, for the dump at time T, the particles grouped by their
+initial p'_0 (bins in kPa: < 0.5, 0.5-2, 2-5, 5-10, > 10): count, share beyond yield, median
+tau / (mu p') and median p' / p'_0.
 """
 from __future__ import annotations
 
@@ -20,6 +24,7 @@ from postproc.mpmice_io import list_dumps, read_dump
 
 SEDIMENT = "sediment"
 LOW_PRESSURE = 10.0   # Pa
+P0_BINS = [0.0, 500.0, 2000.0, 5000.0, 10000.0, np.inf]   # Pa: bins of the initial p'
 
 
 def by_id(parts: dict) -> dict:
@@ -29,9 +34,15 @@ def by_id(parts: dict) -> dict:
             and len(v) == len(order)}
 
 
+def mean_stress(parts: dict) -> np.ndarray:
+    """p' = -tr(sigma)/3 of each particle [Pa]."""
+    return -(parts["stress_xx"] + parts["stress_yy"] + parts["stress_zz"]) / 3.0
+
+
 def state(parts: dict, volume0: np.ndarray, phi0: float, mu1: float, k_dil: float,
           phi_m: float) -> dict:
-    """Kinetic energy [J], largest speed [m/s] and the shares [-] of one dump's sediment."""
+    """Kinetic energy [J], largest speed [m/s] and the shares [-] of one dump's sediment; also
+    each particle's p' and mobilised strength tau / (mu p') (NaN where p' <= 10 Pa)."""
     v2 = parts["velocity_x"] ** 2 + parts["velocity_y"] ** 2 + parts["velocity_z"] ** 2
     sxx, syy, szz, sxy = (parts[k] for k in ("stress_xx", "stress_yy", "stress_zz", "stress_xy"))
     syz, sxz = parts["stress_yz"], parts["stress_xz"]
@@ -41,7 +52,10 @@ def state(parts: dict, volume0: np.ndarray, phi0: float, mu1: float, k_dil: floa
     mu = mu1 + k_dil * (phi0 * volume0 / parts["volume"] - phi_m)
     loaded = p > LOW_PRESSURE
     mobilised = tau[loaded] / (mu[loaded] * p[loaded])
+    ratio = np.full(len(p), np.nan)
+    ratio[loaded] = mobilised
     return {"kinetic": float(0.5 * np.sum(parts["mass"] * v2)), "speed": float(np.sqrt(v2.max())),
+            "p": p, "ratio": ratio,
             "low": float(np.mean(~loaded)), "beyond": float(np.sum(mobilised > 1.0001) / len(p)),
             "mobilised": np.percentile(mobilised, [10, 50, 90]),
             "yielded": float(np.mean(parts["plastic_strain"] > 0.0))}
@@ -59,9 +73,13 @@ def main(argv=None) -> int:
     parser.add_argument("--times", type=float, nargs="*", help="only these dump times [s]")
     parser.add_argument("--until", type=float, default=float("inf"),
                         help="the largest kinetic energy over the dumps up to this time [s]")
+    parser.add_argument("--by-depth", type=float, metavar="T",
+                        help="group the particles by their initial p' at the dump of time T [s]")
     args = parser.parse_args(argv)
     paths = list_dumps(args.dir, args.name)
-    volume0 = by_id(read_dump(paths[0])["particles"][SEDIMENT])["volume"]
+    first = by_id(read_dump(paths[0])["particles"][SEDIMENT])
+    volume0, p0 = first["volume"], mean_stress(first)
+    depth = None
     print("  t [s]  kinetic [J]  v max [mm/s]  p'<=10 Pa  beyond yield  tau/(mu p') p10/p50/p90"
           "  yielded")
     peak = (0.0, 0.0)
@@ -72,12 +90,23 @@ def main(argv=None) -> int:
                   args.phi_m)
         if t <= args.until + 1e-9:
             peak = max(peak, (s["kinetic"], t))
+        if args.by_depth is not None and abs(t - args.by_depth) < 1e-6:
+            depth = s
         if args.times and not any(abs(t - x) < 1e-6 for x in args.times):
             continue
         mob = "/".join(f"{m:.2f}" for m in s["mobilised"])
         print(f"{t:7.3f} {s['kinetic']:12.3e} {s['speed'] * 1e3:13.2f} {s['low'] * 100:9.1f} %"
               f" {s['beyond'] * 100:11.1f} %  {mob:>24s} {s['yielded'] * 100:7.1f} %")
     print(f"largest kinetic energy up to {min(args.until, t):.3f} s: {peak[0]:.3e} J at {peak[1]:.3f} s")
+    if depth is not None:
+        print(f"at {args.by_depth:.3f} s, by initial p'_0 [kPa]: particles, beyond yield, "
+              "median tau/(mu p'), median p'/p'_0")
+        for lo, hi in zip(P0_BINS[:-1], P0_BINS[1:]):
+            sel = (p0 >= lo) & (p0 < hi)
+            ratio = depth["ratio"][sel]
+            beyond = float(np.mean(np.nan_to_num(ratio, nan=0.0) > 1.0001))
+            print(f"  {lo / 1e3:5.1f}-{hi / 1e3:<5.1f} {int(sel.sum()):6d} {beyond * 100:6.1f} %"
+                  f" {np.nanmedian(ratio):6.2f} {np.median(depth['p'][sel] / p0[sel]):6.2f}")
     return 0
 
 
