@@ -258,6 +258,17 @@ contains
     integer, intent(in) :: o(3)                            !< unit offset along the face normal
     real(wp), intent(in) :: flux(lbc(1):)                  !< flux of each face
     integer :: i
+    if (o(1) == 1 .and. i2 >= i1) then
+      ! along x, cell i is the high cell of face i and the low cell of face i + 1: the same two
+      ! operations in the same order (+ flux(i), then - flux(i + 1)) without the face-by-face
+      ! loop's dependence from one face to the next, so that the loop vectorises
+      c(i1 - 1, j, k) = c(i1 - 1, j, k) - flux(i1)
+      do i = i1, i2 - 1
+        c(i, j, k) = c(i, j, k) + flux(i) - flux(i + 1)
+      end do
+      c(i2, j, k) = c(i2, j, k) + flux(i2)
+      return
+    end if
     do i = i1, i2
       c(i - o(1), j - o(2), k - o(3)) = c(i - o(1), j - o(2), k - o(3)) - flux(i)
       c(i, j, k) = c(i, j, k) + flux(i)
