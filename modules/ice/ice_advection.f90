@@ -253,10 +253,10 @@ contains
   !! the high cell (the face's own), face by face in order.
   pure subroutine row_update(c, lbc, i1, i2, j, k, o, flux)
     integer, intent(in) :: lbc(3)                          !< lower bounds of c
-    real(wp), intent(inout) :: c(lbc(1):, lbc(2):, lbc(3):) !< conserved quantity
+    real(wp), intent(inout), contiguous :: c(lbc(1):, lbc(2):, lbc(3):) !< conserved quantity
     integer, intent(in) :: i1, i2, j, k                    !< faces of the row
     integer, intent(in) :: o(3)                            !< unit offset along the face normal
-    real(wp), intent(in) :: flux(lbc(1):)                  !< flux of each face
+    real(wp), intent(in), contiguous :: flux(lbc(1):)      !< flux of each face
     integer :: i
     if (o(1) == 1 .and. i2 >= i1) then
       ! along x, cell i is the high cell of face i and the low cell of face i + 1: the same two
