@@ -45,9 +45,10 @@ contains
 
   !> Add dt times the viscous force [kg m/s] to `mom(:,:,:,1:3)` and dt times the conducted
   !! heat [J] to `heat(:,:,:)` of fluid m (owned cells). `smagorinsky`: C_s of the eddy
-  !! viscosity (absent or <= 0: none). Each face's stress is computed once: a cell's low-face
-  !! stress is its low neighbour's high-face stress, carried along the row (normal 1) or from
-  !! the previous row (normal 2); normal 3 computes both faces of a cell.
+  !! viscosity (absent or <= 0: none). Each face's stress is computed once per row of faces
+  !! (`row_stress`, loops over the row that vectorise): along x a cell's low and high faces are
+  !! neighbours in the same row, along y the high faces of one row are the low faces of the
+  !! next (kept), along z both rows of faces are computed.
   subroutine ice_viscous_sources(state, grid, m, dt, mom, heat, smagorinsky)
     type(ice_state_t), intent(inout) :: state  !< fluids (`eddy_viscosity`: work)
     type(grid_t), intent(in) :: grid           !< block geometry
@@ -56,14 +57,18 @@ contains
     real(wp), intent(inout) :: mom(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :) !< momentum [kg m/s]
     real(wp), intent(inout) :: heat(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)   !< energy [J]
     real(wp), intent(in), optional :: smagorinsky  !< Smagorinsky constant C_s [-]
-    integer :: d, i, j, k, o(3), c
-    real(wp) :: area, k_lo, k_hi, phi_lo, phi_hi, cs, flux_lo(3), flux_hi(3)
-    ! the high-face stresses of the previous row (normal 2)
-    real(wp) :: row_flux(3, grid%lo(1):grid%hi(1))
+    integer :: d, i, j, k, o(3), c, i1, i2
+    real(wp) :: area, k_lo, k_hi, phi_lo, phi_hi, cs
+    ! the stresses of a row of faces (face i between cells i - o and i): the low and the high
+    ! faces of the row of cells, and the work of `row_stress`
+    real(wp) :: tau_lo(grid%lo(1):grid%hi(1) + 1, 3), tau_hi(grid%lo(1):grid%hi(1) + 1, 3)
+    real(wp) :: work(grid%lo(1):grid%hi(1) + 1, 8)
     logical :: momentum
 
     cs = 0.0_wp
     if (present(smagorinsky)) cs = smagorinsky
+    i1 = grid%lo(1)
+    i2 = grid%hi(1)
     associate (f => state%fluid(m))
       momentum = f%viscosity > 0.0_wp .or. cs > 0.0_wp
       if (.not. momentum .and. f%conductivity <= 0.0_wp) return
@@ -71,24 +76,42 @@ contains
       if (cs > 0.0_wp) call ice_eddy_viscosity(state, grid, m, cs, state%eddy_viscosity)
       do d = 1, 3
         if (.not. sweep_direction(grid, d, o, area)) cycle
+        if (momentum) then
+          do k = grid%lo(3), grid%hi(3)
+            do j = grid%lo(2), grid%hi(2)
+              select case (d)
+              case (1)
+                call row_stress(state, grid, m, cs, d, j, k, i1, i2 + 1, tau_lo, work)
+                do c = 1, 3
+                  do i = i1, i2
+                    mom(i, j, k, c) = mom(i, j, k, c) + dt * area * (tau_lo(i + 1, c) - &
+                      tau_lo(i, c))
+                  end do
+                end do
+              case (2)
+                if (j == grid%lo(2)) then
+                  call row_stress(state, grid, m, cs, d, j, k, i1, i2, tau_lo, work)
+                else
+                  tau_lo(i1:i2, :) = tau_hi(i1:i2, :)
+                end if
+                call row_stress(state, grid, m, cs, d, j + 1, k, i1, i2, tau_hi, work)
+              case default
+                call row_stress(state, grid, m, cs, d, j, k, i1, i2, tau_lo, work)
+                call row_stress(state, grid, m, cs, d, j, k + 1, i1, i2, tau_hi, work)
+              end select
+              if (d == 1) cycle
+              do c = 1, 3
+                do i = i1, i2
+                  mom(i, j, k, c) = mom(i, j, k, c) + dt * area * (tau_hi(i, c) - tau_lo(i, c))
+                end do
+              end do
+            end do
+          end do
+        end if
+        if (f%conductivity <= 0.0_wp) cycle
         do k = grid%lo(3), grid%hi(3)
           do j = grid%lo(2), grid%hi(2)
             do i = grid%lo(1), grid%hi(1)
-              if (momentum) then
-                if (d == 1 .and. i > grid%lo(1)) then
-                  flux_lo = flux_hi
-                else if (d == 2 .and. j > grid%lo(2)) then
-                  flux_lo = row_flux(:, i)
-                else
-                  flux_lo = stress_between(d, [i - o(1), j - o(2), k - o(3)], [i, j, k])
-                end if
-                flux_hi = stress_between(d, [i, j, k], [i + o(1), j + o(2), k + o(3)])
-                if (d == 2) row_flux(:, i) = flux_hi
-                do c = 1, 3
-                  mom(i, j, k, c) = mom(i, j, k, c) + dt * area * (flux_hi(c) - flux_lo(c))
-                end do
-              end if
-              if (f%conductivity <= 0.0_wp) cycle
               phi_lo = face_mean(f%vfrac(i - o(1), j - o(2), k - o(3)), f%vfrac(i, j, k))
               phi_hi = face_mean(f%vfrac(i, j, k), f%vfrac(i + o(1), j + o(2), k + o(3)))
               k_lo = phi_lo * f%conductivity
@@ -101,69 +124,82 @@ contains
         end do
       end do
     end associate
-
-  contains
-
-    !> tau_c,dn [Pa] on the face of normal `dn` between cells `l` and `h`, with the harmonic
-    !! mean of their cell coefficients.
-    function stress_between(dn, l, h) result(tau)
-      integer, intent(in) :: dn    !< face normal
-      integer, intent(in) :: l(3)  !< low cell
-      integer, intent(in) :: h(3)  !< high cell
-      real(wp) :: tau(3)           !< stress components [Pa]
-      tau = face_stress(state%fluid(m)%vel, grid, dn, l, h, &
-        face_mean(cell_coefficient(l(1), l(2), l(3)), cell_coefficient(h(1), h(2), h(3))))
-    end function stress_between
-
-    !> The cell coefficient phi mu_e = phi mu + phi v^-1 nu_t [Pa s] of cell (ic, jc, kc).
-    real(wp) function cell_coefficient(ic, jc, kc)
-      integer, intent(in) :: ic, jc, kc  !< cell
-      associate (f => state%fluid(m))
-        cell_coefficient = f%vfrac(ic, jc, kc) * f%viscosity
-        if (cs > 0.0_wp) then
-          if (f%spvol(ic, jc, kc) > 0.0_wp) cell_coefficient = cell_coefficient + &
-            f%vfrac(ic, jc, kc) * state%eddy_viscosity(ic, jc, kc) / f%spvol(ic, jc, kc)
-        end if
-      end associate
-    end function cell_coefficient
   end subroutine ice_viscous_sources
 
-  !> tau_c,dn (c = 1..3) [Pa] on the face of normal `dn` between cells `l` and `h` with the face
-  !! coefficient `mu_f` [Pa s] (module header): the normal derivatives from the compact
-  !! difference, those along another active axis e from the mean of the two cells' central
-  !! differences.
-  pure function face_stress(vel, grid, dn, l, h, mu_f) result(tau)
-    type(grid_t), intent(in) :: grid  !< block geometry
-    real(wp), intent(in) :: vel(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :) !< cell velocity [m/s]
-    integer, intent(in) :: dn         !< face normal
-    integer, intent(in) :: l(3)       !< the face's low cell
-    integer, intent(in) :: h(3)       !< the face's high cell
-    real(wp), intent(in) :: mu_f      !< face coefficient [Pa s]
-    real(wp) :: tau(3)                !< stress components tau_c,dn [Pa]
-    integer :: e, oe(3)
-    real(wp) :: normal(3), transverse(3), div, central(3)
-    tau = 0.0_wp
-    if (mu_f <= 0.0_wp) return
-    ! normal(c) = d u_c / d x_dn; transverse(e) = d u_dn / d x_e (e /= dn, active)
-    normal = (vel(h(1), h(2), h(3), :) - vel(l(1), l(2), l(3), :)) / grid%dx(dn)
-    transverse = 0.0_wp
-    div = normal(dn)
-    do e = 1, 3
-      if (e == dn .or. .not. grid%active(e)) cycle
-      oe = 0
-      oe(e) = 1
-      ! d u / d x_e on the face: the mean of the two cells' central differences
-      central = 0.25_wp * (vel(h(1) + oe(1), h(2) + oe(2), h(3) + oe(3), :) - &
-        vel(h(1) - oe(1), h(2) - oe(2), h(3) - oe(3), :) + &
-        vel(l(1) + oe(1), l(2) + oe(2), l(3) + oe(3), :) - &
-        vel(l(1) - oe(1), l(2) - oe(2), l(3) - oe(3), :)) / grid%dx(e)
-      transverse(e) = central(dn)
-      div = div + central(e)
-    end do
+  !> tau_c,dn (c = 1..3) [Pa] of fluid m on the faces of normal `dn` between the cells
+  !! (i, j, k) - o and (i, j, k), i = i1..i2 (o the unit offset along dn), into tau(i, c)
+  !! (module header): the face coefficient is the harmonic mean of the two cells' phi mu_e, the
+  !! normal derivatives come from the compact difference, those along another active axis e
+  !! from the mean of the two cells' central differences; 0 where the coefficient is 0. Each
+  !! pass runs over the whole row (contiguous along x, so the loops vectorise).
+  pure subroutine row_stress(state, grid, m, cs, dn, j, k, i1, i2, tau, work)
+    type(ice_state_t), intent(in) :: state  !< fluids (`eddy_viscosity` with cs > 0)
+    type(grid_t), intent(in) :: grid        !< block geometry
+    integer, intent(in) :: m                !< fluid
+    real(wp), intent(in) :: cs              !< Smagorinsky constant C_s [-] (<= 0: none)
+    integer, intent(in) :: dn               !< face normal
+    integer, intent(in) :: j, k             !< the row's high cells (i, j, k)
+    integer, intent(in) :: i1, i2           !< faces of the row
+    real(wp), intent(inout) :: tau(grid%lo(1):, :)  !< stresses tau(i, c) [Pa] (i1..i2 written)
+    !> work: (face coefficient, normal derivatives (3), transverse (3), divergence) per face
+    real(wp), intent(inout) :: work(grid%lo(1):, :)
+    integer :: i, c, e, o(3), oe(3)
+    real(wp) :: a, b, cen_dn, cen_e
+    integer, parameter :: w_mu = 1, w_normal = 2, w_trans = 5, w_div = 8
+    o = 0
+    o(dn) = 1
+    associate (vel => state%fluid(m)%vel, phi => state%fluid(m)%vfrac, &
+      mu => state%fluid(m)%viscosity, sv => state%fluid(m)%spvol, nu_t => state%eddy_viscosity)
+      do i = i1, i2
+        a = phi(i - o(1), j - o(2), k - o(3)) * mu
+        b = phi(i, j, k) * mu
+        if (cs > 0.0_wp) then
+          if (sv(i - o(1), j - o(2), k - o(3)) > 0.0_wp) a = a + phi(i - o(1), j - o(2), &
+            k - o(3)) * nu_t(i - o(1), j - o(2), k - o(3)) / sv(i - o(1), j - o(2), k - o(3))
+          if (sv(i, j, k) > 0.0_wp) b = b + phi(i, j, k) * nu_t(i, j, k) / sv(i, j, k)
+        end if
+        work(i, w_mu) = face_mean(a, b)
+      end do
+      ! normal(c) = d u_c / d x_dn; transverse(e) = d u_dn / d x_e (e /= dn, active)
+      do c = 1, 3
+        do i = i1, i2
+          work(i, w_normal + c - 1) = (vel(i, j, k, c) - vel(i - o(1), j - o(2), k - o(3), c)) / &
+            grid%dx(dn)
+          work(i, w_trans + c - 1) = 0.0_wp
+        end do
+      end do
+      work(i1:i2, w_div) = work(i1:i2, w_normal + dn - 1)
+      do e = 1, 3
+        if (e == dn .or. .not. grid%active(e)) cycle
+        oe = 0
+        oe(e) = 1
+        ! d u / d x_e on the face: the mean of the two cells' central differences
+        do i = i1, i2
+          cen_dn = 0.25_wp * (vel(i + oe(1), j + oe(2), k + oe(3), dn) - &
+            vel(i - oe(1), j - oe(2), k - oe(3), dn) + &
+            vel(i - o(1) + oe(1), j - o(2) + oe(2), k - o(3) + oe(3), dn) - &
+            vel(i - o(1) - oe(1), j - o(2) - oe(2), k - o(3) - oe(3), dn)) / grid%dx(e)
+          cen_e = 0.25_wp * (vel(i + oe(1), j + oe(2), k + oe(3), e) - &
+            vel(i - oe(1), j - oe(2), k - oe(3), e) + &
+            vel(i - o(1) + oe(1), j - o(2) + oe(2), k - o(3) + oe(3), e) - &
+            vel(i - o(1) - oe(1), j - o(2) - oe(2), k - o(3) - oe(3), e)) / grid%dx(e)
+          work(i, w_trans + e - 1) = cen_dn
+          work(i, w_div) = work(i, w_div) + cen_e
+        end do
+      end do
+    end associate
     ! tau_c,dn = mu (d u_c/d x_dn + d u_dn/d x_c) - (2/3) mu div u delta_c,dn
-    tau = mu_f * (normal + transverse)
-    tau(dn) = mu_f * (2.0_wp * normal(dn) - 2.0_wp / 3.0_wp * div)
-  end function face_stress
+    do c = 1, 3
+      do i = i1, i2
+        tau(i, c) = merge(0.0_wp, work(i, w_mu) * (work(i, w_normal + c - 1) + &
+          work(i, w_trans + c - 1)), work(i, w_mu) <= 0.0_wp)
+      end do
+    end do
+    do i = i1, i2
+      tau(i, dn) = merge(0.0_wp, work(i, w_mu) * (2.0_wp * work(i, w_normal + dn - 1) - &
+        2.0_wp / 3.0_wp * work(i, w_div)), work(i, w_mu) <= 0.0_wp)
+    end do
+  end subroutine row_stress
 
   !> Kinematic Smagorinsky eddy viscosity nu_t = (C_s Delta)^2 |S| [m^2/s] of fluid m on the owned
   !! cells and one ghost layer (0 beyond), from the central differences of the cell velocities

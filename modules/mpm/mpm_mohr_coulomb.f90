@@ -49,7 +49,8 @@ contains
     type(mc_params_t), intent(in) :: p     !< parameters
     real(wp), intent(inout) :: sig(6)      !< trial stress in, returned stress out [Pa]
     real(wp), intent(out) :: deps_p        !< equivalent plastic strain increment [-]
-    real(wp) :: s_tr(3), s(3), q(3, 3), a(3), b(3), a2(3), b2(3), db(3), db2(3), k, f, f2
+    real(wp) :: s_tr(3), s(3), q(3, 3), qt(3, 3), a(3), b(3), a2(3), b2(3), db(3), db2(3)
+    real(wp) :: k, f, f2
     real(wp) :: m11, m12, m21, m22, det, g1, g2, scale, sphi, spsi, de(3), e_mod, nu, tr
     logical :: plastic
     integer :: i
@@ -113,7 +114,9 @@ contains
     de = ((1.0_wp + nu) * (s_tr - s) - nu * tr) / e_mod
     tr = sum(de) / 3.0_wp
     deps_p = sqrt(2.0_wp / 3.0_wp * sum((de - tr)**2))
-    sig = mat_to_sym(mul3(q, mul3(diag3(s), transpose(q))))
+    ! the transpose in a local (an expression argument is packed into a heap temporary)
+    qt = transpose(q)
+    sig = mat_to_sym(mul3(q, mul3(diag3(s), qt)))
   end subroutine mc_return
 
   !> True when the stress `sig` (xx, yy, zz, xy, yz, xz) lies inside the yield surface (and below

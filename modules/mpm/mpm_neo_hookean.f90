@@ -17,10 +17,11 @@ contains
     real(wp), intent(in) :: mu       !< shear modulus [Pa]
     real(wp), intent(in) :: f(3, 3)  !< deformation gradient [-]
     real(wp) :: sig(6)
-    real(wp) :: j
+    real(wp) :: j, ft(3, 3)
     j = det3(f)
+    ft = transpose(f)  ! a local, not an expression argument packed into a heap temporary
     ! eq. 16, errata E2: (lambda ln J / J) I + (mu / J)(F F^T - I)
-    sig = (mu / j) * mat_to_sym(mul3(f, transpose(f)))
+    sig = (mu / j) * mat_to_sym(mul3(f, ft))
     sig(1:3) = sig(1:3) + (lambda * log(j) - mu) / j
   end function neo_hookean_stress
 end module mpm_neo_hookean

@@ -98,7 +98,11 @@ contains
     real(wp), intent(in) :: r(3, 3)  !< rotation
     real(wp), intent(in) :: s(6)     !< symmetric tensor
     real(wp) :: t(6)
-    t = mat_to_sym(mul3(transpose(r), mul3(sym_to_mat(s), r)))
+    real(wp) :: rt(3, 3)
+    ! the transpose in a local: passed as an expression, it was packed into a heap temporary
+    ! (`_gfortran_internal_pack`) on every call
+    rt = transpose(r)
+    t = mat_to_sym(mul3(rt, mul3(sym_to_mat(s), r)))
   end function rotate_to
 
   !> R S R^T of a symmetric tensor S (back to the current frame, eq. 15).
@@ -106,7 +110,9 @@ contains
     real(wp), intent(in) :: r(3, 3)  !< rotation
     real(wp), intent(in) :: s(6)     !< symmetric tensor
     real(wp) :: t(6)
-    t = mat_to_sym(mul3(r, mul3(sym_to_mat(s), transpose(r))))
+    real(wp) :: rt(3, 3)
+    rt = transpose(r)
+    t = mat_to_sym(mul3(r, mul3(sym_to_mat(s), rt)))
   end function rotate_from
 
   !> Product a b of 3x3 matrices (explicit loops: no temporaries).
