@@ -145,6 +145,12 @@ contains
         end if
       end if
       call check_min_porosity(p, g, err)
+      if (.not. err%found .and. p%modulus_exponent /= 0.0_wp .and. &
+        trim(p%model) /= 'mohr_coulomb' .and. trim(p%model) /= 'critical_state_sand') then
+        call check_real(err, g, 'modulus_exponent', p%modulus_exponent, &
+          '0 (only a mohr_coulomb solid or a critical_state_sand solid has a ' // &
+          'pressure-dependent modulus)', min_value=0.0_wp, max_value=0.0_wp)
+      end if
       if (.not. err%found .and. any(p%traction /= 0.0_wp .and. &
         p%traction_upper <= p%traction_lower)) then
         call set_error(err, g, 'traction_upper', reals_repr(p%traction_upper), &

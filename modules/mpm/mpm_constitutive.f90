@@ -20,7 +20,7 @@ module mpm_constitutive
   public :: material_t, material_init, constitutive_update, wave_speed
   public :: model_linear_elastic, model_neo_hookean, model_mohr_coulomb, model_rigid
   public :: model_from_name, model_cam_clay, model_critical_state_sand, model_state
-  public :: material_at
+  public :: material_at, current_moduli
 
   integer, parameter :: model_linear_elastic = 1  !< linear (hypo-)elastic
   integer, parameter :: model_neo_hookean = 2     !< compressible Neo-Hookean
@@ -28,6 +28,8 @@ module mpm_constitutive
   integer, parameter :: model_rigid = 4           !< prescribed motion, no stress
   integer, parameter :: model_cam_clay = 5        !< Modified Cam-Clay
   integer, parameter :: model_critical_state_sand = 6  !< packing-dependent sand
+  !> floor of the pressure-dependent modulus's p', as a fraction of p_ref (`current_moduli`)
+  real(wp), parameter :: modulus_floor = 0.01_wp
   !> the `&solid model` names of the models, in their order ('modified_cam_clay': cam_clay)
   character(len=*), parameter :: model_names(6) = [character(len=19) :: 'linear_elastic', &
     'neo_hookean', 'mohr_coulomb', 'rigid', 'cam_clay', 'critical_state_sand']
@@ -55,6 +57,11 @@ module mpm_constitutive
     !> elastic law only: no return to the yield surface but to its apex (`apex_limit`), no
     !! tension cut-off, no densification
     logical :: elastic_only = .false.
+    !> `&solid modulus_exponent` m: the Lame constants scale as (max(p', p_min) / p_ref)^m
+    !! (`current_moduli`); 0: constant lambda, mu
+    real(wp) :: modulus_exponent = 0.0_wp
+    !> `&solid modulus_reference_pressure` p_ref [Pa]: the p' at which lambda, mu apply
+    real(wp) :: modulus_p_ref = 1.0e5_wp
   end type material_t
 
 contains
@@ -98,6 +105,30 @@ contains
     if (now%elastic_only .or. time < mat%css%t_start) now%css%c1 = 0.0_wp
   end function material_at
 
+  !> The Lame constants [Pa] of a particle whose stress is `sig` [Pa] (tension positive),
+  !! for the Hardin-type pressure-dependent elasticity of Mohr-Coulomb and the critical-state
+  !! sand (Hardin & Richart 1963, Hardin & Black 1966; the power form G = G_ref (p'/p_ref)^m of
+  !! Wroth & Houlsby 1985 with constant Poisson's ratio, docs/soil_models.md):
+  !!   G = mu (max(p', p_min) / p_ref)^m,  K = G 2 (1 + nu) / (3 (1 - 2 nu)),
+  !! i.e. both `mat%lambda` and `mat%mu` times the same factor; p' = -tr(sig) / 3, p_ref =
+  !! `modulus_p_ref`, p_min = p_ref / 100 (`modulus_floor`: the stiffness of a stress-free
+  !! particle, (1/100)^m of the reference one, is > 0). With m = 0 they are `mat%lambda`,
+  !! `mat%mu` exactly. Hypoelastic: the caller takes them at the start of a step.
+  pure subroutine current_moduli(mat, sig, lam, mu)
+    type(material_t), intent(in) :: mat  !< material
+    real(wp), intent(in) :: sig(6)       !< stress [Pa]
+    real(wp), intent(out) :: lam         !< first Lame constant [Pa]
+    real(wp), intent(out) :: mu          !< shear modulus [Pa]
+    real(wp) :: p, fac
+    lam = mat%lambda
+    mu = mat%mu
+    if (mat%modulus_exponent == 0.0_wp) return
+    p = -(sig(1) + sig(2) + sig(3)) / 3.0_wp
+    fac = (max(p, modulus_floor * mat%modulus_p_ref) / mat%modulus_p_ref)**mat%modulus_exponent
+    lam = lam * fac
+    mu = mu * fac
+  end subroutine current_moduli
+
   !> Material from the namelist parameters (angles in degrees).
   pure function material_init(model, density, youngs, poisson, cohesion, phi_deg, psi_deg, &
     tension_cutoff, tensile_strength) result(mat)
@@ -139,12 +170,15 @@ contains
   !! * Modified Cam-Clay: the current moduli, K = v max(p', p'_min) / kappa (v = v0 J) and G,
   !!   c^2 = (K + 4/3 G) max(J, 1) / rho0, p' from `stress` (without it, p' = p'_min);
   !! * a loose Mohr-Coulomb or critical-state sand particle (J > `j_loose`, grains out of
-  !!   contact) has no stiffness: 0.
+  !!   contact) has no stiffness: 0;
+  !! * with a pressure-dependent modulus (`modulus_exponent` > 0) the rate models' lambda, mu
+  !!   are those of the particle's current p' (`current_moduli` of `stress`; without it, of
+  !!   p' = p_ref).
   pure real(wp) function wave_speed(mat, f, stress) result(c)
     type(material_t), intent(in) :: mat           !< material
     real(wp), intent(in) :: f(3, 3)               !< deformation gradient F [-]
     real(wp), intent(in), optional :: stress(6)   !< effective stress [Pa]
-    real(wp) :: jac, b(3, 3), p, q, s(6), k, g
+    real(wp) :: jac, b(3, 3), p, q, s(6), k, g, lam, mu
     jac = det3(f)
     select case (mat%model)
     case (model_rigid)
@@ -162,7 +196,10 @@ contains
       if (jac > mat%j_loose) then
         c = 0.0_wp  ! grains out of contact: no stiffness
       else
-        c = sqrt((mat%lambda + 2.0_wp * mat%mu) * max(jac, 1.0_wp) / mat%density)
+        lam = mat%lambda
+        mu = mat%mu
+        if (present(stress)) call current_moduli(mat, stress, lam, mu)
+        c = sqrt((lam + 2.0_wp * mu) * max(jac, 1.0_wp) / mat%density)
       end if
     end select
   end function wave_speed
@@ -182,6 +219,9 @@ contains
   !! model's elastic trial stress: linear (lambda, mu) for Mohr-Coulomb and the sand, the
   !! pressure-dependent law of Cam-Clay (p_c set but not hardened), limited to the yield
   !! surface's apex (`apex_limit`); no plastic strain.
+  !! Mohr-Coulomb and the sand use the Lame constants of the stress at the start of the step
+  !! (`current_moduli`, `&solid modulus_exponent`) for the trial stress, the densification's
+  !! K d eps_vd, tau_xy / G and the return.
   pure subroutine constitutive_update(mat, f, l, dt, stress_unrot, stress, plastic_strain, &
     hardening, cyclic)
     type(material_t), intent(in) :: mat              !< material
@@ -193,8 +233,9 @@ contains
     real(wp), intent(inout) :: plastic_strain        !< equivalent plastic strain [-]
     real(wp), intent(inout), optional :: hardening   !< Cam-Clay p_c [Pa]
     real(wp), intent(inout), optional :: cyclic(css_n_cyclic)  !< sand's cyclic state
-    real(wp) :: r(3, 3), deps(6), dep, pc, devd, dgamma
+    real(wp) :: r(3, 3), deps(6), dep, pc, devd, dgamma, lam, mu
     type(mc_params_t) :: dense
+    type(css_params_t) :: css
     select case (mat%model)
     case (model_neo_hookean)
       stress = neo_hookean_stress(mat%lambda, mat%mu, f)
@@ -220,34 +261,36 @@ contains
         stress = rotate_from(r, stress_unrot)                ! eq. 15
         return
       end if
+      call current_moduli(mat, stress_unrot, lam, mu)       ! at the start of the step
       dgamma = 2.0_wp * deps(4)                                           ! gamma_xy
       if (mat%model == model_critical_state_sand .and. mat%css%elastic_amp .and. &
         mat%css%c1 > 0.0_wp .and. present(cyclic)) then
         ! cycled strain: the elastic gamma_xy^e = tau_xy / G of the trial stress, from the
         ! initial stress's value (a fresh state starts there, not at zero)
-        if (all(cyclic == 0.0_wp)) cyclic(css_gamma:css_gamma_ext) = stress_unrot(4) / mat%mu
-        dgamma = stress_unrot(4) / mat%mu + dgamma - cyclic(css_gamma)
+        if (all(cyclic == 0.0_wp)) cyclic(css_gamma:css_gamma_ext) = stress_unrot(4) / mu
+        dgamma = stress_unrot(4) / mu + dgamma - cyclic(css_gamma)
       end if
-      stress_unrot = stress_unrot + elastic_increment(mat%lambda, mat%mu, deps)
+      stress_unrot = stress_unrot + elastic_increment(lam, mu, deps)
       ! with `elastic_only` (elastic gravity loading, `&solid plastic_start`) the trial stress
       ! stands, within the yield surface's apex: no densification, no return
       if (mat%elastic_only) call apex_limit(mat, stress_unrot)
       if (mat%model == model_critical_state_sand .and. .not. mat%elastic_only) then
         if (mat%css%c1 > 0.0_wp .and. present(cyclic)) then
           call css_densify(mat%css, dgamma, dt, cyclic, devd)
-          stress_unrot(1:3) = stress_unrot(1:3) + (mat%lambda + 2.0_wp * mat%mu / 3.0_wp) * devd
+          stress_unrot(1:3) = stress_unrot(1:3) + (lam + 2.0_wp * mu / 3.0_wp) * devd
         end if
-        call css_return(mat%css, mat%solid_fraction0 / det3(f), dt, stress_unrot, dep)
+        css = mat%css
+        css%lambda = lam
+        css%mu = mu
+        call css_return(css, mat%solid_fraction0 / det3(f), dt, stress_unrot, dep)
         plastic_strain = plastic_strain + dep
       else if (mat%model == model_mohr_coulomb .and. .not. mat%elastic_only) then
-        if (mat%mc%psi < 0.0_wp .and. det3(f) <= mat%j_dense) then
-          ! contractant sand at its densest packing: plastic flow without volume change
-          dense = mat%mc
-          dense%psi = 0.0_wp
-          call mc_return(dense, stress_unrot, dep)
-        else
-          call mc_return(mat%mc, stress_unrot, dep)          ! eq. 17
-        end if
+        dense = mat%mc
+        dense%lambda = lam
+        dense%mu = mu
+        ! contractant sand at its densest packing: plastic flow without volume change
+        if (mat%mc%psi < 0.0_wp .and. det3(f) <= mat%j_dense) dense%psi = 0.0_wp
+        call mc_return(dense, stress_unrot, dep)             ! eq. 17
         plastic_strain = plastic_strain + dep
       end if
       stress = rotate_from(r, stress_unrot)                  ! eq. 15

@@ -192,6 +192,8 @@ contains
     mat%css%t_min = sp%densification_min_half_cycle
     mat%css%t_start = sp%densification_start
     mat%plastic_start = sp%plastic_start
+    mat%modulus_exponent = sp%modulus_exponent
+    mat%modulus_p_ref = sp%modulus_reference_pressure
     mat%solid_fraction0 = 1.0_wp - sp%porosity
   end subroutine set_soil_params
 

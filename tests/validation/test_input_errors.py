@@ -191,6 +191,11 @@ BAD_MPMICE_INPUTS = [
     ("dilation_below_minus_friction", "", ["&solid name = 'soil', model = 'mohr_coulomb', "
                                             "friction_angle = 30, dilation_angle = -40 /"],
      ["--set", "&solid(1) dilation_angle = -40.0", "-friction_angle..friction_angle (30.0)"]),
+    ("modulus_exponent_elastic", "", ["&solid name = 'soil', modulus_exponent = 0.5 /"],
+     ["--set", "&solid(1) modulus_exponent = 0.5", "only a mohr_coulomb solid"]),
+    ("modulus_exponent_above_one", "", ["&solid name = 'soil', model = 'mohr_coulomb', "
+                                         "friction_angle = 30, modulus_exponent = 1.5 /"],
+     ["--set", "&solid(1) modulus_exponent = 1.5", "0 <= m <= 1"]),
     ("traction_ramp_time_negative", "", ["&solid name = 'soil', traction_ramp_time = -1 /"],
      ["--set", "&solid(1) traction_ramp_time = -1.0", ">= 0 [s]"]),
     ("solid_outside_domain", "&solid name = 's2', lower = 0, 1.5, 0, upper = 1, 2, 1 /", [],
