@@ -20,18 +20,12 @@ import argparse
 
 import numpy as np
 
+from postproc.measures import by_id
 from postproc.mpmice_io import list_dumps, read_dump
 
 SEDIMENT = "sediment"
 LOW_PRESSURE = 10.0   # Pa
 P0_BINS = [0.0, 500.0, 2000.0, 5000.0, 10000.0, np.inf]   # Pa: bins of the initial p'
-
-
-def by_id(parts: dict) -> dict:
-    """The particle arrays sorted by particle id."""
-    order = np.argsort(parts["id"])
-    return {k: np.asarray(v)[order] for k, v in parts.items() if np.ndim(v) >= 1
-            and len(v) == len(order)}
 
 
 def mean_stress(parts: dict) -> np.ndarray:
@@ -46,7 +40,7 @@ def state(parts: dict, volume0: np.ndarray, phi0: float, mu1: float, k_dil: floa
     v2 = parts["velocity_x"] ** 2 + parts["velocity_y"] ** 2 + parts["velocity_z"] ** 2
     sxx, syy, szz, sxy = (parts[k] for k in ("stress_xx", "stress_yy", "stress_zz", "stress_xy"))
     syz, sxz = parts["stress_yz"], parts["stress_xz"]
-    p = -(sxx + syy + szz) / 3.0
+    p = mean_stress(parts)
     tau = np.sqrt(0.5 * ((sxx + p) ** 2 + (syy + p) ** 2 + (szz + p) ** 2)
                   + sxy ** 2 + syz ** 2 + sxz ** 2)
     mu = mu1 + k_dil * (phi0 * volume0 / parts["volume"] - phi_m)
