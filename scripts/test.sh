@@ -36,6 +36,11 @@ export OMPI_MCA_rmaps_base_oversubscribe=1
 export OMPI_MCA_hwloc_base_binding_policy="${OMPI_MCA_hwloc_base_binding_policy:-none}"
 # ROMIO for MPI-IO: Open MPI 4.1 OMPIO collective writes corrupted data here (docs/io.md)
 export OMPI_MCA_io="${OMPI_MCA_io:-^ompio}"
+# launch latency (about a thousand runs in the suite, docs/testing.md): the ob1 messaging layer
+# starts 0.25 s faster than UCX on one node, and a run that exits non-zero is reaped at once
+# instead of after the launcher's 1 s grace before SIGKILL (2.2 s per input-error run)
+export OMPI_MCA_pml="${OMPI_MCA_pml:-ob1}"
+export OMPI_MCA_odls_base_sigkill_timeout="${OMPI_MCA_odls_base_sigkill_timeout:-0}"
 export MPMICE_EXE="${MPMICE_EXE:-$root/build/bin/mpmice}"
 # validation tests that cannot run (no executable, a scene that fails --check) fail, never skip
 export MPMICE_REQUIRE_ALL=1
