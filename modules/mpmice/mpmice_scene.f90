@@ -49,7 +49,7 @@ module mpmice_scene
     ice_stage_pressure, ice_stage_lagrangian, ice_stage_cell_exchange, ice_stage_advect
   use ice_equilibration, only: ice_equilibrate
   use ice_bc, only: ice_bc_fill, bc_scalar, bc_temperature, bc_wall, bc_free_slip
-  use mpm_scene, only: mpm_scene_t, mpm_setup, mpm_gravity, mpm_stage_g2p, mpm_migrate_all, &
+  use mpm_scene, only: mpm_scene_t, mpm_setup, mpm_gravity, mpm_damping, mpm_stage_g2p, mpm_migrate_all, &
     p2g_solids
   use mpm_constitutive, only: model_rigid
   use mpm_p2g, only: p2g_complete
@@ -307,7 +307,7 @@ contains
     real(wp), intent(in) :: dt                    !< step [s]
     logical, intent(out) :: accepted              !< the step was taken
     integer :: s, m
-    real(wp) :: g(3)
+    real(wp) :: g(3), alpha
 
     accepted = .false.
     call ice_step_begin(self%fl)
@@ -325,13 +325,14 @@ contains
       call timer_stop(timers, so%t_p2g)
       call timer_start(timers, so%t_nodal)
       g = mpm_gravity(so, time + dt)
+      alpha = mpm_damping(so, time)
       call nodal_bc_at_time(so%bc, time + dt)
       if (self%solid%sliding) then
         call contact_pressure_accel(st, self%solid, grid, so%nodes, so%min_mass, self%contact_acc)
-        call nodal_solve(so%nodes, grid, g, so%damping, dt, so%bc, so%min_mass, &
+        call nodal_solve(so%nodes, grid, g, alpha, dt, so%bc, so%min_mass, &
           self%contact_dv, self%contact_acc)
       else
-        call nodal_solve(so%nodes, grid, g, so%damping, dt, so%bc, so%min_mass)
+        call nodal_solve(so%nodes, grid, g, alpha, dt, so%bc, so%min_mass)
       end if
       call timer_stop(timers, so%t_nodal)
 
