@@ -65,6 +65,8 @@ module mpm_scene
     real(wp) :: damping = 0.0_wp                            !< local damping factor
     real(wp) :: damping_end = 0.0_wp                        !< damped steps begin before this
                                                             !! time [s] (0: the whole run)
+    logical :: damp_total = .false.                         !< damp the whole nodal increment
+                                                            !! (coupled scene, nodal_damp)
     real(wp) :: flip = 0.99_wp                              !< FLIP fraction
     real(wp) :: min_mass = 0.0_wp                           !< empty-node threshold [kg]
     integer(i8) :: removed = 0_i8                           !< particles that left the domain
@@ -109,6 +111,7 @@ contains
       self%ramp_time = par%mpm%gravity_ramp_time
       self%damping = par%mpm%local_damping
       self%damping_end = par%mpm%local_damping_end
+      self%damp_total = par%mpm%local_damping_force == 'total'
       self%flip = par%mpm%flip_fraction
       mmin = huge(1.0_wp)
       do s = 1, self%nsolids

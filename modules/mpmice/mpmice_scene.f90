@@ -53,7 +53,7 @@ module mpmice_scene
     p2g_solids
   use mpm_constitutive, only: model_rigid
   use mpm_p2g, only: p2g_complete
-  use mpm_nodal, only: nodal_solve, nodal_finish, nodal_bc_at_time, bc_traction
+  use mpm_nodal, only: nodal_solve, nodal_finish, nodal_bc_at_time, bc_traction, nodal_damp
   use mpm_loads, only: surface_load_t, surface_load_init, surface_load_scatter, &
     surface_load_power
   use exchange_drag, only: drag_law_from_name
@@ -325,7 +325,8 @@ contains
       call timer_stop(timers, so%t_p2g)
       call timer_start(timers, so%t_nodal)
       g = mpm_gravity(so, time + dt)
-      alpha = mpm_damping(so, time)
+      ! the damping of the solid's own force here, or of the whole increment after the fluids'
+      alpha = merge(0.0_wp, mpm_damping(so, time), so%damp_total)
       call nodal_bc_at_time(so%bc, time + dt)
       if (self%solid%sliding) then
         call contact_pressure_accel(st, self%solid, grid, so%nodes, so%min_mass, self%contact_acc)
@@ -390,6 +391,9 @@ contains
       ! the solid's pressure force and drag, from the faces back to the nodes
       call timer_start(timers, self%t_nodes)
       call solid_face_to_nodes(self%solid, grid, dom, self%halo, so%nodes, self%du, so%min_mass)
+      if (so%damp_total .and. mpm_damping(so, time) > 0.0_wp) then
+        call nodal_damp(so%nodes, grid, mpm_damping(so, time), so%min_mass)
+      end if
       if (self%solid%sliding) then
         call nodal_finish(so%nodes, grid, dt, so%bc, so%min_mass, self%contact_dv, &
           self%contact_f)
