@@ -10,6 +10,11 @@ V0 the first dump's); beyond yield: tau > 1.0001 mu p'.
 
     python -m postproc.mpmice_settle_state --dir RUN_DIR --phi0 0.57 --times 2.0 2.05 --until 2.0
 
+With ``--moved T0`` it prints, for every dump from T0 on, how far the sediment has moved since T0
+relative to the base (the base's mean x displacement taken off, periodic x unwrapped): the largest
+displacement, the shares of the particles that moved more than 2 cm and 0.2 m, and the crest's
+mean vertical displacement (particles starting above y = 2.3 m).
+
 With ``--by-depth T`` it also prints, for the dump at time T, the particles grouped by their
 initial p'_0 (bins in kPa: < 0.5, 0.5-2, 2-5, 5-10, > 10): count, share beyond yield, median
 tau / (mu p') and median p' / p'_0.
@@ -21,6 +26,7 @@ import argparse
 import numpy as np
 
 from postproc.measures import by_id
+from postproc.mpmice_earthquake_slope import BASE, CREST_Y0, domain_length, unwrapped
 from postproc.mpmice_io import list_dumps, read_dump
 
 SEDIMENT = "sediment"
@@ -67,6 +73,8 @@ def main(argv=None) -> int:
     parser.add_argument("--times", type=float, nargs="*", help="only these dump times [s]")
     parser.add_argument("--until", type=float, default=float("inf"),
                         help="the largest kinetic energy over the dumps up to this time [s]")
+    parser.add_argument("--moved", type=float, metavar="T0",
+                        help="the displacement relative to the base since the dump at T0 [s]")
     parser.add_argument("--by-depth", type=float, metavar="T",
                         help="group the particles by their initial p' at the dump of time T [s]")
     args = parser.parse_args(argv)
@@ -101,7 +109,37 @@ def main(argv=None) -> int:
             beyond = float(np.mean(np.nan_to_num(ratio, nan=0.0) > 1.0001))
             print(f"  {lo / 1e3:5.1f}-{hi / 1e3:<5.1f} {int(sel.sum()):6d} {beyond * 100:6.1f} %"
                   f" {np.nanmedian(ratio):6.2f} {np.median(depth['p'][sel] / p0[sel]):6.2f}")
+    if args.moved is not None:
+        print_moved(paths, args.moved)
     return 0
+
+
+def moved(ref: dict, dump: dict, crest: np.ndarray) -> dict:
+    """Displacement of the sediment from dump `ref` to `dump` relative to the base [m]."""
+    length = domain_length(ref)
+    s0, b0 = by_id(ref["particles"][SEDIMENT]), by_id(ref["particles"][BASE])
+    s, b = by_id(dump["particles"][SEDIMENT]), by_id(dump["particles"][BASE])
+    base_dx = float(np.mean(unwrapped(b["x"] - b0["x"], length)))
+    rel = np.hypot(unwrapped(s["x"] - s0["x"], length) - base_dx, s["y"] - s0["y"])
+    return {"largest": float(rel.max()), "over_2cm": float(np.mean(rel > 0.02)),
+            "over_20cm": float(np.mean(rel > 0.2)),
+            "crest_uy": float(np.mean((s["y"] - s0["y"])[crest]))}
+
+
+def print_moved(paths: list[str], t0: float) -> None:
+    """The table of ``--moved T0``."""
+    crest = by_id(read_dump(paths[0])["particles"][SEDIMENT])["y"] > CREST_Y0
+    ref = None
+    print(f"  t [s]  moved since {t0:.3f} s relative to the base: largest [m], > 2 cm, > 0.2 m,"
+          " crest u_y [cm]")
+    for path in paths:
+        dump = read_dump(path)
+        if float(dump["time"]) < t0 - 1e-9:
+            continue
+        ref = ref or dump
+        m = moved(ref, dump, crest)
+        print(f"{float(dump['time']):7.3f} {m['largest']:10.3f} {m['over_2cm'] * 100:8.1f} %"
+              f" {m['over_20cm'] * 100:8.1f} % {m['crest_uy'] * 100:8.1f}")
 
 
 if __name__ == "__main__":

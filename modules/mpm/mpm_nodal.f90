@@ -14,8 +14,11 @@
 !! tangential one reduced by Coulomb friction mu |dv_n| (stick when smaller), the normal the rigid
 !! body's grad m / |grad m|, with `&mpm contact_normal = 'smoothed'` smoothed over the
 !! neighbouring nodes (`contact_normal`, `rigid_contact_velocity`).
-!! Local (Cundall) damping: f <- f - alpha |f| sign(v) per component. Every allocated node is
-!! solved (ghost copies hold global values after the reverse halo), so no exchange follows.
+!! Local (Cundall) damping: f <- f - alpha |f| sign(v) per component, in `nodal_solve` on the
+!! solid's internal force and weight, or in `nodal_damp` on a node's whole velocity increment of
+!! the step (the coupled scene's `&mpm local_damping_force = 'total'`, after the fluids' forces).
+!! Every allocated node is solved (ghost copies hold global values after the reverse halo), so no
+!! exchange follows.
 module mpm_nodal
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
@@ -25,7 +28,7 @@ module mpm_nodal
   private
 
   public :: nodal_bc_t, nodal_solve, nodal_finish, bc_kind_from_name, rigid_contact_velocity
-  public :: face_load_power, nodal_bc_at_time, history_velocity
+  public :: face_load_power, nodal_bc_at_time, history_velocity, nodal_damp
   public :: bc_fixed, bc_roller, bc_free, bc_velocity, bc_traction
 
   integer, parameter :: bc_fixed = 1     !< no motion
@@ -176,6 +179,34 @@ contains
       end do
     end do
   end subroutine nodal_solve
+
+  !> Local (Cundall) damping of the whole increment v^L - v^n of the step, after the coupled
+  !! scene has added the fluids' pressure force and drag to v^L: with the node's unbalanced
+  !! force f = m (v^L - v^n) / dt, v^L <- v^L - alpha |f| sign(v^n) dt / m per component, i.e.
+  !! v^L <- v^L - alpha |v^L - v^n| sign(v^n),
+  !! the force of `nodal_solve`'s damping, which then vanishes where the node is at rest under
+  !! all its forces (a submerged soil: its effective stress, weight, buoyancy and drag). Nodes
+  !! that a rigid body moves are left alone; `nodal_finish` applies the boundary conditions.
+  pure subroutine nodal_damp(nodes, grid, alpha, min_mass)
+    type(mpm_nodes_t), intent(inout) :: nodes  !< node fields (vel, vel_l)
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: alpha              !< local damping factor [-]
+    real(wp), intent(in) :: min_mass           !< nodes lighter than this are empty [kg]
+    integer :: i, j, k
+    real(wp) :: v(3), dv(3)
+    do k = grid%lbn(3), grid%ubn(3)
+      do j = grid%lbn(2), grid%ubn(2)
+        do i = grid%lbn(1), grid%ubn(1)
+          if (nodes%q(node_mass, i, j, k) <= min_mass) cycle
+          if (nodes%q(node_rigid_mass, i, j, k) > min_mass) cycle
+          v = nodes%vel(:, i, j, k)
+          dv = nodes%vel_l(:, i, j, k) - v
+          nodes%vel_l(:, i, j, k) = nodes%vel_l(:, i, j, k) - alpha * abs(dv) * &
+            merge(sign(1.0_wp, v), 0.0_wp, v /= 0.0_wp)
+        end do
+      end do
+    end do
+  end subroutine nodal_damp
 
   !> After velocity increments were added to v^L (the coupled scene's pressure and drag,
   !! eqs. 66-67 with E5): the face conditions again and eq. 69 a = (v^L - v^n)/dt, on every

@@ -40,7 +40,7 @@ module mpm_scene
   implicit none
   private
 
-  public :: mpm_scene_t, mpm_setup, mpm_gravity, mpm_stage_g2p, move_rigid, mpm_migrate_all, solid_energies, p2g_solids
+  public :: mpm_scene_t, mpm_setup, mpm_gravity, mpm_damping, mpm_stage_g2p, move_rigid, mpm_migrate_all, solid_energies, p2g_solids
 
   !> Solid bodies on a background grid.
   type, extends(scene_t) :: mpm_scene_t
@@ -63,6 +63,10 @@ module mpm_scene
     real(wp) :: gravity(3) = 0.0_wp                         !< gravity [m/s^2]
     real(wp) :: ramp_time = 0.0_wp                          !< gravity ramp [s]
     real(wp) :: damping = 0.0_wp                            !< local damping factor
+    real(wp) :: damping_end = 0.0_wp                        !< damped steps begin before this
+                                                            !! time [s] (0: the whole run)
+    logical :: damp_total = .false.                         !< damp the whole nodal increment
+                                                            !! (coupled scene, nodal_damp)
     real(wp) :: flip = 0.99_wp                              !< FLIP fraction
     real(wp) :: min_mass = 0.0_wp                           !< empty-node threshold [kg]
     integer(i8) :: removed = 0_i8                           !< particles that left the domain
@@ -106,6 +110,8 @@ contains
       self%gravity = par%physics%gravity
       self%ramp_time = par%mpm%gravity_ramp_time
       self%damping = par%mpm%local_damping
+      self%damping_end = par%mpm%local_damping_end
+      self%damp_total = par%mpm%local_damping_force == 'total'
       self%flip = par%mpm%flip_fraction
       mmin = huge(1.0_wp)
       do s = 1, self%nsolids
@@ -237,8 +243,8 @@ contains
       call timer_stop(timers, self%t_p2g)
       call timer_start(timers, self%t_nodal)
       call nodal_bc_at_time(self%bc, time + dt)
-      call nodal_solve(self%nodes, grid, mpm_gravity(self, time + dt), self%damping, dt, &
-        self%bc, self%min_mass)
+      call nodal_solve(self%nodes, grid, mpm_gravity(self, time + dt), mpm_damping(self, time), &
+        dt, self%bc, self%min_mass)
       call timer_stop(timers, self%t_nodal)
       call mpm_stage_g2p(self, time, dt)
       call mpm_migrate_all(self, time + dt)
@@ -258,6 +264,16 @@ contains
     if (self%ramp_time > 0.0_wp) ramp = min(1.0_wp, time / self%ramp_time)
     g = ramp * self%gravity
   end function mpm_gravity
+
+  !> Local damping factor of the step that begins at `time`: `&mpm local_damping` before `&mpm
+  !! local_damping_end` (over the whole run when that is 0), 0 from then on.
+  pure function mpm_damping(self, time) result(alpha)
+    class(mpm_scene_t), intent(in) :: self  !< scene
+    real(wp), intent(in) :: time            !< time at the start of the step [s]
+    real(wp) :: alpha
+    alpha = self%damping
+    if (self%damping_end > 0.0_wp .and. time >= self%damping_end) alpha = 0.0_wp
+  end function mpm_damping
 
   !> G2P of the deformable solids (velocity, position, F, volume, stress; eqs. 70-75) and the
   !! prescribed motion of the rigid ones, over the step `dt` from `time`.

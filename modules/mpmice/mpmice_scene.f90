@@ -49,11 +49,11 @@ module mpmice_scene
     ice_stage_pressure, ice_stage_lagrangian, ice_stage_cell_exchange, ice_stage_advect
   use ice_equilibration, only: ice_equilibrate
   use ice_bc, only: ice_bc_fill, bc_scalar, bc_temperature, bc_wall, bc_free_slip
-  use mpm_scene, only: mpm_scene_t, mpm_setup, mpm_gravity, mpm_stage_g2p, mpm_migrate_all, &
+  use mpm_scene, only: mpm_scene_t, mpm_setup, mpm_gravity, mpm_damping, mpm_stage_g2p, mpm_migrate_all, &
     p2g_solids
   use mpm_constitutive, only: model_rigid
   use mpm_p2g, only: p2g_complete
-  use mpm_nodal, only: nodal_solve, nodal_finish, nodal_bc_at_time, bc_traction
+  use mpm_nodal, only: nodal_solve, nodal_finish, nodal_bc_at_time, bc_traction, nodal_damp
   use mpm_loads, only: surface_load_t, surface_load_init, surface_load_scatter, &
     surface_load_power
   use exchange_drag, only: drag_law_from_name
@@ -307,7 +307,7 @@ contains
     real(wp), intent(in) :: dt                    !< step [s]
     logical, intent(out) :: accepted              !< the step was taken
     integer :: s, m
-    real(wp) :: g(3)
+    real(wp) :: g(3), alpha
 
     accepted = .false.
     call ice_step_begin(self%fl)
@@ -325,13 +325,15 @@ contains
       call timer_stop(timers, so%t_p2g)
       call timer_start(timers, so%t_nodal)
       g = mpm_gravity(so, time + dt)
+      ! the damping of the solid's own force here, or of the whole increment after the fluids'
+      alpha = merge(0.0_wp, mpm_damping(so, time), so%damp_total)
       call nodal_bc_at_time(so%bc, time + dt)
       if (self%solid%sliding) then
         call contact_pressure_accel(st, self%solid, grid, so%nodes, so%min_mass, self%contact_acc)
-        call nodal_solve(so%nodes, grid, g, so%damping, dt, so%bc, so%min_mass, &
+        call nodal_solve(so%nodes, grid, g, alpha, dt, so%bc, so%min_mass, &
           self%contact_dv, self%contact_acc)
       else
-        call nodal_solve(so%nodes, grid, g, so%damping, dt, so%bc, so%min_mass)
+        call nodal_solve(so%nodes, grid, g, alpha, dt, so%bc, so%min_mass)
       end if
       call timer_stop(timers, so%t_nodal)
 
@@ -389,6 +391,9 @@ contains
       ! the solid's pressure force and drag, from the faces back to the nodes
       call timer_start(timers, self%t_nodes)
       call solid_face_to_nodes(self%solid, grid, dom, self%halo, so%nodes, self%du, so%min_mass)
+      if (so%damp_total .and. mpm_damping(so, time) > 0.0_wp) then
+        call nodal_damp(so%nodes, grid, mpm_damping(so, time), so%min_mass)
+      end if
       if (self%solid%sliding) then
         call nodal_finish(so%nodes, grid, dt, so%bc, so%min_mass, self%contact_dv, &
           self%contact_f)

@@ -220,6 +220,10 @@ BAD_MPMICE_INPUTS = [
      ["--set", "&solid(1) fluid_viscosity = -1.0", ">= 0 [Pa s]"]),
     ("plastic_start_negative", "", ["&solid name = 'soil', plastic_start = -1 /"],
      ["--set", "&solid(1) plastic_start = -1.0", ">= 0 [s]"]),
+    ("local_damping_end_negative", "&mpm local_damping = 0.7, local_damping_end = -1 /", [],
+     ["case.nml", "&mpm", "local_damping_end", "-1.0", ">= 0 [s]"]),
+    ("local_damping_force_unknown", "&mpm local_damping_force = 'fluid' /", [],
+     ["case.nml", "&mpm", "local_damping_force", "'fluid'", "one of solid, total"]),
 ] + [
     # &boundary velocity history (solid_velocity_times / solid_velocity_history)
     ("history_times_not_increasing",
