@@ -14,7 +14,7 @@ module ice_pressure
   use mpmice_errors, only: real_short_text
   use grid_layout, only: grid_t, cell_centre
   use grid_sweep, only: sweep_direction
-  use ice_state, only: ice_state_t
+  use ice_state, only: ice_state_t, ice_fluid_t
   use ice_solid_view, only: ice_solid_view_t
   use ice_face_velocity, only: face_range, open_face_range, held_plane
   implicit none
@@ -109,8 +109,8 @@ contains
 
   !> Right-hand side of eq. 35 with the current face velocities and dp_total; returns this
   !! rank's max |rhs|/V (the volume-fraction constraint residual). One sweep per direction and
-  !! material (no calls per face), each cell's sum in the order of a per-cell loop over the
-  !! directions and materials.
+  !! material, each cell's sum in the order of a per-cell loop over the directions and
+  !! materials; each face's volume flux once per row of faces (`volume_flux_rows`).
   function ice_pressure_rhs(state, grid, dt, solid) result(residual)
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
     type(grid_t), intent(in) :: grid           !< block geometry
@@ -120,7 +120,7 @@ contains
     class(ice_solid_view_t), intent(in), optional :: solid
     real(wp) :: residual
     integer :: d, m, i, j, k, o(3)
-    real(wp) :: area, flux
+    real(wp) :: area
 
     do k = grid%lo(3), grid%hi(3)
       do j = grid%lo(2), grid%hi(2)
@@ -133,19 +133,8 @@ contains
     do d = 1, 3
       if (.not. sweep_direction(grid, d, o, area)) cycle
       do m = 1, state%nfluids
-        associate (f => state%fluid(m))
-          do k = grid%lo(3), grid%hi(3)
-            do j = grid%lo(2), grid%hi(2)
-              do i = grid%lo(1), grid%hi(1)
-                flux = merge(f%vfrac(i, j, k), f%vfrac(i + o(1), j + o(2), k + o(3)), &
-                  f%uface(i + o(1), j + o(2), k + o(3), d) >= 0.0_wp) * &
-                  f%uface(i + o(1), j + o(2), k + o(3), d) - merge(f%vfrac(i - o(1), j - o(2), &
-                  k - o(3)), f%vfrac(i, j, k), f%uface(i, j, k, d) >= 0.0_wp) * f%uface(i, j, k, d)
-                state%rhs(i, j, k) = state%rhs(i, j, k) - dt * area * flux
-              end do
-            end do
-          end do
-        end associate
+        call volume_flux_rows(state%fluid(m), grid, dt * area, d, state%rhs, &
+          state%work%flux_lo, state%work%flux_hi)
       end do
       if (present(solid)) call solid_volume_flux(state, solid, grid, dt, d, o, area)
     end do
@@ -170,6 +159,69 @@ contains
       end do
     end do
   end function ice_pressure_rhs
+
+  !> rhs -= dt A (F_hi - F_lo) on the owned cells for the faces of direction `d` of fluid `f`,
+  !! F = phi_f u_f its upwind volume flux through a face (`row_volume_flux`): each face's F once
+  !! per row (along x a cell's high face is the next cell's low face, along y the high faces of
+  !! a row are the low faces of the next; along z both rows are computed), the same products
+  !! and differences as a per-cell evaluation of both faces. The rows are the state's work
+  !! storage (at least this large).
+  subroutine volume_flux_rows(f, grid, dt_area, d, rhs, flux_lo, flux_hi)
+    type(ice_fluid_t), intent(in) :: f            !< the fluid
+    type(grid_t), intent(in) :: grid              !< block geometry
+    real(wp), intent(in) :: dt_area               !< dt A [s m^2]
+    integer, intent(in) :: d                      !< face direction
+    real(wp), intent(inout) :: rhs(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< rhs [m^3]
+    real(wp), intent(inout) :: flux_lo(grid%lo(1):grid%hi(1) + 1) !< low faces' F [m/s]
+    real(wp), intent(inout) :: flux_hi(grid%lo(1):grid%hi(1) + 1) !< high faces' F [m/s]
+    integer :: i, j, k, i1, i2
+    i1 = grid%lo(1)
+    i2 = grid%hi(1)
+    do k = grid%lo(3), grid%hi(3)
+      do j = grid%lo(2), grid%hi(2)
+        select case (d)
+        case (1)
+          call row_volume_flux(f, grid, d, j, k, i1, i2 + 1, flux_lo)
+          do i = i1, i2
+            rhs(i, j, k) = rhs(i, j, k) - dt_area * (flux_lo(i + 1) - flux_lo(i))
+          end do
+          cycle
+        case (2)
+          if (j == grid%lo(2)) then
+            call row_volume_flux(f, grid, d, j, k, i1, i2, flux_lo)
+          else
+            flux_lo(i1:i2) = flux_hi(i1:i2)
+          end if
+          call row_volume_flux(f, grid, d, j + 1, k, i1, i2, flux_hi)
+        case default
+          call row_volume_flux(f, grid, d, j, k, i1, i2, flux_lo)
+          call row_volume_flux(f, grid, d, j, k + 1, i1, i2, flux_hi)
+        end select
+        do i = i1, i2
+          rhs(i, j, k) = rhs(i, j, k) - dt_area * (flux_hi(i) - flux_lo(i))
+        end do
+      end do
+    end do
+  end subroutine volume_flux_rows
+
+  !> The upwind volume flux phi_f u_f [m/s] of fluid `f` through the faces of normal d whose
+  !! high cell is (i, j, k), i = i1..i2 (the upwind cell's fraction: face - o for u >= 0).
+  pure subroutine row_volume_flux(f, grid, d, j, k, i1, i2, flux)
+    type(ice_fluid_t), intent(in) :: f        !< the fluid
+    type(grid_t), intent(in) :: grid          !< block geometry
+    integer, intent(in) :: d                  !< face normal
+    integer, intent(in) :: j, k               !< the row of high cells
+    integer, intent(in) :: i1, i2             !< faces of the row
+    real(wp), intent(inout) :: flux(grid%lo(1):) !< phi_f u_f [m/s] (i1..i2 written)
+    integer :: i, o(3)
+    real(wp) :: u
+    o = 0
+    o(d) = 1
+    do i = i1, i2
+      u = f%uface(i, j, k, d)
+      flux(i) = merge(f%vfrac(i - o(1), j - o(2), k - o(3)), f%vfrac(i, j, k), u >= 0.0_wp) * u
+    end do
+  end subroutine row_volume_flux
 
   !> The solid phase's part of the operator's low-face coefficients of direction `d`
   !! (`ice_pressure_assemble`): the open domain planes' shift and phi_s,f v_s,f.
