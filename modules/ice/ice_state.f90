@@ -33,8 +33,9 @@ module ice_state
 
   !> Work storage of the stages, allocated with the state so that no stage allocates in the
   !! time loop: rows along x (cells and faces lbc(1)..ubc(1) + 1; face i of a row is the low face
-  !! of cell i) for the sweeps of `ice_viscous`, `ice_lagrangian` and `ice_advection`, and the
-  !! per-fluid flags of `ice_equilibration`. A stage passes them to its worker as explicit-shape
+  !! of cell i) for the sweeps of `ice_viscous`, `ice_lagrangian`, `ice_advection` and
+  !! `ice_pressure`, a cell field of `ice_face_pressures` and the per-fluid flags of
+  !! `ice_equilibration`. A stage passes them to its worker as explicit-shape
   !! arguments of the extent it needs (at most the allocated one).
   type :: ice_work_t
     real(wp), allocatable :: tau_lo(:, :)   !< viscous stress of the low faces (i, component) [Pa]
@@ -54,6 +55,7 @@ module ice_state
     real(wp), allocatable :: xc(:)          !< cell-centre coordinates along x [m]
     real(wp), allocatable :: yc(:)          !< cell-centre coordinates along y [m]
     real(wp), allocatable :: zc(:)          !< cell-centre coordinates along z [m]
+    real(wp), allocatable :: cell_weight(:, :, :) !< face pressures: the cells' weights [kg/m^3]
     logical, allocatable :: active(:)       !< equilibration: fluids in the volume sum
     logical, allocatable :: trace_active(:) !< equilibration: the same without the traces
   end type ice_work_t
@@ -132,6 +134,7 @@ contains
     allocate(work%tau_lo(l(1):u(1) + 1, 3), work%tau_hi(l(1):u(1) + 1, 3), &
       work%vf(l(1):u(1) + 1, 3), work%stress(l(1):u(1) + 1, 8), source=0.0_wp)
     allocate(work%xc(l(1):u(1)), work%yc(l(2):u(2)), work%zc(l(3):u(3)), source=0.0_wp)
+    allocate(work%cell_weight(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
     allocate(work%active(nfluids), work%trace_active(nfluids), source=.false.)
   end subroutine work_alloc
 
