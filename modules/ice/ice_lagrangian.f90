@@ -190,7 +190,7 @@ contains
     integer, intent(in) :: d                  !< face normal
     integer, intent(in) :: j, k               !< the row of high cells
     integer, intent(in) :: i1, i2             !< faces of the row
-    real(wp), intent(inout) :: flux(grid%lo(1):) !< p_f u_f phi_f [Pa m/s] (i1..i2 written)
+    real(wp), intent(inout), contiguous :: flux(grid%lo(1):) !< p_f u_f phi_f [Pa m/s] (i1..i2)
     integer :: i, o(3)
     real(wp) :: u
     o = 0
