@@ -14,9 +14,10 @@ module ice_pressure
   use mpmice_errors, only: real_short_text
   use grid_layout, only: grid_t, cell_centre
   use grid_sweep, only: sweep_direction
-  use ice_state, only: ice_state_t, ice_fluid_t
+  use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
   use ice_face_velocity, only: face_range, open_face_range, held_plane
+  use ice_pressure_flux, only: fluid_flux_rows, solid_flux_rows, flux_fraction
   implicit none
   private
 
@@ -110,7 +111,7 @@ contains
   !> Right-hand side of eq. 35 with the current face velocities and dp_total; returns this
   !! rank's max |rhs|/V (the volume-fraction constraint residual). One sweep per direction and
   !! material, each cell's sum in the order of a per-cell loop over the directions and
-  !! materials; each face's volume flux once per row of faces (`volume_flux_rows`).
+  !! materials; each face's volume flux once per row of faces (`ice_pressure_flux`).
   function ice_pressure_rhs(state, grid, dt, solid) result(residual)
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
     type(grid_t), intent(in) :: grid           !< block geometry
@@ -133,7 +134,7 @@ contains
     do d = 1, 3
       if (.not. sweep_direction(grid, d, o, area)) cycle
       do m = 1, state%nfluids
-        call volume_flux_rows(state%fluid(m), grid, dt * area, d, state%rhs, &
+        call fluid_flux_rows(state%fluid(m), grid, dt * area, d, state%rhs, &
           state%work%flux_lo, state%work%flux_hi)
       end do
       if (present(solid)) call solid_volume_flux(state, solid, grid, dt, d, o, area)
@@ -159,69 +160,6 @@ contains
       end do
     end do
   end function ice_pressure_rhs
-
-  !> rhs -= dt A (F_hi - F_lo) on the owned cells for the faces of direction `d` of fluid `f`,
-  !! F = phi_f u_f its upwind volume flux through a face (`row_volume_flux`): each face's F once
-  !! per row (along x a cell's high face is the next cell's low face, along y the high faces of
-  !! a row are the low faces of the next; along z both rows are computed), the same products
-  !! and differences as a per-cell evaluation of both faces. The rows are the state's work
-  !! storage (at least this large).
-  subroutine volume_flux_rows(f, grid, dt_area, d, rhs, flux_lo, flux_hi)
-    type(ice_fluid_t), intent(in) :: f            !< the fluid
-    type(grid_t), intent(in) :: grid              !< block geometry
-    real(wp), intent(in) :: dt_area               !< dt A [s m^2]
-    integer, intent(in) :: d                      !< face direction
-    real(wp), intent(inout) :: rhs(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< rhs [m^3]
-    real(wp), intent(inout) :: flux_lo(grid%lo(1):grid%hi(1) + 1) !< low faces' F [m/s]
-    real(wp), intent(inout) :: flux_hi(grid%lo(1):grid%hi(1) + 1) !< high faces' F [m/s]
-    integer :: i, j, k, i1, i2
-    i1 = grid%lo(1)
-    i2 = grid%hi(1)
-    do k = grid%lo(3), grid%hi(3)
-      do j = grid%lo(2), grid%hi(2)
-        select case (d)
-        case (1)
-          call row_volume_flux(f, grid, d, j, k, i1, i2 + 1, flux_lo)
-          do i = i1, i2
-            rhs(i, j, k) = rhs(i, j, k) - dt_area * (flux_lo(i + 1) - flux_lo(i))
-          end do
-          cycle
-        case (2)
-          if (j == grid%lo(2)) then
-            call row_volume_flux(f, grid, d, j, k, i1, i2, flux_lo)
-          else
-            flux_lo(i1:i2) = flux_hi(i1:i2)
-          end if
-          call row_volume_flux(f, grid, d, j + 1, k, i1, i2, flux_hi)
-        case default
-          call row_volume_flux(f, grid, d, j, k, i1, i2, flux_lo)
-          call row_volume_flux(f, grid, d, j, k + 1, i1, i2, flux_hi)
-        end select
-        do i = i1, i2
-          rhs(i, j, k) = rhs(i, j, k) - dt_area * (flux_hi(i) - flux_lo(i))
-        end do
-      end do
-    end do
-  end subroutine volume_flux_rows
-
-  !> The upwind volume flux phi_f u_f [m/s] of fluid `f` through the faces of normal d whose
-  !! high cell is (i, j, k), i = i1..i2 (the upwind cell's fraction: face - o for u >= 0).
-  pure subroutine row_volume_flux(f, grid, d, j, k, i1, i2, flux)
-    type(ice_fluid_t), intent(in) :: f        !< the fluid
-    type(grid_t), intent(in) :: grid          !< block geometry
-    integer, intent(in) :: d                  !< face normal
-    integer, intent(in) :: j, k               !< the row of high cells
-    integer, intent(in) :: i1, i2             !< faces of the row
-    real(wp), intent(inout) :: flux(grid%lo(1):) !< phi_f u_f [m/s] (i1..i2 written)
-    integer :: i, o(3)
-    real(wp) :: u
-    o = 0
-    o(d) = 1
-    do i = i1, i2
-      u = f%uface(i, j, k, d)
-      flux(i) = merge(f%vfrac(i - o(1), j - o(2), k - o(3)), f%vfrac(i, j, k), u >= 0.0_wp) * u
-    end do
-  end subroutine row_volume_flux
 
   !> The solid phase's part of the operator's low-face coefficients of direction `d`
   !! (`ice_pressure_assemble`): the open domain planes' shift and phi_s,f v_s,f.
@@ -285,21 +223,8 @@ contains
       end do
     end do
     ! the solid's volume flux phi_s,f u_s,f and the rigid bodies' prescribed one
-    associate (us => solid%uface, low => solid%face_fraction, &
-      high => solid%face_fraction_hi, rigid => solid%rigid_flux)
-      do k = grid%lo(3), grid%hi(3)
-        do j = grid%lo(2), grid%hi(2)
-          do i = grid%lo(1), grid%hi(1)
-            state%rhs(i, j, k) = state%rhs(i, j, k) - dt * area * ( &
-              flux_fraction(us(i + o(1), j + o(2), k + o(3), d), &
-              low(i + o(1), j + o(2), k + o(3), d), high(i + o(1), j + o(2), k + o(3), d)) * &
-              us(i + o(1), j + o(2), k + o(3), d) - &
-              flux_fraction(us(i, j, k, d), low(i, j, k, d), high(i, j, k, d)) * &
-              us(i, j, k, d) + rigid(i + o(1), j + o(2), k + o(3), d) - rigid(i, j, k, d))
-          end do
-        end do
-      end do
-    end associate
+    call solid_flux_rows(solid, grid, dt * area, d, state%rhs, state%work%flux_lo, &
+      state%work%flux_hi)
   end subroutine solid_volume_flux
 
   !> A failed outer iteration: the rank that holds the cell of the largest |rhs|/V (`residual`,
@@ -486,19 +411,6 @@ contains
     phi = flux_fraction(solid%uface(i, j, k, d), solid%face_fraction(i, j, k, d), &
       solid%face_fraction_hi(i, j, k, d))
   end function solid_face_fraction
-
-  !> The solid fraction that crosses a face with solid velocity `u`: the one on the face plane's
-  !! low side (`low`) for u >= 0, on its high side (`high`) otherwise.
-  elemental real(wp) function flux_fraction(u, low, high) result(phi)
-    real(wp), intent(in) :: u     !< solid face velocity [m/s]
-    real(wp), intent(in) :: low   !< fraction on the low side of the face plane [-]
-    real(wp), intent(in) :: high  !< fraction on its high side [-]
-    if (u >= 0.0_wp) then
-      phi = low
-    else
-      phi = high
-    end if
-  end function flux_fraction
 
   !> True when face `idx` (global index along d) lies on a non-periodic domain boundary
   !! (`boundary_face` for one index, without the index vector).
