@@ -36,6 +36,7 @@ contains
   !> Advect every fluid: new rho, vel, temp and spvol on the owned cells. `negative`: the number
   !! of owned cells whose mass became negative (0 on success; a caller that judges the masses
   !! itself leaves it out). `gravity`: carried as potential energy (module header; absent: none).
+  !! The rows of the sweeps are the state's work storage (`ice_work_t`): nothing is allocated.
   subroutine ice_advect(state, grid, dt, order, negative, gravity, solid)
     type(ice_state_t), intent(inout) :: state  !< fluids (rho, lag, uface read; primitives written)
     type(grid_t), intent(in) :: grid           !< block geometry
@@ -46,18 +47,39 @@ contains
     !> the solid phase of a coupled scene: cv T advected, porous stencils upwind, the open faces'
     !! inflow through the pores
     class(ice_solid_view_t), intent(in), optional :: solid
+    associate (w => state%work)
+      call advect_rows(state, grid, dt, order, w%pos, w%urow, w%dist, w%mflux, w%qf, w%vf, &
+        w%xc, w%yc, w%zc, negative, gravity, solid)
+    end associate
+  end subroutine ice_advect
+
+  !> `ice_advect` with its rows as explicit-shape arguments (from the work storage, which is at
+  !! least this large; not referenced through `state` here).
+  subroutine advect_rows(state, grid, dt, order, pos, urow, dist, mflux, qf, vf, xc, yc, zc, &
+    negative, gravity, solid)
+    type(ice_state_t), intent(inout) :: state  !< fluids (rho, lag, uface read; primitives written)
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: dt                 !< time step [s]
+    integer, intent(in) :: order               !< 1 first order, 2 limited second order
+    ! one row of faces along x: upwind side, centroid offset of the swept volume, mass flux,
+    ! reconstructed face value and velocities
+    logical, intent(inout) :: pos(grid%lbc(1):grid%ubc(1))     !< upwind cell is the low one
+    real(wp), intent(inout) :: urow(grid%lbc(1):grid%ubc(1))   !< face velocities [m/s]
+    real(wp), intent(inout) :: dist(grid%lbc(1):grid%ubc(1))   !< centroid offset [m]
+    real(wp), intent(inout) :: mflux(grid%lbc(1):grid%ubc(1))  !< mass flux [kg]
+    real(wp), intent(inout) :: qf(grid%lbc(1):grid%ubc(1))     !< reconstructed face value
+    real(wp), intent(inout) :: vf(grid%lbc(1):grid%ubc(1), 3)  !< face velocities [m/s]
+    ! cell-centre coordinates per axis (the potential -g.x of a cell) [m]
+    real(wp), intent(inout) :: xc(grid%lbc(1):grid%ubc(1))     !< along x [m]
+    real(wp), intent(inout) :: yc(grid%lbc(2):grid%ubc(2))     !< along y [m]
+    real(wp), intent(inout) :: zc(grid%lbc(3):grid%ubc(3))     !< along z [m]
+    integer, intent(out), optional :: negative !< owned cells with negative new mass
+    real(wp), intent(in), optional :: gravity(3) !< gravitational acceleration [m/s^2]
+    !> the solid phase of a coupled scene
+    class(ice_solid_view_t), intent(in), optional :: solid
     integer :: d, m, n, i, j, k, o(3), r(2, 3), i1, i2, negative_cells
     real(wp) :: area, u, vol, g(3), pot_lo, pot_hi
     logical :: total
-    ! one row of faces along x (automatic arrays, no heap allocation): upwind side, centroid
-    ! offset of the swept volume, mass flux, reconstructed face value and velocities
-    logical :: pos(grid%lbc(1):grid%ubc(1))
-    real(wp) :: urow(grid%lbc(1):grid%ubc(1))
-    real(wp) :: dist(grid%lbc(1):grid%ubc(1)), mflux(grid%lbc(1):grid%ubc(1))
-    real(wp) :: qf(grid%lbc(1):grid%ubc(1)), vf(grid%lbc(1):grid%ubc(1), 3)
-    ! cell-centre coordinates per axis (the potential -g.x of a cell)
-    real(wp) :: xc(grid%lbc(1):grid%ubc(1)), yc(grid%lbc(2):grid%ubc(2))
-    real(wp) :: zc(grid%lbc(3):grid%ubc(3))
 
     vol = grid%cell_volume
     negative_cells = 0
@@ -177,7 +199,7 @@ contains
       integer, intent(in) :: ck  !< cell index along z
       potential = -(g(1) * xc(ci) + g(2) * yc(cj) + g(3) * zc(ck))
     end function potential
-  end subroutine ice_advect
+  end subroutine advect_rows
 
   !> The faces (i1..i2, j, k) of direction o (unit offset, d its dimension) whose upwind cell c
   !! (face - o where u > 0, else the face's own cell) has solid in one of the cells c - o, c,

@@ -40,14 +40,15 @@ contains
     class(ice_solid_view_t), intent(in), optional :: solid
     integer :: i, j, k, m, it, n
     real(wp) :: p, p_full, rho_m, porosity
-    logical :: active(state%nfluids), converged, full_converged, with_solid
+    logical :: converged, full_converged, with_solid
 
     with_solid = present(solid)
     n = state%nfluids
     max_iterations_used = 0
     failed = 0
     if (present(first_failed)) first_failed = 0
-    active = .true.
+    ! every fluid takes part in the volume sum (the state's work flags: no allocation)
+    state%work%active = .true.
     do k = grid%lbc(3), grid%ubc(3)
       do j = grid%lbc(2), grid%ubc(2)
         do i = grid%lbc(1), grid%ubc(1)
@@ -60,8 +61,8 @@ contains
             end associate
           else
             p = state%pressure(i, j, k)
-            call newton_pressure(state, i, j, k, porosity, active, tolerance, max_iterations, &
-              p, it, converged)
+            call newton_pressure(state, i, j, k, porosity, state%work%active, tolerance, &
+              max_iterations, p, it, converged)
             max_iterations_used = max(max_iterations_used, it)
             ! a failed iteration, or a root below 1 Pa (a trace filling the others' deficit):
             ! without the traces (trace_fallback), else the full sum's root stands
@@ -69,7 +70,7 @@ contains
               p_full = p
               full_converged = converged
               call trace_fallback(state, i, j, k, porosity, tolerance, max_iterations, p, &
-                converged)
+                converged, state%work%trace_active)
               if (full_converged .and. .not. converged) then
                 p = p_full
                 converged = .true.
@@ -228,7 +229,7 @@ contains
   !! equation of state directly (it may then be negative: tension). Not converged when there
   !! is no trace to leave out (or nothing else).
   pure subroutine trace_fallback(state, i, j, k, porosity, tolerance, max_iterations, p, &
-      converged)
+      converged, active)
     type(ice_state_t), intent(in) :: state  !< fluids
     integer, intent(in) :: i, j, k          !< cell
     real(wp), intent(in) :: porosity        !< pore fraction n = 1 - phi_s [-]
@@ -236,7 +237,9 @@ contains
     integer, intent(in) :: max_iterations   !< iteration limit
     real(wp), intent(inout) :: p            !< pressure [Pa]: the initial guess on entry
     logical, intent(out) :: converged       !< a pressure was found
-    logical :: active(state%nfluids)
+    !> work: the fluids that are not traces (the state's `work%trace_active`, not referenced
+    !! through `state` here)
+    logical, intent(out) :: active(state%nfluids)
     integer :: m, it
 
     do m = 1, state%nfluids

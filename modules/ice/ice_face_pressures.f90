@@ -29,9 +29,34 @@ contains
     real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
     !> the solid phase of a coupled scene: the weights per pore volume
     class(ice_solid_view_t), intent(in), optional :: solid
+    call face_pressures(state, grid, gravity, state%work%cell_weight, solid)
+  end subroutine ice_face_pressure
+
+  !> `ice_face_pressure` with the cells' weights as an explicit-shape argument (the state's work
+  !! storage, not referenced through `state` here): each cell's weight once, then per face.
+  subroutine face_pressures(state, grid, gravity, weight, solid)
+    type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
+    !> work: the cells' weights rho (`cell_weight`) [kg/m^3]
+    real(wp), intent(inout) :: weight(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+      grid%lbc(3):grid%ubc(3))
+    !> the solid phase of a coupled scene: the weights per pore volume
+    class(ice_solid_view_t), intent(in), optional :: solid
     integer :: d, i, j, k, o(3), r(2, 3), inner(2, 3), side, plane, lo(3), hi(3), s(3)
     real(wp) :: rl, rr, half
 
+    ! the weights of the owned cells and of one ghost layer along the active axes (every face's
+    ! two cells)
+    lo = merge(grid%lo - 1, grid%lo, grid%active)
+    hi = merge(grid%hi + 1, grid%hi, grid%active)
+    do k = lo(3), hi(3)
+      do j = lo(2), hi(2)
+        do i = lo(1), hi(1)
+          weight(i, j, k) = cell_weight(state, i, j, k, solid)
+        end do
+      end do
+    end do
     do d = 1, 3
       if (.not. sweep_direction(grid, d, o)) cycle
       r = face_range(grid, d)
@@ -44,7 +69,8 @@ contains
       do k = inner(1, 3), inner(2, 3)
         do j = inner(1, 2), inner(2, 2)
           do i = inner(1, 1), inner(2, 1)
-            call face_densities(state, i, j, k, o, rl, rr, solid)
+            rl = weight(i - o(1), j - o(2), k - o(3))
+            rr = weight(i, j, k)
             state%pface(i, j, k, d) = (state%pressure(i - o(1), j - o(2), k - o(3)) * rr + &
               state%pressure(i, j, k) * rl) / (rl + rr)
           end do
@@ -63,7 +89,8 @@ contains
         do k = lo(3), hi(3)
           do j = lo(2), hi(2)
             do i = lo(1), hi(1)
-              call face_densities(state, i, j, k, o, rl, rr, solid)
+              rl = weight(i - o(1), j - o(2), k - o(3))
+              rr = weight(i, j, k)
               state%pface(i, j, k, d) = state%pressure(i - s(1), j - s(2), k - s(3)) + &
                 half * merge(rr, rl, side == 1) * gravity(d) * grid%dx(d)
             end do
@@ -71,28 +98,21 @@ contains
         end do
       end do
     end do
-  end subroutine ice_face_pressure
+  end subroutine face_pressures
 
-  !> Weights of the face pressure of eq. 37 at the low face of cell (i,j,k) in direction o: the
-  !! fluids' total bulk density of the low (`rl`) and high (`rr`) cell, per pore volume where a
-  !! solid phase is present (the pore pressure at rest carries the weight of the fluid alone,
-  !! rho_f g; the skeleton's weight is borne by its stress).
-  pure subroutine face_densities(state, i, j, k, o, rl, rr, solid)
-    type(ice_state_t), intent(in) :: state  !< fluids and solid phase
-    integer, intent(in) :: i, j, k          !< face index (low face of cell i,j,k)
-    integer, intent(in) :: o(3)             !< unit offset along the face normal
-    real(wp), intent(out) :: rl, rr         !< low and high cell weights [kg/m^3]
+  !> Weight of cell (i, j, k) in the face pressures [kg/m^3]: the fluids' total bulk density
+  !! sum_m rho_bar_m, per pore volume max(1 - phi_s, `pore_min`) where a solid phase is present
+  !! (the pore pressure at rest carries the weight of the fluid alone, rho_f g; the skeleton's
+  !! weight is borne by its stress).
+  pure real(wp) function cell_weight(state, i, j, k, solid) result(w)
+    type(ice_state_t), intent(in) :: state  !< fluids
+    integer, intent(in) :: i, j, k          !< cell
     class(ice_solid_view_t), intent(in), optional :: solid !< solid phase of a coupled scene
     integer :: m
-    rl = 0.0_wp
-    rr = 0.0_wp
+    w = 0.0_wp
     do m = 1, state%nfluids
-      rl = rl + state%fluid(m)%rho(i - o(1), j - o(2), k - o(3))
-      rr = rr + state%fluid(m)%rho(i, j, k)
+      w = w + state%fluid(m)%rho(i, j, k)
     end do
-    if (present(solid)) then
-      rl = rl / max(1.0_wp - solid%vfrac(i - o(1), j - o(2), k - o(3)), pore_min)
-      rr = rr / max(1.0_wp - solid%vfrac(i, j, k), pore_min)
-    end if
-  end subroutine face_densities
+    if (present(solid)) w = w / max(1.0_wp - solid%vfrac(i, j, k), pore_min)
+  end function cell_weight
 end module ice_face_pressures

@@ -38,7 +38,8 @@ module ice_lagrangian
 contains
 
   !> Fill `lag(:,:,:,1:5)` = (u, v, w, cv T, v) after the Lagrangian sources, owned cells.
-  !! Needs the face pressures and face velocities of the owned cells.
+  !! Needs the face pressures and face velocities of the owned cells. The rows of the mixture
+  !! correction are the state's work storage (`ice_work_t`): nothing is allocated here.
   subroutine ice_lagrangian_values(state, grid, dt, gravity, sources, solid)
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
     type(grid_t), intent(in) :: grid           !< block geometry
@@ -49,14 +50,31 @@ contains
     real(wp), intent(in) :: sources(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :, :)
     !> the solid phase of a coupled scene (no mixture-energy correction with it)
     class(ice_solid_view_t), intent(in), optional :: solid
+    call lagrangian_rows(state, grid, dt, gravity, sources, state%work%work_row, &
+      state%work%flux_lo, state%work%flux_hi, state%work%flux_y, solid)
+  end subroutine ice_lagrangian_values
+
+  !> `ice_lagrangian_values` with its rows as explicit-shape arguments (from the work storage,
+  !! which is at least this large; not referenced through `state` here).
+  subroutine lagrangian_rows(state, grid, dt, gravity, sources, work_row, flux_lo, flux_hi, &
+    flux_y, solid)
+    type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
+    type(grid_t), intent(in) :: grid           !< block geometry
+    real(wp), intent(in) :: dt                 !< time step [s]
+    real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
+    !> viscous momentum (1:3) [kg m/s] and conducted heat (4) [J] per fluid
+    real(wp), intent(in) :: sources(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :, :)
+    ! one row of cells: the pressure work through their faces, and the face fluxes p_f u_f phi_f
+    ! of the row's low and high faces (face i between cells i - o and i)
+    real(wp), intent(inout) :: work_row(grid%lo(1):grid%hi(1))        !< pressure work [J]
+    real(wp), intent(inout) :: flux_lo(grid%lo(1):grid%hi(1) + 1)     !< low faces [Pa m/s]
+    real(wp), intent(inout) :: flux_hi(grid%lo(1):grid%hi(1) + 1)     !< high faces [Pa m/s]
+    real(wp), intent(inout) :: flux_y(grid%lo(1):grid%hi(1))  !< high y faces of the last row
+    !> the solid phase of a coupled scene (no mixture-energy correction with it)
+    class(ice_solid_view_t), intent(in), optional :: solid
     integer :: d, m, i, j, k, o(3), i1, i2
     real(wp) :: mass, vol, mom, work, phi, fac, g_kinetic(3)
     logical :: mixture
-    ! one row of cells: the pressure work through their faces, and the face fluxes p_f u_f phi_f
-    ! of the row's low and high faces (face i between cells i - o and i)
-    real(wp) :: work_row(grid%lo(1):grid%hi(1))
-    real(wp) :: flux_lo(grid%lo(1):grid%hi(1) + 1), flux_hi(grid%lo(1):grid%hi(1) + 1)
-    real(wp) :: flux_y(grid%lo(1):grid%hi(1))  ! the high y faces of the previous row
 
     vol = grid%cell_volume
     i1 = grid%lo(1)
@@ -160,7 +178,7 @@ contains
         end do
       end associate
     end do
-  end subroutine ice_lagrangian_values
+  end subroutine lagrangian_rows
 
   !> p_f u_f phi_f of fluid `f` on the faces of normal d whose high cell is (i, j, k),
   !! i = i1..i2: face pressure times face velocity times the upwind cell's volume fraction (the
@@ -172,7 +190,7 @@ contains
     integer, intent(in) :: d                  !< face normal
     integer, intent(in) :: j, k               !< the row of high cells
     integer, intent(in) :: i1, i2             !< faces of the row
-    real(wp), intent(inout) :: flux(grid%lo(1):) !< p_f u_f phi_f [Pa m/s] (i1..i2 written)
+    real(wp), intent(inout), contiguous :: flux(grid%lo(1):) !< p_f u_f phi_f [Pa m/s] (i1..i2)
     integer :: i, o(3)
     real(wp) :: u
     o = 0

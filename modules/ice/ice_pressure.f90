@@ -17,6 +17,7 @@ module ice_pressure
   use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
   use ice_face_velocity, only: face_range, open_face_range, held_plane
+  use ice_pressure_flux, only: fluid_flux_rows, solid_flux_rows, flux_fraction
   implicit none
   private
 
@@ -109,8 +110,8 @@ contains
 
   !> Right-hand side of eq. 35 with the current face velocities and dp_total; returns this
   !! rank's max |rhs|/V (the volume-fraction constraint residual). One sweep per direction and
-  !! material (no calls per face), each cell's sum in the order of a per-cell loop over the
-  !! directions and materials.
+  !! material, each cell's sum in the order of a per-cell loop over the directions and
+  !! materials; each face's volume flux once per row of faces (`ice_pressure_flux`).
   function ice_pressure_rhs(state, grid, dt, solid) result(residual)
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
     type(grid_t), intent(in) :: grid           !< block geometry
@@ -120,7 +121,7 @@ contains
     class(ice_solid_view_t), intent(in), optional :: solid
     real(wp) :: residual
     integer :: d, m, i, j, k, o(3)
-    real(wp) :: area, flux
+    real(wp) :: area
 
     do k = grid%lo(3), grid%hi(3)
       do j = grid%lo(2), grid%hi(2)
@@ -133,19 +134,8 @@ contains
     do d = 1, 3
       if (.not. sweep_direction(grid, d, o, area)) cycle
       do m = 1, state%nfluids
-        associate (f => state%fluid(m))
-          do k = grid%lo(3), grid%hi(3)
-            do j = grid%lo(2), grid%hi(2)
-              do i = grid%lo(1), grid%hi(1)
-                flux = merge(f%vfrac(i, j, k), f%vfrac(i + o(1), j + o(2), k + o(3)), &
-                  f%uface(i + o(1), j + o(2), k + o(3), d) >= 0.0_wp) * &
-                  f%uface(i + o(1), j + o(2), k + o(3), d) - merge(f%vfrac(i - o(1), j - o(2), &
-                  k - o(3)), f%vfrac(i, j, k), f%uface(i, j, k, d) >= 0.0_wp) * f%uface(i, j, k, d)
-                state%rhs(i, j, k) = state%rhs(i, j, k) - dt * area * flux
-              end do
-            end do
-          end do
-        end associate
+        call fluid_flux_rows(state%fluid(m), grid, dt * area, d, state%rhs, &
+          state%work%flux_lo, state%work%flux_hi)
       end do
       if (present(solid)) call solid_volume_flux(state, solid, grid, dt, d, o, area)
     end do
@@ -233,21 +223,8 @@ contains
       end do
     end do
     ! the solid's volume flux phi_s,f u_s,f and the rigid bodies' prescribed one
-    associate (us => solid%uface, low => solid%face_fraction, &
-      high => solid%face_fraction_hi, rigid => solid%rigid_flux)
-      do k = grid%lo(3), grid%hi(3)
-        do j = grid%lo(2), grid%hi(2)
-          do i = grid%lo(1), grid%hi(1)
-            state%rhs(i, j, k) = state%rhs(i, j, k) - dt * area * ( &
-              flux_fraction(us(i + o(1), j + o(2), k + o(3), d), &
-              low(i + o(1), j + o(2), k + o(3), d), high(i + o(1), j + o(2), k + o(3), d)) * &
-              us(i + o(1), j + o(2), k + o(3), d) - &
-              flux_fraction(us(i, j, k, d), low(i, j, k, d), high(i, j, k, d)) * &
-              us(i, j, k, d) + rigid(i + o(1), j + o(2), k + o(3), d) - rigid(i, j, k, d))
-          end do
-        end do
-      end do
-    end associate
+    call solid_flux_rows(solid, grid, dt * area, d, state%rhs, state%work%flux_lo, &
+      state%work%flux_hi)
   end subroutine solid_volume_flux
 
   !> A failed outer iteration: the rank that holds the cell of the largest |rhs|/V (`residual`,
@@ -434,19 +411,6 @@ contains
     phi = flux_fraction(solid%uface(i, j, k, d), solid%face_fraction(i, j, k, d), &
       solid%face_fraction_hi(i, j, k, d))
   end function solid_face_fraction
-
-  !> The solid fraction that crosses a face with solid velocity `u`: the one on the face plane's
-  !! low side (`low`) for u >= 0, on its high side (`high`) otherwise.
-  elemental real(wp) function flux_fraction(u, low, high) result(phi)
-    real(wp), intent(in) :: u     !< solid face velocity [m/s]
-    real(wp), intent(in) :: low   !< fraction on the low side of the face plane [-]
-    real(wp), intent(in) :: high  !< fraction on its high side [-]
-    if (u >= 0.0_wp) then
-      phi = low
-    else
-      phi = high
-    end if
-  end function flux_fraction
 
   !> True when face `idx` (global index along d) lies on a non-periodic domain boundary
   !! (`boundary_face` for one index, without the index vector).

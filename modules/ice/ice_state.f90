@@ -11,7 +11,7 @@ module ice_state
   implicit none
   private
 
-  public :: ice_fluid_t, ice_state_t, ice_state_alloc, ice_state_free
+  public :: ice_fluid_t, ice_state_t, ice_work_t, ice_state_alloc, ice_state_free
 
   !> One fluid material: parameters and cell/face fields.
   type :: ice_fluid_t
@@ -31,6 +31,35 @@ module ice_state
     real(wp), allocatable :: lag(:, :, :, :)    !< Lagrangian mass-specific u,v,w, cv T, v (i,j,k,5)
   end type ice_fluid_t
 
+  !> Work storage of the stages, allocated with the state so that no stage allocates in the
+  !! time loop: rows along x (cells and faces lbc(1)..ubc(1) + 1; face i of a row is the low face
+  !! of cell i) for the sweeps of `ice_viscous`, `ice_lagrangian`, `ice_advection` and
+  !! `ice_pressure`, a cell field of `ice_face_pressures` and the per-fluid flags of
+  !! `ice_equilibration`. A stage passes them to its worker as explicit-shape
+  !! arguments of the extent it needs (at most the allocated one).
+  type :: ice_work_t
+    real(wp), allocatable :: tau_lo(:, :)   !< viscous stress of the low faces (i, component) [Pa]
+    real(wp), allocatable :: tau_hi(:, :)   !< viscous stress of the high faces (i, component) [Pa]
+    !> `row_stress` work per face: coefficient, normal derivatives (3), transverse (3), divergence
+    real(wp), allocatable :: stress(:, :)
+    real(wp), allocatable :: work_row(:)    !< pressure work of a row of cells [J]
+    real(wp), allocatable :: flux_lo(:)     !< face fluxes p_f u_f phi_f of the low faces
+    real(wp), allocatable :: flux_hi(:)     !< face fluxes p_f u_f phi_f of the high faces
+    real(wp), allocatable :: flux_y(:)      !< the high y faces of the previous row
+    logical, allocatable :: pos(:)          !< advection: upwind cell is the low one (u > 0)
+    real(wp), allocatable :: urow(:)        !< advection: face velocities [m/s]
+    real(wp), allocatable :: dist(:)        !< advection: centroid offset of the swept volume [m]
+    real(wp), allocatable :: mflux(:)       !< advection: mass flux [kg]
+    real(wp), allocatable :: qf(:)          !< advection: reconstructed face value
+    real(wp), allocatable :: vf(:, :)       !< advection: reconstructed face velocities [m/s]
+    real(wp), allocatable :: xc(:)          !< cell-centre coordinates along x [m]
+    real(wp), allocatable :: yc(:)          !< cell-centre coordinates along y [m]
+    real(wp), allocatable :: zc(:)          !< cell-centre coordinates along z [m]
+    real(wp), allocatable :: cell_weight(:, :, :) !< face pressures: the cells' weights [kg/m^3]
+    logical, allocatable :: active(:)       !< equilibration: fluids in the volume sum
+    logical, allocatable :: trace_active(:) !< equilibration: the same without the traces
+  end type ice_work_t
+
   !> All fluids of a block and their shared fields.
   type :: ice_state_t
     integer :: nfluids = 0                          !< number of fluids
@@ -49,6 +78,7 @@ module ice_state
                                                     !! energy defect [J], cell mass [kg] (i,j,k,2)
     real(wp), allocatable :: eddy_viscosity(:, :, :) !< Smagorinsky eddy viscosity work of one
                                                     !! fluid (`ice_viscous`) [m^2/s]
+    type(ice_work_t) :: work                        !< work storage of the stages
     logical :: closed(6) = .true.                   !< domain face closed (wall) or open (pressure)
     real(wp) :: p_boundary(6) = 0.0_wp              !< pressure of an open face [Pa]
     integer :: inflow_fluid(6) = 0                  !< fluid filling a face's inflow (0: the
@@ -87,7 +117,26 @@ contains
     allocate(state%coef(l(1):u(1), l(2):u(2), l(3):u(3), 3), source=0.0_wp)
     allocate(state%cons(l(1):u(1), l(2):u(2), l(3):u(3), 6), source=0.0_wp)
     allocate(state%lag_work(l(1):u(1), l(2):u(2), l(3):u(3), 2), source=0.0_wp)
+    call work_alloc(state%work, l, u, nfluids)
   end subroutine ice_state_alloc
+
+  !> Allocate the work storage (values zero) of `nfluids` fluids on a block with cell bounds l..u.
+  subroutine work_alloc(work, l, u, nfluids)
+    type(ice_work_t), intent(out) :: work  !< work storage (freed by intent(out))
+    integer, intent(in) :: l(3)            !< lower cell bounds (ghosts included)
+    integer, intent(in) :: u(3)            !< upper cell bounds (ghosts included)
+    integer, intent(in) :: nfluids         !< number of fluids
+    real(wp), allocatable :: row(:)
+    allocate(row(l(1):u(1) + 1), source=0.0_wp)
+    allocate(work%work_row, work%flux_lo, work%flux_hi, work%flux_y, work%urow, work%dist, &
+      work%mflux, work%qf, source=row)
+    allocate(work%pos(l(1):u(1) + 1), source=.false.)
+    allocate(work%tau_lo(l(1):u(1) + 1, 3), work%tau_hi(l(1):u(1) + 1, 3), &
+      work%vf(l(1):u(1) + 1, 3), work%stress(l(1):u(1) + 1, 8), source=0.0_wp)
+    allocate(work%xc(l(1):u(1)), work%yc(l(2):u(2)), work%zc(l(3):u(3)), source=0.0_wp)
+    allocate(work%cell_weight(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+    allocate(work%active(nfluids), work%trace_active(nfluids), source=.false.)
+  end subroutine work_alloc
 
   !> Release every field.
   subroutine ice_state_free(state)
@@ -97,6 +146,7 @@ contains
     if (allocated(state%pressure)) deallocate(state%pressure, state%p_eq, state%dp, &
       state%dp_total, state%sum_kappa, state%rhs, state%diag, state%coef, state%pface, &
       state%cons, state%lag_work, state%eddy_viscosity)
+    state%work = ice_work_t()
     state%nfluids = 0
   end subroutine ice_state_free
 end module ice_state

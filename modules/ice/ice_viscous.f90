@@ -48,25 +48,42 @@ contains
   !! viscosity (absent or <= 0: none). Each face's stress is computed once per row of faces
   !! (`row_stress`, loops over the row that vectorise): along x a cell's low and high faces are
   !! neighbours in the same row, along y the high faces of one row are the low faces of the
-  !! next (kept), along z both rows of faces are computed.
+  !! next (kept), along z both rows of faces are computed. The rows are the state's work
+  !! storage (`ice_work_t`): nothing is allocated here.
   subroutine ice_viscous_sources(state, grid, m, dt, mom, heat, smagorinsky)
-    type(ice_state_t), intent(inout) :: state  !< fluids (`eddy_viscosity`: work)
+    type(ice_state_t), intent(inout) :: state  !< fluids (`eddy_viscosity`, `work`: work)
     type(grid_t), intent(in) :: grid           !< block geometry
     integer, intent(in) :: m                   !< fluid
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(inout) :: mom(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :) !< momentum [kg m/s]
     real(wp), intent(inout) :: heat(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)   !< energy [J]
     real(wp), intent(in), optional :: smagorinsky  !< Smagorinsky constant C_s [-]
-    integer :: d, i, j, k, o(3), c, i1, i2
-    real(wp) :: area, k_lo, k_hi, phi_lo, phi_hi, cs
-    ! the stresses of a row of faces (face i between cells i - o and i): the low and the high
-    ! faces of the row of cells, and the work of `row_stress`
-    real(wp) :: tau_lo(grid%lo(1):grid%hi(1) + 1, 3), tau_hi(grid%lo(1):grid%hi(1) + 1, 3)
-    real(wp) :: work(grid%lo(1):grid%hi(1) + 1, 8)
-    logical :: momentum
-
+    real(wp) :: cs
     cs = 0.0_wp
     if (present(smagorinsky)) cs = smagorinsky
+    call viscous_rows(state, grid, m, dt, mom, heat, cs, state%work%tau_lo, state%work%tau_hi, &
+      state%work%stress)
+  end subroutine ice_viscous_sources
+
+  !> `ice_viscous_sources` with its rows as explicit-shape arguments (from the work storage,
+  !! which is at least this large; not referenced through `state` here).
+  subroutine viscous_rows(state, grid, m, dt, mom, heat, cs, tau_lo, tau_hi, work)
+    type(ice_state_t), intent(inout) :: state  !< fluids (`eddy_viscosity`: work)
+    type(grid_t), intent(in) :: grid           !< block geometry
+    integer, intent(in) :: m                   !< fluid
+    real(wp), intent(in) :: dt                 !< time step [s]
+    real(wp), intent(inout) :: mom(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :) !< momentum [kg m/s]
+    real(wp), intent(inout) :: heat(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):)   !< energy [J]
+    real(wp), intent(in) :: cs                 !< Smagorinsky constant C_s [-] (<= 0: none)
+    ! the stresses of a row of faces (face i between cells i - o and i): the low and the high
+    ! faces of the row of cells, and the work of `row_stress`
+    real(wp), intent(inout) :: tau_lo(grid%lo(1):grid%hi(1) + 1, 3) !< low faces [Pa]
+    real(wp), intent(inout) :: tau_hi(grid%lo(1):grid%hi(1) + 1, 3) !< high faces [Pa]
+    real(wp), intent(inout) :: work(grid%lo(1):grid%hi(1) + 1, 8)   !< `row_stress` work
+    integer :: d, i, j, k, o(3), c, i1, i2
+    real(wp) :: area, k_lo, k_hi, phi_lo, phi_hi
+    logical :: momentum
+
     i1 = grid%lo(1)
     i2 = grid%hi(1)
     associate (f => state%fluid(m))
@@ -124,7 +141,7 @@ contains
         end do
       end do
     end associate
-  end subroutine ice_viscous_sources
+  end subroutine viscous_rows
 
   !> tau_c,dn (c = 1..3) [Pa] of fluid m on the faces of normal `dn` between the cells
   !! (i, j, k) - o and (i, j, k), i = i1..i2 (o the unit offset along dn), into tau(i, c)

@@ -146,15 +146,11 @@ contains
     mat%model = model
     mat%density = density
     call lame_from_young(youngs, poisson, mat%lambda, mat%mu)
-    mat%mc%lambda = mat%lambda
-    mat%mc%mu = mat%mu
     mat%mc%cohesion = cohesion
     mat%mc%phi = phi_deg * deg
     mat%mc%psi = psi_deg * deg
     mat%mc%tension_cutoff = tension_cutoff
     mat%mc%tensile_strength = tensile_strength
-    mat%css%lambda = mat%lambda
-    mat%css%mu = mat%mu
   end function material_init
 
   !> Dilatational (P) wave speed [m/s] of a particle with deformation gradient `f` (0 for a
@@ -233,9 +229,7 @@ contains
     real(wp), intent(inout) :: plastic_strain        !< equivalent plastic strain [-]
     real(wp), intent(inout), optional :: hardening   !< Cam-Clay p_c [Pa]
     real(wp), intent(inout), optional :: cyclic(css_n_cyclic)  !< sand's cyclic state
-    real(wp) :: r(3, 3), deps(6), dep, pc, devd, dgamma, lam, mu
-    type(mc_params_t) :: dense
-    type(css_params_t) :: css
+    real(wp) :: r(3, 3), deps(6), dep, pc, devd, dgamma, lam, mu, psi
     select case (mat%model)
     case (model_neo_hookean)
       stress = neo_hookean_stress(mat%lambda, mat%mu, f)
@@ -279,18 +273,13 @@ contains
           call css_densify(mat%css, dgamma, dt, cyclic, devd)
           stress_unrot(1:3) = stress_unrot(1:3) + (lam + 2.0_wp * mu / 3.0_wp) * devd
         end if
-        css = mat%css
-        css%lambda = lam
-        css%mu = mu
-        call css_return(css, mat%solid_fraction0 / det3(f), dt, stress_unrot, dep)
+        call css_return(mat%css, lam, mu, mat%solid_fraction0 / det3(f), dt, stress_unrot, dep)
         plastic_strain = plastic_strain + dep
       else if (mat%model == model_mohr_coulomb .and. .not. mat%elastic_only) then
-        dense = mat%mc
-        dense%lambda = lam
-        dense%mu = mu
         ! contractant sand at its densest packing: plastic flow without volume change
-        if (mat%mc%psi < 0.0_wp .and. det3(f) <= mat%j_dense) dense%psi = 0.0_wp
-        call mc_return(dense, stress_unrot, dep)             ! eq. 17
+        psi = mat%mc%psi
+        if (psi < 0.0_wp .and. det3(f) <= mat%j_dense) psi = 0.0_wp
+        call mc_return(mat%mc, lam, mu, psi, stress_unrot, dep)  ! eq. 17
         plastic_strain = plastic_strain + dep
       end if
       stress = rotate_from(r, stress_unrot)                  ! eq. 15

@@ -60,10 +60,9 @@ module mpm_critical_state_sand
   integer, parameter :: css_reversals = 5  !< reversals (half cycles) counted [-]
   integer, parameter :: css_t_half = 6     !< time since the last reversal [s]
 
-  !> Parameters of the model.
+  !> Parameters of the model (the elastic constants are arguments of `css_return`: a particle's
+  !! current ones, `mpm_constitutive` current_moduli).
   type :: css_params_t
-    real(wp) :: lambda = 0.0_wp          !< first Lame constant [Pa]
-    real(wp) :: mu = 0.0_wp              !< shear modulus [Pa]
     real(wp) :: mu1 = 0.32_wp            !< quasi-static critical friction mu_1 [-]
     real(wp) :: mu2 = 0.7_wp             !< friction at large J, mu_2 [-]
     real(wp) :: j0 = 0.005_wp            !< viscous-number constant J_0 [-]
@@ -114,9 +113,11 @@ contains
 
   !> Return the elastic trial stress `sig` [Pa] in place; `phi` is the particle's solid
   !! fraction, `dt` the step [s]; `deps_p` the equivalent plastic strain increment
-  !! sqrt(2/3 e^p:e^p) = dgam / sqrt(3) [-].
-  pure subroutine css_return(prm, phi, dt, sig, deps_p)
+  !! sqrt(2/3 e^p:e^p) = dgam / sqrt(3) [-]; `lam`, `mu` the Lame constants of the trial stress.
+  pure subroutine css_return(prm, lam, mu, phi, dt, sig, deps_p)
     type(css_params_t), intent(in) :: prm  !< parameters
+    real(wp), intent(in) :: lam            !< first Lame constant [Pa]
+    real(wp), intent(in) :: mu             !< shear modulus G [Pa]
     real(wp), intent(in) :: phi            !< solid fraction [-]
     real(wp), intent(in) :: dt             !< step [s]
     real(wp), intent(inout) :: sig(6)      !< trial stress in, returned stress out [Pa]
@@ -130,15 +131,15 @@ contains
     tau_tr = sqrt(0.5_wp * (s(1)**2 + s(2)**2 + s(3)**2) + s(4)**2 + s(5)**2 + s(6)**2)
     if (p_tr <= 0.0_wp) then
       ! no tension: the apex, zero effective stress
-      deps_p = tau_tr / (prm%mu * sqrt(3.0_wp))
+      deps_p = tau_tr / (mu * sqrt(3.0_wp))
       sig = 0.0_wp
       return
     end if
-    kb = prm%lambda + 2.0_wp * prm%mu / 3.0_wp
+    kb = lam + 2.0_wp * mu / 3.0_wp
     r_lo = residual(0.0_wp)
     if (r_lo <= 1.0e-14_wp * p_tr) return   ! elastic
     lo = 0.0_wp
-    hi = tau_tr / prm%mu
+    hi = tau_tr / mu
     r_hi = residual(hi)
     gam = hi
     side = 0
@@ -173,7 +174,7 @@ contains
       real(wp) :: tpsi
       tpsi = prm%k_dil * (phi - css_phi_eq(prm, rate(dgam), p_tr))
       pp = max(p_tr + kb * tpsi * dgam, 0.0_wp)
-      tt = max(tau_tr - prm%mu * dgam, 0.0_wp)
+      tt = max(tau_tr - mu * dgam, 0.0_wp)
     end subroutine state_at
 
     !> Plastic shear rate [1/s] of increment `dgam` (0 without a step).

@@ -20,10 +20,9 @@ module mpm_mohr_coulomb
 
   public :: mc_params_t, mc_return, mc_yield
 
-  !> Parameters of the model.
+  !> Parameters of the model (the elastic constants are arguments of `mc_return`: a particle's
+  !! current ones, `mpm_constitutive` current_moduli).
   type :: mc_params_t
-    real(wp) :: lambda = 0.0_wp           !< first Lame constant [Pa]
-    real(wp) :: mu = 0.0_wp               !< shear modulus [Pa]
     real(wp) :: cohesion = 0.0_wp         !< c' [Pa]
     real(wp) :: phi = 0.0_wp              !< friction angle phi' [rad]
     real(wp) :: psi = 0.0_wp              !< dilation angle psi' [rad]
@@ -44,9 +43,13 @@ contains
 
   !> Return the trial stress `sig` (xx, yy, zz, xy, yz, xz) [Pa] to the yield surface in place;
   !! `deps_p` is the increment of equivalent plastic strain sqrt(2/3 e_p:e_p), e_p the deviatoric
-  !! part of the plastic strain increment [-].
-  pure subroutine mc_return(p, sig, deps_p)
+  !! part of the plastic strain increment [-]. `lam`, `mu`: the Lame constants of the trial
+  !! stress; `psi`: the dilation angle in effect (`p%psi`, or 0 where the caller stops dilation).
+  pure subroutine mc_return(p, lam, mu, psi, sig, deps_p)
     type(mc_params_t), intent(in) :: p     !< parameters
+    real(wp), intent(in) :: lam            !< first Lame constant [Pa]
+    real(wp), intent(in) :: mu             !< shear modulus [Pa]
+    real(wp), intent(in) :: psi            !< dilation angle psi' in effect [rad]
     real(wp), intent(inout) :: sig(6)      !< trial stress in, returned stress out [Pa]
     real(wp), intent(out) :: deps_p        !< equivalent plastic strain increment [-]
     real(wp) :: s_tr(3), s(3), q(3, 3), qt(3, 3), a(3), b(3), a2(3), b2(3), db(3), db2(3)
@@ -60,7 +63,7 @@ contains
     call sym_eigen(sig, s_tr, q)
     s = s_tr
     sphi = sin(p%phi)
-    spsi = sin(p%psi)
+    spsi = sin(psi)
     k = 2.0_wp * p%cohesion * cos(p%phi)
     scale = max(abs(s_tr(1)), abs(s_tr(3)), k, tiny(1.0_wp))
     f = mc_yield(p, s_tr)
@@ -68,7 +71,7 @@ contains
     if (plastic) then
       a = [1.0_wp + sphi, 0.0_wp, -(1.0_wp - sphi)]
       b = [1.0_wp + spsi, 0.0_wp, -(1.0_wp - spsi)]
-      db = elastic_principal(p, b)
+      db = elastic_principal(lam, mu, b)
       g1 = f / dot_product(a, db)
       s = s_tr - g1 * db
       if (.not. ordered(s, scale)) then
@@ -80,7 +83,7 @@ contains
           a2 = [1.0_wp + sphi, -(1.0_wp - sphi), 0.0_wp]
           b2 = [1.0_wp + spsi, -(1.0_wp - spsi), 0.0_wp]
         end if
-        db2 = elastic_principal(p, b2)
+        db2 = elastic_principal(lam, mu, b2)
         f2 = dot_product(a2, s_tr) - k
         m11 = dot_product(a, db)
         m12 = dot_product(a, db2)
@@ -108,8 +111,8 @@ contains
     end if
     if (.not. plastic) return
     ! plastic strain = elastic compliance applied to the stress returned
-    e_mod = p%mu * (3.0_wp * p%lambda + 2.0_wp * p%mu) / (p%lambda + p%mu)
-    nu = p%lambda / (2.0_wp * (p%lambda + p%mu))
+    e_mod = mu * (3.0_wp * lam + 2.0_wp * mu) / (lam + mu)
+    nu = lam / (2.0_wp * (lam + mu))
     tr = sum(s_tr - s)
     de = ((1.0_wp + nu) * (s_tr - s) - nu * tr) / e_mod
     tr = sum(de) / 3.0_wp
@@ -145,11 +148,12 @@ contains
   end function clearly_elastic
 
   !> Principal-space elastic stiffness applied to `b`: lambda (sum b) 1 + 2 mu b.
-  pure function elastic_principal(p, b) result(db)
-    type(mc_params_t), intent(in) :: p  !< parameters
+  pure function elastic_principal(lam, mu, b) result(db)
+    real(wp), intent(in) :: lam         !< first Lame constant [Pa]
+    real(wp), intent(in) :: mu          !< shear modulus [Pa]
     real(wp), intent(in) :: b(3)        !< principal strain-like vector
     real(wp) :: db(3)
-    db = p%lambda * (b(1) + b(2) + b(3)) + 2.0_wp * p%mu * b
+    db = lam * (b(1) + b(2) + b(3)) + 2.0_wp * mu * b
   end function elastic_principal
 
   !> True when s(1) >= s(2) >= s(3) within the relative tolerance.

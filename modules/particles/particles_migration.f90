@@ -29,6 +29,8 @@ module particles_migration
     real(wp), allocatable :: sendbuf(:)           !< (reals * n) packed outgoing particles
     real(wp), allocatable :: recvbuf(:)           !< (reals * n) packed incoming particles
     integer, allocatable :: scount(:), rcount(:), sdispl(:), rdispl(:)  !< per rank (reals)
+    integer, allocatable :: slot(:)               !< (0:nranks-1) work: next send slot per rank
+    logical, allocatable :: keep(:)               !< work: the particle stays (grown with dest)
   end type migration_t
 
 contains
@@ -61,8 +63,8 @@ contains
       end do
     end do
     allocate(mig%scount(0:dom%nranks - 1), mig%rcount(0:dom%nranks - 1), &
-      mig%sdispl(0:dom%nranks - 1), mig%rdispl(0:dom%nranks - 1))
-    allocate(mig%dest(0), mig%sendbuf(0), mig%recvbuf(0))
+      mig%sdispl(0:dom%nranks - 1), mig%rdispl(0:dom%nranks - 1), mig%slot(0:dom%nranks - 1))
+    allocate(mig%dest(0), mig%keep(0), mig%sendbuf(0), mig%recvbuf(0))
   end subroutine migration_init
 
   !> Reals per packed particle of store `p`: the common fields and the model-specific state
@@ -82,14 +84,14 @@ contains
     type(domain_t), intent(in) :: dom        !< decomposition
     type(grid_t), intent(in) :: grid         !< block geometry
     integer, intent(out) :: removed          !< particles removed (left the domain)
-    integer :: ip, d, ci, coords(3), r, nsend, nrecv, slot(0:dom%nranks - 1), n0, i, nf
-    logical, allocatable :: keep(:)
+    integer :: ip, d, ci, coords(3), r, nsend, nrecv, n0, i, nf
     real(wp) :: span
 
+    ! the work arrays grow (at least doubling) with the particle count, rarely
     if (size(mig%dest) < p%np) then
       n0 = max(p%np, 2 * size(mig%dest))
-      deallocate(mig%dest)
-      allocate(mig%dest(n0))
+      deallocate(mig%dest, mig%keep)
+      allocate(mig%dest(n0), mig%keep(n0))
     end if
     removed = 0
     mig%scount(:) = 0
@@ -122,14 +124,16 @@ contains
     if (dom%nranks > 1) then
       nsend = sum(mig%scount)
       call reserve_reals(mig%sendbuf, nsend * nf)
-      slot = exclusive_offsets(mig%scount, 1)
-      mig%sdispl(:) = slot * nf
-      do ip = 1, p%np
-        r = mig%dest(ip)
-        if (r < 0 .or. r == dom%rank) cycle
-        slot(r) = slot(r) + 1
-        call pack_particle(p, ip, mig%sendbuf((slot(r) - 1) * nf + 1:slot(r) * nf))
-      end do
+      associate (slot => mig%slot)
+        slot(:) = exclusive_offsets(mig%scount, 1)
+        mig%sdispl(:) = slot * nf
+        do ip = 1, p%np
+          r = mig%dest(ip)
+          if (r < 0 .or. r == dom%rank) cycle
+          slot(r) = slot(r) + 1
+          call pack_particle(p, ip, mig%sendbuf((slot(r) - 1) * nf + 1:slot(r) * nf))
+        end do
+      end associate
       call alltoall_counts(dom%comm, mig%scount, mig%rcount)
       nrecv = sum(mig%rcount)
       call reserve_reals(mig%recvbuf, nrecv * nf)
@@ -141,9 +145,8 @@ contains
     end if
 
     if (removed > 0 .or. any(mig%dest(1:p%np) /= dom%rank)) then
-      allocate(keep(p%np))
-      keep = mig%dest(1:p%np) == dom%rank
-      call particles_compact(p, keep)
+      mig%keep(1:p%np) = mig%dest(1:p%np) == dom%rank
+      call particles_compact(p, mig%keep(1:p%np))
     end if
     if (nrecv > 0) then
       n0 = p%np
