@@ -32,7 +32,10 @@ monitor and cycle n (dumps with t in (t_s + (n-1)/f, t_s + n/f], and the one bef
   postproc), sigma'_v / sigma'_v(t_s), the change of the total vertical stress since t_s
   (change of sigma'_v plus change of the excess pore pressure) / sigma'_v(t_s), p' / p'(t_s), the mean mobilised strength
   tau / (mu p') (mu = mu_1 + K_d (phi - phi_m), phi = phi0 V0 / V) and the share of the
-  particles at tau >= 0.95 mu p' or with p' <= 0.1 p'(t_s).
+  particles at tau >= 0.95 mu p' or with p' <= 0.1 p'(t_s); and the share of the sediment's
+  buoyant weight above the monitor's height (from the cells' sediment solid fraction,
+  :func:`buoyant_overburden`) that sigma'_v + p_ex of its particles carries ("carried", also
+  at t_s).
 """
 from __future__ import annotations
 
@@ -150,7 +153,7 @@ def sediment_constants(run_dir: str) -> dict:
         if group == "solid" and str(v.get("name", "")).strip("'\"") == SEDIMENT:
             e, nu = float(v["youngs_modulus"]), float(v["poisson_ratio"])
             return {"G": e / (2.0 * (1.0 + nu)), "K": e / (3.0 * (1.0 - 2.0 * nu)),
-                    "phi0": 1.0 - float(v["porosity"]), "grain_size": float(v["grain_size"]),
+                    "phi0": 1.0 - float(v["porosity"]), "rho_s": float(v["density"]), "grain_size": float(v["grain_size"]),
                     "mu1": float(v["friction_mu1"]), "k_dil": float(v["dilatancy_constant"]),
                     "phi_m": float(v["critical_solid_fraction"]),
                     "c1": float(v["densification_c1"]), "c2": float(v["densification_c2"]),
@@ -192,6 +195,20 @@ def cell_drainage(dump: dict, box: tuple[slice, slice], grain_size: float) -> tu
     return rel, darcy, grad
 
 
+def buoyant_overburden(dump: dict, box: tuple[slice, slice], y_m: float, rho_s: float,
+                       rho_w: float = RHO_W, g: float = G_ACC) -> float:
+    """The sediment's buoyant weight per unit area above height y_m [Pa], mean over the box's
+    columns: sum over the cells of (rho_s - rho_w) phi_s g dy, phi_s the cells' solid volume
+    fraction times the sediment's share of it, the cell holding y_m counted from y_m up. Equal to sigma'_v + p_ex at y_m where the
+    column carries its own weight (no shear on vertical planes, no vertical acceleration)."""
+    _, y, _ = cell_centres(dump)
+    dy = y[1] - y[0]
+    share = np.clip((y + 0.5 * dy - y_m) / dy, 0.0, 1.0)
+    phi = (dump["cell"]["solid_volume_fraction"][box[0], :, 0]
+           * dump["cell"][f"{SEDIMENT}/volume_fraction"][box[0], :, 0])
+    return float(np.mean(np.sum(phi * share[None, :], axis=1)) * (rho_s - rho_w) * g * dy)
+
+
 def checkpoint_cyclic(run_dir: str) -> dict[float, dict]:
     """{time: {'evd', 'reversals'} sorted by particle id} of the run's checkpoints that hold the
     sediment's cyclic state."""
@@ -231,6 +248,7 @@ def analyse(run_dir: str, monitors: list[str]) -> list[dict]:
         st_s = particle_state(ss, s0["volume"], c, idx)
         svs, ps = float(np.mean(st_s["sv"])), st_s["p"]
         pex_s = float(np.mean(excess_pore_pressure(dumps[i_s], ss)[idx]))
+        over_s = buoyant_overburden(dumps[i_s], box, ym, c["rho_s"])
         evd_replay = np.zeros(len(idx))
         for n in range(1, int(round(duration * f)) + 1):
             t0, t1 = t_s + (n - 1) * period, t_s + n * period
@@ -263,6 +281,9 @@ def analyse(run_dir: str, monitors: list[str]) -> list[dict]:
                    "ru": float(np.mean(pex) / np.mean(sv00[idx])),
                    "sv_ratio": float(np.mean(pend["sv"]) / svs),
                    "total_change": float((np.mean(pend["sv"]) - svs + np.mean(pex) - pex_s) / svs),
+                   "carried_s": float((svs + pex_s) / over_s),
+                   "carried": float((np.mean(pend["sv"]) + np.mean(pex))
+                                    / buoyant_overburden(dumps[sel[-1]], box, ym, c["rho_s"])),
                    "p_ratio": float(np.mean(pend["p"]) / np.mean(ps)),
                    "mob": float(np.nanmean(pend["mob"])),
                    "near_yield": float(np.mean(pend["mob"] >= NEAR_YIELD)),
@@ -282,7 +303,7 @@ def analyse(run_dir: str, monitors: list[str]) -> list[dict]:
 def print_rows(rows: list[dict]) -> None:
     """The per-cycle table, one line per monitor and cycle."""
     print("monitor              cyc  CSR   g_el    >thr  g_kin   | evd_rep  (Kevd/sv) rev_ck evd_ck"
-          "  dens | out_rel  out_darcy (K/sv) i_top | r_u   sv/sv_s dtot  p/p_s  mob  >=0.95 p_lost")
+          "  dens | out_rel  out_darcy (K/sv) i_top | r_u   sv/sv_s dtot  p/p_s  mob  >=0.95 p_lost carried")
     for r in rows:
         k_sv = r["K"] / r["sv_s"]
         ck = (f"{r['reversals_ckpt']:5.1f} {r['evd_ckpt']:7.1e} {r['densified_ckpt']:4.2f}"
@@ -292,7 +313,7 @@ def print_rows(rows: list[dict]) -> None:
               f"({r['evd_replay'] * k_sv:5.2f}) {ck} | {r['out_rel']:+8.1e} {r['out_darcy']:+8.1e} "
               f"({r['out_darcy'] * k_sv:+5.2f}) {r['gradient']:+5.2f} | {r['ru']:5.2f} "
               f"{r['sv_ratio']:5.2f} {r['total_change']:+5.2f} {r['p_ratio']:5.2f} {r['mob']:5.2f} {r['near_yield']:5.2f} "
-              f"{r['p_lost']:5.2f}")
+              f"{r['p_lost']:5.2f} {r['carried']:5.2f}")
 
 
 def main(argv=None) -> int:
@@ -304,6 +325,8 @@ def main(argv=None) -> int:
     rows = analyse(args.dir, args.monitors)
     print(f"sigma'_v(t_s) [kPa]: " + ", ".join(
         f"{r['monitor']} {r['sv_s'] / 1000.0:.1f}" for r in rows if r["cycle"] == 1))
+    print("(sigma'_v + p_ex) / buoyant overburden at t_s: " + ", ".join(
+        f"{r['monitor']} {r['carried_s']:.2f}" for r in rows if r["cycle"] == 1))
     print_rows(rows)
     return 0
 
