@@ -72,6 +72,9 @@ def replay_densification(amplitudes: np.ndarray, c1: float, c2: float = 0.0, thr
     a > threshold (C_2 = 0.4 / C_1 when c2 <= 0), bounded by evd_max (> 0). Returns eps_vd after
     each half cycle, shape of `amplitudes`."""
     amps = np.atleast_2d(np.asarray(amplitudes, dtype=float))
+    if c1 <= 0.0:                                     # densification off
+        return np.broadcast_to(np.asarray(evd0, dtype=float)[..., None] + 0.0 * amps,
+                               amps.shape).reshape(np.shape(amplitudes)).copy()
     c2 = c2 if c2 > 0.0 else 0.4 / c1
     evd = np.broadcast_to(np.asarray(evd0, dtype=float), amps.shape[:-1]).copy()
     out = np.empty_like(amps)
@@ -303,11 +306,11 @@ def analyse(run_dir: str, monitors: list[str]) -> list[dict]:
 def print_rows(rows: list[dict]) -> None:
     """The per-cycle table, one line per monitor and cycle."""
     print("monitor              cyc  CSR   g_el    >thr  g_kin   | evd_rep  (Kevd/sv) rev_ck evd_ck"
-          "  dens | out_rel  out_darcy (K/sv) i_top | r_u   sv/sv_s dtot  p/p_s  mob  >=0.95 p_lost carried")
+          "  (K/sv) dens | out_rel  out_darcy (K/sv) i_top | r_u   sv/sv_s dtot  p/p_s  mob  >=0.95 p_lost carried")
     for r in rows:
         k_sv = r["K"] / r["sv_s"]
-        ck = (f"{r['reversals_ckpt']:5.1f} {r['evd_ckpt']:7.1e} {r['densified_ckpt']:4.2f}"
-              if "evd_ckpt" in r else "    -       -     - ")
+        ck = (f"{r['reversals_ckpt']:5.1f} {r['evd_ckpt']:7.1e} ({r['evd_ckpt'] * k_sv:4.2f}) "
+              f"{r['densified_ckpt']:4.2f}" if "evd_ckpt" in r else "    -       -        -     - ")
         print(f"{r['monitor']:20s} {r['cycle']:3d}  {r['csr']:4.2f} {r['gamma_el']:7.1e} "
               f"{r['above_threshold']:4.2f} {r['gamma_kin']:7.1e} | {r['evd_replay']:7.1e} "
               f"({r['evd_replay'] * k_sv:5.2f}) {ck} | {r['out_rel']:+8.1e} {r['out_darcy']:+8.1e} "
