@@ -35,7 +35,9 @@ monitor and cycle n (dumps with t in (t_s + (n-1)/f, t_s + n/f], and the one bef
   particles at tau >= 0.95 mu p' or with p' <= 0.1 p'(t_s); and the share of the sediment's
   buoyant weight above the monitor's height (from the cells' sediment solid fraction,
   :func:`buoyant_overburden`) that sigma'_v + p_ex of its particles carries ("carried", also
-  at t_s).
+  at t_s), and the share that the particles' tau_xy on the box's vertical sides carries off the
+  column (:func:`side_shear`; "shed"): carried + shed = 1 in a column in equilibrium whose
+  particle stress and cell pressure make up its total stress.
 """
 from __future__ import annotations
 
@@ -212,6 +214,22 @@ def buoyant_overburden(dump: dict, box: tuple[slice, slice], y_m: float, rho_s: 
     return float(np.mean(np.sum(phi * share[None, :], axis=1)) * (rho_s - rho_w) * g * dy)
 
 
+def side_shear(x: np.ndarray, y: np.ndarray, tau_xy: np.ndarray, x_left: float, x_right: float,
+               y_m: float, top: float, h: float = 0.1) -> float:
+    """The load [Pa] that shear stresses on the vertical sides x_left and x_right of a column carry
+    off its base at y_m: (1/w) sum over bins of height h from y_m to `top` of (tau_xy(x_right) -
+    tau_xy(x_left)) h, w = x_right - x_left, tau_xy the mean of the particles within h/2 of the
+    side and of the bin's centre (tension positive, as the dumps; 0 for an empty bin). From the
+    vertical equilibrium of the column, its base carries its weight minus this."""
+    total = 0.0
+    for yc in np.arange(y_m + 0.5 * h, top, h):
+        for xs, sign in ((x_right, 1.0), (x_left, -1.0)):
+            m = (np.abs(x - xs) < 0.5 * h) & (np.abs(y - yc) < 0.5 * h)
+            if np.any(m):
+                total += sign * float(np.mean(tau_xy[m])) * h
+    return total / (x_right - x_left)
+
+
 def checkpoint_cyclic(run_dir: str) -> dict[float, dict]:
     """{time: {'evd', 'reversals'} sorted by particle id} of the run's checkpoints that hold the
     sediment's cyclic state."""
@@ -252,6 +270,14 @@ def analyse(run_dir: str, monitors: list[str]) -> list[dict]:
         svs, ps = float(np.mean(st_s["sv"])), st_s["p"]
         pex_s = float(np.mean(excess_pore_pressure(dumps[i_s], ss)[idx]))
         over_s = buoyant_overburden(dumps[i_s], box, ym, c["rho_s"])
+        x_cells, _, _ = cell_centres(dumps[0])
+        dxc = x_cells[1] - x_cells[0]
+        sides = (x_cells[box[0].start] - 0.5 * dxc, x_cells[box[0].stop - 1] + 0.5 * dxc)
+        top = float(np.max(s0["y"])) + 0.1
+
+        def shed(s):
+            return side_shear(s["x"], s["y"], s["stress_xy"], sides[0], sides[1], ym, top)
+        shed_s = shed(ss)
         evd_replay = np.zeros(len(idx))
         for n in range(1, int(round(duration * f)) + 1):
             t0, t1 = t_s + (n - 1) * period, t_s + n * period
@@ -285,6 +311,8 @@ def analyse(run_dir: str, monitors: list[str]) -> list[dict]:
                    "sv_ratio": float(np.mean(pend["sv"]) / svs),
                    "total_change": float((np.mean(pend["sv"]) - svs + np.mean(pex) - pex_s) / svs),
                    "carried_s": float((svs + pex_s) / over_s),
+                   "shed_s": float(shed_s / over_s),
+                   "shed": float(shed(end) / buoyant_overburden(dumps[sel[-1]], box, ym, c["rho_s"])),
                    "carried": float((np.mean(pend["sv"]) + np.mean(pex))
                                     / buoyant_overburden(dumps[sel[-1]], box, ym, c["rho_s"])),
                    "p_ratio": float(np.mean(pend["p"]) / np.mean(ps)),
@@ -306,7 +334,7 @@ def analyse(run_dir: str, monitors: list[str]) -> list[dict]:
 def print_rows(rows: list[dict]) -> None:
     """The per-cycle table, one line per monitor and cycle."""
     print("monitor              cyc  CSR   g_el    >thr  g_kin   | evd_rep  (Kevd/sv) rev_ck evd_ck"
-          "  (K/sv) dens | out_rel  out_darcy (K/sv) i_top | r_u   sv/sv_s dtot  p/p_s  mob  >=0.95 p_lost carried")
+          "  (K/sv) dens | out_rel  out_darcy (K/sv) i_top | r_u   sv/sv_s dtot  p/p_s  mob  >=0.95 p_lost carried shed")
     for r in rows:
         k_sv = r["K"] / r["sv_s"]
         ck = (f"{r['reversals_ckpt']:5.1f} {r['evd_ckpt']:7.1e} ({r['evd_ckpt'] * k_sv:4.2f}) "
@@ -316,7 +344,7 @@ def print_rows(rows: list[dict]) -> None:
               f"({r['evd_replay'] * k_sv:5.2f}) {ck} | {r['out_rel']:+8.1e} {r['out_darcy']:+8.1e} "
               f"({r['out_darcy'] * k_sv:+5.2f}) {r['gradient']:+5.2f} | {r['ru']:5.2f} "
               f"{r['sv_ratio']:5.2f} {r['total_change']:+5.2f} {r['p_ratio']:5.2f} {r['mob']:5.2f} {r['near_yield']:5.2f} "
-              f"{r['p_lost']:5.2f} {r['carried']:5.2f}")
+              f"{r['p_lost']:5.2f} {r['carried']:5.2f} {r['shed']:+5.2f}")
 
 
 def main(argv=None) -> int:
@@ -329,7 +357,8 @@ def main(argv=None) -> int:
     print(f"sigma'_v(t_s) [kPa]: " + ", ".join(
         f"{r['monitor']} {r['sv_s'] / 1000.0:.1f}" for r in rows if r["cycle"] == 1))
     print("(sigma'_v + p_ex) / buoyant overburden at t_s: " + ", ".join(
-        f"{r['monitor']} {r['carried_s']:.2f}" for r in rows if r["cycle"] == 1))
+        f"{r['monitor']} {r['carried_s']:.2f} (shed by shear on the sides {r['shed_s']:+.2f})"
+        for r in rows if r["cycle"] == 1))
     print_rows(rows)
     return 0
 

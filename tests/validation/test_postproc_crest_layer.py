@@ -76,3 +76,16 @@ def test_buoyant_overburden_and_kozeny_carman():
     got = cl.buoyant_overburden(dump, (slice(0, 4), slice(0, ny)), 0.35, 2650.0)
     assert got == pytest.approx((2650.0 - cl.RHO_W) * 0.57 * cl.G_ACC * 0.25, rel=1e-12)
     assert cl.kozeny_carman(1.0e-4, 0.43) == pytest.approx(1.3e-4, rel=0.03)
+
+
+def test_side_shear_of_a_column():
+    """tau on the right side and 0 on the left over a height H carry tau H / w off the base;
+    the same tau on both sides carries nothing."""
+    ys = np.arange(0.4, 2.0, 0.05)
+    x = np.concatenate([np.full(ys.size, 5.0), np.full(ys.size, 5.6)])
+    y = np.concatenate([ys, ys])
+    tau = np.concatenate([np.zeros(ys.size), np.full(ys.size, 1000.0)])
+    # bins of 0.1 m from 0.35 to 1.95 m hold particles; the one from 1.95 m holds none
+    got = cl.side_shear(x, y, tau, 5.0, 5.6, 0.35, 2.05)
+    assert got == pytest.approx(1000.0 * 1.6 / 0.6, rel=1e-12)
+    assert cl.side_shear(x, y, np.full(x.size, 1000.0), 5.0, 5.6, 0.35, 2.05) == pytest.approx(0.0, abs=1e-9)
