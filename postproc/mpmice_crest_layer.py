@@ -30,7 +30,8 @@ monitor and cycle n (dumps with t in (t_s + (n-1)/f, t_s + n/f], and the one bef
   box's top face; K eps_out / sigma'_v(t_s) of both;
 * state at the cycle's end: r_u (excess pore pressure / sigma'_v at t = 0, as the slope
   postproc), sigma'_v / sigma'_v(t_s), the change of the total vertical stress since t_s
-  (change of sigma'_v plus change of the excess pore pressure) / sigma'_v(t_s), p' / p'(t_s), the mean mobilised strength
+  (change of sigma'_v plus change of the excess pore pressure) / sigma'_v(t_s), p' / p'(t_s),
+  the mean mobilised strength
   tau / (mu p') (mu = mu_1 + K_d (phi - phi_m), phi = phi0 V0 / V) and the share of the
   particles at tau >= 0.95 mu p' or with p' <= 0.1 p'(t_s); and the share of the sediment's
   buoyant weight above the monitor's height (from the cells' sediment solid fraction,
@@ -158,7 +159,8 @@ def sediment_constants(run_dir: str) -> dict:
         if group == "solid" and str(v.get("name", "")).strip("'\"") == SEDIMENT:
             e, nu = float(v["youngs_modulus"]), float(v["poisson_ratio"])
             return {"G": e / (2.0 * (1.0 + nu)), "K": e / (3.0 * (1.0 - 2.0 * nu)),
-                    "phi0": 1.0 - float(v["porosity"]), "rho_s": float(v["density"]), "grain_size": float(v["grain_size"]),
+                    "phi0": 1.0 - float(v["porosity"]), "rho_s": float(v["density"]),
+                    "grain_size": float(v["grain_size"]),
                     "mu1": float(v["friction_mu1"]), "k_dil": float(v["dilatancy_constant"]),
                     "phi_m": float(v["critical_solid_fraction"]),
                     "c1": float(v["densification_c1"]), "c2": float(v["densification_c2"]),
@@ -185,7 +187,8 @@ def box_of(dump: dict, x_m: float) -> tuple[slice, slice]:
     return slice(int(ii[0]), int(ii[-1]) + 1), slice(int(jj[0]), int(jj[-1]) + 1)
 
 
-def cell_drainage(dump: dict, box: tuple[slice, slice], grain_size: float) -> tuple[float, float, float]:
+def cell_drainage(dump: dict, box: tuple[slice, slice],
+                  grain_size: float) -> tuple[float, float, float]:
     """(outflow rate from n (v_w - v_s), outflow rate from Darcy, vertical gradient) of a box."""
     cell = dump["cell"]
     n = cell["porosity"][:, :, 0]
@@ -204,7 +207,8 @@ def buoyant_overburden(dump: dict, box: tuple[slice, slice], y_m: float, rho_s: 
                        rho_w: float = RHO_W, g: float = G_ACC) -> float:
     """The sediment's buoyant weight per unit area above height y_m [Pa], mean over the box's
     columns: sum over the cells of (rho_s - rho_w) phi_s g dy, phi_s the cells' solid volume
-    fraction times the sediment's share of it, the cell holding y_m counted from y_m up. Equal to sigma'_v + p_ex at y_m where the
+    fraction times the sediment's share of it, the cell holding y_m counted from y_m up. Equal
+    to sigma'_v + p_ex at y_m where the
     column carries its own weight (no shear on vertical planes, no vertical acceleration)."""
     _, y, _ = cell_centres(dump)
     dy = y[1] - y[0]
@@ -334,7 +338,8 @@ def analyse(run_dir: str, monitors: list[str]) -> list[dict]:
 def print_rows(rows: list[dict]) -> None:
     """The per-cycle table, one line per monitor and cycle."""
     print("monitor              cyc  CSR   g_el    >thr  g_kin   | evd_rep  (Kevd/sv) rev_ck evd_ck"
-          "  (K/sv) dens | out_rel  out_darcy (K/sv) i_top | r_u   sv/sv_s dtot  p/p_s  mob  >=0.95 p_lost carried shed")
+          "  (K/sv) dens | out_rel  out_darcy (K/sv) i_top | r_u   sv/sv_s dtot  p/p_s  mob  "
+          ">=0.95 p_lost carried shed")
     for r in rows:
         k_sv = r["K"] / r["sv_s"]
         ck = (f"{r['reversals_ckpt']:5.1f} {r['evd_ckpt']:7.1e} ({r['evd_ckpt'] * k_sv:4.2f}) "
@@ -343,7 +348,8 @@ def print_rows(rows: list[dict]) -> None:
               f"{r['above_threshold']:4.2f} {r['gamma_kin']:7.1e} | {r['evd_replay']:7.1e} "
               f"({r['evd_replay'] * k_sv:5.2f}) {ck} | {r['out_rel']:+8.1e} {r['out_darcy']:+8.1e} "
               f"({r['out_darcy'] * k_sv:+5.2f}) {r['gradient']:+5.2f} | {r['ru']:5.2f} "
-              f"{r['sv_ratio']:5.2f} {r['total_change']:+5.2f} {r['p_ratio']:5.2f} {r['mob']:5.2f} {r['near_yield']:5.2f} "
+              f"{r['sv_ratio']:5.2f} {r['total_change']:+5.2f} {r['p_ratio']:5.2f} {r['mob']:5.2f} "
+              f"{r['near_yield']:5.2f} "
               f"{r['p_lost']:5.2f} {r['carried']:5.2f} {r['shed']:+5.2f}")
 
 
