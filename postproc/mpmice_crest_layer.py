@@ -38,7 +38,14 @@ monitor and cycle n (dumps with t in (t_s + (n-1)/f, t_s + n/f], and the one bef
   :func:`buoyant_overburden`) that sigma'_v + p_ex of its particles carries ("carried", also
   at t_s), and the share that the particles' tau_xy on the box's vertical sides carries off the
   column (:func:`side_shear`; "shed"): carried + shed = 1 in a column in equilibrium whose
-  particle stress and cell pressure make up its total stress.
+  particle stress and cell pressure make up its total stress;
+* the column's vertical balance (:func:`column_balance`): the deficit of the total vertical
+  stress sigma'_v + p_ex of the particles in a 0.1 m band across the box at the monitor's
+  height against the buoyant weight above minus the side shear, the same deficit at
+  TOP_DEPTH below the column's highest particle ("top"; deficit - top is the column body's own
+  imbalance), the vertical inertia of the particles in the column (sum m a_y over the column's
+  area, a_y from the velocities of the dumps before and after), and the lowest box-mean cell
+  excess pore pressure in the top 0.4 m of the column (the crest surface's suction).
 """
 from __future__ import annotations
 
@@ -49,7 +56,8 @@ import numpy as np
 
 from postproc.measures import by_id
 from postproc.mpmice_earthquake_slope import (NAME, RU_MONITORS, RU_RADIUS, SEDIMENT, base_shaking,
-                                              excess_pore_pressure, hydrostatic_pressure)
+                                              cell_excess_pressure, excess_pore_pressure,
+                                              hydrostatic_pressure)
 from postproc.mpmice_io import cell_centres, list_dumps, read_dump
 
 RHO_W = 999.8          # kg/m^3
@@ -59,6 +67,8 @@ LAYER = (0.2, 0.5)     # m: the basal layer's bottom and top
 BOX_HALF_WIDTH = 0.3   # m: cells with centres within this of the monitor's x
 NEAR_YIELD = 0.95      # tau / (mu p') counted as at the yield surface
 LOW_P = 0.1            # p' / p'(t_s) counted as lost
+TOP_DEPTH = 0.25       # m: depth below the column's highest particle of the "top" deficit
+BAND = 0.1             # m: height of the band that averages the total stress
 
 
 def kozeny_carman(grain_size: float, porosity: np.ndarray | float, mu_w: float = MU_W,
@@ -234,6 +244,41 @@ def side_shear(x: np.ndarray, y: np.ndarray, tau_xy: np.ndarray, x_left: float, 
     return total / (x_right - x_left)
 
 
+def band_mean(x: np.ndarray, y: np.ndarray, values: np.ndarray, x_left: float, x_right: float,
+              y_c: float, h: float = BAND) -> float:
+    """Mean of `values` over the particles with x_left < x < x_right and |y - y_c| < h / 2 (nan
+    for an empty band)."""
+    m = (x > x_left) & (x < x_right) & (np.abs(y - y_c) < 0.5 * h)
+    return float(np.mean(values[m])) if np.any(m) else float("nan")
+
+
+def column_balance(x: np.ndarray, y: np.ndarray, total: np.ndarray, tau_xy: np.ndarray,
+                   x_left: float, x_right: float, y_m: float, overburden, depth: float = TOP_DEPTH
+                   ) -> tuple[float, float]:
+    """(deficit at y_m, deficit at `depth` below the highest particle between the sides) [Pa]
+    of a column's vertical balance: the band mean of the particles' total vertical stress
+    `total` = sigma'_v + p_ex (compression positive) minus (overburden(y) - side_shear(y)), the
+    buoyant weight above y (a callable) less the load that the shear on the sides carries
+    off. 0 where the column carries its own weight; deficit(y_m) - deficit(top) is the imbalance
+    that arises in the column's body between the two heights."""
+    inside = (x > x_left) & (x < x_right)
+    stop = float(np.max(y[inside])) + BAND
+
+    def deficit(yy):
+        return (band_mean(x, y, total, x_left, x_right, yy)
+                - overburden(yy) + side_shear(x, y, tau_xy, x_left, x_right, yy, stop))
+    return deficit(y_m), deficit(stop - BAND - depth)
+
+
+def column_inertia(x: np.ndarray, y: np.ndarray, mass: np.ndarray, a_y: np.ndarray,
+                   x_left: float, x_right: float, y_m: float, thickness: float) -> float:
+    """sum m a_y [Pa] of the particles between the sides and above y_m per unit of the column's
+    area (x_right - x_left) * thickness: the load that the column's vertical acceleration adds
+    at its base (a_y > 0 upward)."""
+    m = (x > x_left) & (x < x_right) & (y > y_m)
+    return float(np.sum(mass[m] * a_y[m]) / ((x_right - x_left) * thickness))
+
+
 def checkpoint_cyclic(run_dir: str) -> dict[float, dict]:
     """{time: {'evd', 'reversals'} sorted by particle id} of the run's checkpoints that hold the
     sediment's cyclic state."""
@@ -330,6 +375,26 @@ def analyse(run_dir: str, monitors: list[str]) -> list[dict]:
                 row["evd_ckpt"] = float(np.median(devd))
                 row["reversals_ckpt"] = float(np.median(ck1["reversals"][idx] - ck0["reversals"][idx]))
                 row["densified_ckpt"] = float(np.mean(devd > 0.0))
+            dump_end = dumps[sel[-1]]
+            total = -end["stress_yy"] + excess_pore_pressure(dump_end, end)
+            bal = column_balance(end["x"], end["y"], total, end["stress_xy"], sides[0], sides[1],
+                                 ym, lambda yy: buoyant_overburden(dump_end, box, yy, c["rho_s"]))
+            over_end = buoyant_overburden(dump_end, box, ym, c["rho_s"])
+            row["deficit"], row["top_deficit"] = bal[0] / over_end, bal[1] / over_end
+            k_end = sel[-1]
+            if 0 < k_end < len(dumps) - 1:
+                before_, after_ = (by_id(dumps[k]["particles"][SEDIMENT]) for k in (k_end - 1, k_end + 1))
+                a_y = (after_["velocity_y"] - before_["velocity_y"]) / (times[k_end + 1] - times[k_end - 1])
+                row["inertia"] = column_inertia(end["x"], end["y"], end["mass"], a_y, sides[0], sides[1],
+                                                ym, float(dump_end["attrs"]["dx"][2])) / over_end
+            else:
+                row["inertia"] = float("nan")
+            inside = (end["x"] > sides[0]) & (end["x"] < sides[1])
+            y_top = float(np.max(end["y"][inside]))
+            _, yc, _ = cell_centres(dump_end)
+            near_top = (yc > y_top - 0.4) & (yc < y_top)
+            row["suction"] = float(np.min(np.mean(cell_excess_pressure(dump_end)[box[0]][:, near_top],
+                                                  axis=0)))
             row["K"] = c["K"]
             rows.append(row)
     return rows
@@ -366,6 +431,14 @@ def main(argv=None) -> int:
         f"{r['monitor']} {r['carried_s']:.2f} (shed by shear on the sides {r['shed_s']:+.2f})"
         for r in rows if r["cycle"] == 1))
     print_rows(rows)
+    print("column balance at the cycles' ends, / buoyant overburden: deficit of the band's "
+          "sigma'_v + p_ex at the monitor's height (W' - shed); the same at "
+          f"{TOP_DEPTH} m below the column's top; body = deficit - top; inertia sum m a_y; "
+          "suction: lowest cell p_ex in the top 0.4 m [kPa]")
+    for r in rows:
+        print(f"{r['monitor']:20s} {r['cycle']:3d}  deficit {r['deficit']:+5.2f}  top "
+              f"{r['top_deficit']:+5.2f}  body {r['deficit'] - r['top_deficit']:+5.2f}  inertia "
+              f"{r['inertia']:+6.3f}  suction {r['suction'] / 1000.0:+6.2f}")
     return 0
 
 

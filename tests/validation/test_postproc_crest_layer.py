@@ -89,3 +89,42 @@ def test_side_shear_of_a_column():
     got = cl.side_shear(x, y, tau, 5.0, 5.6, 0.35, 2.05)
     assert got == pytest.approx(1000.0 * 1.6 / 0.6, rel=1e-12)
     assert cl.side_shear(x, y, np.full(x.size, 1000.0), 5.0, 5.6, 0.35, 2.05) == pytest.approx(0.0, abs=1e-9)
+
+
+def _column(offset, body_gain=0.0):
+    """Particles on a 0.05 m lattice across a column 0.6 m wide, 0.2 to 2.45 m high, whose total
+    vertical stress follows the buoyant weight gamma' (top - y) plus a constant `offset` (a suction
+    at the top when negative) plus body_gain (y_b - y) below y_b = 1.0 m; no side shear."""
+    gamma, top = 9000.0, 2.45
+    xs, ys = np.meshgrid(np.arange(5.525, 6.1, 0.05), np.arange(0.225, top, 0.05))
+    x, y = xs.ravel(), ys.ravel()
+    total = gamma * (top + 0.025 - y) + offset + body_gain * np.clip(1.0 - y, 0.0, None)
+    return x, y, total, np.zeros_like(x), (lambda yy: gamma * (top + 0.025 - yy))
+
+
+def test_column_balance_splits_top_and_body():
+    """A column that carries its weight closes (0, 0); a suction s at its top shows as the same
+    deficit at the monitor and below the top (body 0); an extra load in the body shows in the
+    monitor's deficit only. Fails if the band, the weight or the split is wrong."""
+    x, y, total, tau, over = _column(0.0)
+    assert cl.column_balance(x, y, total, tau, 5.5, 6.1, 0.35, over) == pytest.approx((0.0, 0.0), abs=1e-6)
+    x, y, total, tau, over = _column(-3000.0)
+    got = cl.column_balance(x, y, total, tau, 5.5, 6.1, 0.35, over)
+    assert got == pytest.approx((-3000.0, -3000.0), rel=1e-9)
+    x, y, total, tau, over = _column(0.0, body_gain=-2000.0)
+    dm, dt = cl.column_balance(x, y, total, tau, 5.5, 6.1, 0.35, over)
+    assert dt == pytest.approx(0.0, abs=1e-6) and dm == pytest.approx(-2000.0 * 0.65, rel=1e-9)
+    # shear on the sides enters as side_shear: tau on the right side only carries load off
+    tau = np.where(np.abs(x - 6.075) < 0.01, -1000.0, 0.0)
+    dm, _ = cl.column_balance(x, y, np.asarray(total), tau, 5.5, 6.1, 0.35, over)
+    assert dm != pytest.approx(-2000.0 * 0.65, rel=1e-3)
+
+
+def test_column_inertia():
+    """sum m a_y over the particles above y_m between the sides per unit area."""
+    x = np.array([5.6, 5.8, 6.0, 6.5, 5.8])
+    y = np.array([1.0, 2.0, 0.5, 1.0, 0.1])
+    m = np.array([2.0, 3.0, 4.0, 100.0, 100.0])
+    a = np.array([1.0, -1.0, 0.5, 9.0, 9.0])
+    got = cl.column_inertia(x, y, m, a, 5.5, 6.1, 0.35, 0.1)
+    assert got == pytest.approx((2.0 - 3.0 + 2.0) / (0.6 * 0.1), rel=1e-12)
