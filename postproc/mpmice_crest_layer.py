@@ -45,7 +45,9 @@ monitor and cycle n (dumps with t in (t_s + (n-1)/f, t_s + n/f], and the one bef
   TOP_DEPTH below the column's highest particle ("top"; deficit - top is the column body's own
   imbalance), the vertical inertia of the particles in the column (sum m a_y over the column's
   area, a_y from the velocities of the dumps before and after), and the lowest box-mean cell
-  excess pore pressure in the top 0.4 m of the column (the crest surface's suction).
+  excess pore pressure in the top 0.4 m of the column (the crest surface's suction); r_u less
+  the top's deficit / sigma'_v at t = 0 (what r_u would read had the column's top carried its
+  buoyant weight).
 """
 from __future__ import annotations
 
@@ -381,6 +383,7 @@ def analyse(run_dir: str, monitors: list[str]) -> list[dict]:
                                  ym, lambda yy: buoyant_overburden(dump_end, box, yy, c["rho_s"]))
             over_end = buoyant_overburden(dump_end, box, ym, c["rho_s"])
             row["deficit"], row["top_deficit"] = bal[0] / over_end, bal[1] / over_end
+            row["ru_top"] = row["ru"] - bal[1] / float(np.mean(sv00[idx]))
             k_end = sel[-1]
             if 0 < k_end < len(dumps) - 1:
                 before_, after_ = (by_id(dumps[k]["particles"][SEDIMENT]) for k in (k_end - 1, k_end + 1))
@@ -434,11 +437,12 @@ def main(argv=None) -> int:
     print("column balance at the cycles' ends, / buoyant overburden: deficit of the band's "
           "sigma'_v + p_ex at the monitor's height (W' - shed); the same at "
           f"{TOP_DEPTH} m below the column's top; body = deficit - top; inertia sum m a_y; "
-          "suction: lowest cell p_ex in the top 0.4 m [kPa]")
+          "suction: lowest cell p_ex in the top 0.4 m [kPa]; r_u less the top's deficit")
     for r in rows:
         print(f"{r['monitor']:20s} {r['cycle']:3d}  deficit {r['deficit']:+5.2f}  top "
               f"{r['top_deficit']:+5.2f}  body {r['deficit'] - r['top_deficit']:+5.2f}  inertia "
-              f"{r['inertia']:+6.3f}  suction {r['suction'] / 1000.0:+6.2f}")
+              f"{r['inertia']:+6.3f}  suction {r['suction'] / 1000.0:+6.2f}  r_u {r['ru']:4.2f} "
+              f"-> {r['ru_top']:4.2f}  1-p'/p'_s {1.0 - r['p_ratio']:4.2f}")
     return 0
 
 
