@@ -155,6 +155,12 @@ contains
         pr = sp%vfrac(i, j, k)
         call face_pair_mean(pl, pr, ghost_side, phi, wl, wr)
       end if
+      if (sp%plane_drag .and. .not. sp%sliding) then
+        ! each half cell's solid share from its side of the face plane: the empty half of a
+        ! cell crossed by the solid's free surface adds no resistance
+        pl = sp%face_fraction(i, j, k, d)
+        pr = sp%face_fraction_hi(i, j, k, d)
+      end if
       if (ghost_side == 1) pl = 0.0_wp
       if (ghost_side == 2) pr = 0.0_wp
       if (ghost_side /= 0) phi = 2.0_wp * phi

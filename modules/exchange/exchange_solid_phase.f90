@@ -29,6 +29,9 @@ module exchange_solid_phase
                                                 !! velocities alone [m/s]
     real(wp), allocatable :: rigid_face(:, :, :, :) !< 1 where the face velocity is prescribed
     logical :: explicit_drag = .false.          !< explicit (forward Euler) drag, for comparison
+    !> face drag: each half cell's solid share from its side of the face plane (`face_fraction`,
+    !! `face_fraction_hi`) instead of its cell's fraction (`&coupling face_drag = 'face_plane'`)
+    logical :: plane_drag = .false.
     real(wp), allocatable :: heat_cap(:, :, :)  !< heat capacity per volume rho_bar_s c_s [J/m^3/K]
     real(wp), allocatable :: conductance(:, :, :) !< phi_s k_s of the grains [W/m/K]
     real(wp), allocatable :: temp(:, :, :)      !< solid cell temperature [K]: m c T / m c at the

@@ -176,6 +176,7 @@ contains
       self%solid%sliding = self%so%bc%friction_contact .and. &
         any(self%so%mats(:)%model == model_rigid)
       self%solid%explicit_drag = trim(par%coupling%drag_scheme) == 'explicit'
+      self%solid%plane_drag = trim(par%coupling%face_drag) == 'face_plane'
       ! a wall where the skeleton carries a surface load is a loading platen: impermeable, moving
       ! with the skeleton; the load beyond the face's `pressure` is shared with the pore fluid
       do face = 1, 6

@@ -224,6 +224,8 @@ BAD_MPMICE_INPUTS = [
      ["case.nml", "&mpm", "local_damping_end", "-1.0", ">= 0 [s]"]),
     ("local_damping_force_unknown", "&mpm local_damping_force = 'fluid' /", [],
      ["case.nml", "&mpm", "local_damping_force", "'fluid'", "one of solid, total"]),
+    ("face_drag_unknown", "&coupling face_drag = 'nodal' /", [],
+     ["case.nml", "&coupling", "face_drag", "'nodal'", "one of cell, face_plane"]),
 ] + [
     # &boundary velocity history (solid_velocity_times / solid_velocity_history)
     ("history_times_not_increasing",

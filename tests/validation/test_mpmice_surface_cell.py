@@ -60,3 +60,38 @@ def test_spreading_mound_surface_cell_has_no_suction(run_mpmice, tmp_path):
     weight = rows[0]["cell_weight"]
     assert min(r["rel_s"] for r in rows) > -0.25 * weight
     assert min(r["deficit"] for r in rows) > -0.25 * weight
+
+
+FACE_PLANE = "&coupling face_drag = 'face_plane' /"
+
+
+def test_face_plane_drag_settling_column_top_is_drained(run_mpmice, tmp_path):
+    """`&coupling face_drag = 'face_plane'` on the 1D column: the surface cell's empty upper
+    half adds no resistance to the water leaving the sediment, so the surface cell is drained
+    (the sediment's top boundary of Terzaghi/Gibson consolidation: p_ex = 0): |p_ex| <= 20 Pa in
+    every dump (measured <= 8.4 Pa; with the default 'cell' +31 .. +206 Pa), below the cell
+    under it, while the surface sinks through the cell as with the default."""
+    out = os.path.join(str(tmp_path), "column")
+    run_mpmice([COLUMN, "--set", f"&run output_dir = '{out}' /", "--set", FACE_PLANE],
+               nranks=1, cwd=str(tmp_path), check=True)
+    rows = column_rows(out, "settle")
+    assert rows[0]["surface"] - rows[-1]["surface"] > 0.05
+    assert rows[0]["phis_s"] > 0.5 and rows[-1]["phis_s"] < 0.25
+    pex = np.array([r["pex_s"] for r in rows])
+    below = np.array([r["pex_b"] for r in rows])
+    assert np.abs(pex).max() <= 20.0, pex
+    assert np.all(pex < below), (pex, below)
+
+
+def test_face_plane_drag_spreading_mound_has_no_suction(run_mpmice, tmp_path):
+    """`&coupling face_drag = 'face_plane'` on the spreading mound: the crest's surface cell
+    keeps its excess pore pressure relative to the free water above within a quarter of a
+    cell's buoyant weight (240 Pa; measured -95 Pa at most, against -4470 Pa with the default
+    'cell'). The column balance under it is not checked here: it still misses by -634 Pa in the
+    first dump (0.05 s), then -432, +85, +142 Pa (docs/soil_models.md)."""
+    out = os.path.join(str(tmp_path), "mound")
+    run_mpmice([MOUND, "--set", f"&run output_dir = '{out}', end_time = 0.2 /", "--set",
+                FACE_PLANE], nranks=1, cwd=str(tmp_path), check=True)
+    rows = column_rows(out, "mound", x_right=0.3)
+    weight = rows[0]["cell_weight"]
+    assert min(r["rel_s"] for r in rows) > -0.25 * weight
