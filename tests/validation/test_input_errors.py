@@ -531,7 +531,8 @@ def test_mpmice_check_echo_and_coupling_set(run_mpmice, tmp_case_dir):
     first = text_of(result.stdout)
     single = parse_namelist_text(first)
     assert single["run"]["scene"] == "mpmice"
-    assert single["coupling"] == {"drag_scheme": "explicit", "heat_exchange_coefficient": 0.0,
+    assert single["coupling"] == {"drag_scheme": "explicit", "face_drag": "cell",
+                                  "heat_exchange_coefficient": 0.0,
                                   "max_solid_fraction": 0.999, "solid_fraction_relaxation": 0.1}
     solids = [values for name, values in parse_namelist_groups(first) if name == "solid"]
     assert len(solids) == 1
