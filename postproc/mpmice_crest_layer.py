@@ -56,6 +56,7 @@ import os
 
 import numpy as np
 
+from postproc.analytic import carman_kozeny_conductivity
 from postproc.measures import by_id
 from postproc.mpmice_earthquake_slope import (NAME, RU_MONITORS, RU_RADIUS, SEDIMENT, base_shaking,
                                               cell_excess_pressure, excess_pore_pressure,
@@ -75,9 +76,10 @@ BAND = 0.1             # m: height of the band that averages the total stress
 
 def kozeny_carman(grain_size: float, porosity: np.ndarray | float, mu_w: float = MU_W,
                   rho_w: float = RHO_W, g: float = G_ACC) -> np.ndarray | float:
-    """Hydraulic conductivity k = d^2 n^3 rho_w g / (180 (1 - n)^2 mu_w) [m/s]."""
+    """Hydraulic conductivity k = d^2 n^3 rho_w g / (180 (1 - n)^2 mu_w) [m/s]: the Carman-Kozeny
+    k/mu of `postproc.analytic` times the water's unit weight."""
     n = np.asarray(porosity, dtype=float)
-    return grain_size**2 * n**3 * rho_w * g / (180.0 * (1.0 - n) ** 2 * mu_w)
+    return carman_kozeny_conductivity(1.0 - n, grain_size, mu_w) * rho_w * g
 
 
 def replay_densification(amplitudes: np.ndarray, c1: float, c2: float = 0.0, threshold: float = 0.0,

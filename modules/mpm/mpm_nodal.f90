@@ -148,8 +148,7 @@ contains
             v = nodes%q(node_momentum:node_momentum + 2, i, j, k) / m
             f = nodes%q(node_force:node_force + 2, i, j, k) + m * gravity + &   ! eq. 40
               face_load(grid, bc, [i, j, k])
-            if (damping > 0.0_wp) f = f - damping * abs(f) * &
-              merge(sign(1.0_wp, v), 0.0_wp, v /= 0.0_wp)
+            if (damping > 0.0_wp) f = f - cundall_damping(damping, f, v)
             vl = (v + f / m * dt) * on                               ! eq. 41
           else
             v = 0.0_wp
@@ -201,12 +200,20 @@ contains
           if (nodes%q(node_rigid_mass, i, j, k) > min_mass) cycle
           v = nodes%vel(:, i, j, k)
           dv = nodes%vel_l(:, i, j, k) - v
-          nodes%vel_l(:, i, j, k) = nodes%vel_l(:, i, j, k) - alpha * abs(dv) * &
-            merge(sign(1.0_wp, v), 0.0_wp, v /= 0.0_wp)
+          nodes%vel_l(:, i, j, k) = nodes%vel_l(:, i, j, k) - cundall_damping(alpha, dv, v)
         end do
       end do
     end do
   end subroutine nodal_damp
+
+  !> Local (Cundall) damping of `x` (a nodal force or velocity increment) against the node's
+  !! velocity v, per component: alpha |x| sign(v), 0 where v = 0.
+  elemental real(wp) function cundall_damping(alpha, x, v) result(damp)
+    real(wp), intent(in) :: alpha  !< local damping factor [-]
+    real(wp), intent(in) :: x      !< damped quantity
+    real(wp), intent(in) :: v      !< velocity [m/s]
+    damp = alpha * abs(x) * merge(sign(1.0_wp, v), 0.0_wp, v /= 0.0_wp)
+  end function cundall_damping
 
   !> After velocity increments were added to v^L (the coupled scene's pressure and drag,
   !! eqs. 66-67 with E5): the face conditions again and eq. 69 a = (v^L - v^n)/dt, on every

@@ -392,8 +392,9 @@ contains
       ! the solid's pressure force and drag, from the faces back to the nodes
       call timer_start(timers, self%t_nodes)
       call solid_face_to_nodes(self%solid, grid, dom, self%halo, so%nodes, self%du, so%min_mass)
-      if (so%damp_total .and. mpm_damping(so, time) > 0.0_wp) then
-        call nodal_damp(so%nodes, grid, mpm_damping(so, time), so%min_mass)
+      if (so%damp_total) then
+        alpha = mpm_damping(so, time)
+        if (alpha > 0.0_wp) call nodal_damp(so%nodes, grid, alpha, so%min_mass)
       end if
       if (self%solid%sliding) then
         call nodal_finish(so%nodes, grid, dt, so%bc, so%min_mass, self%contact_dv, &
