@@ -4,8 +4,9 @@
 !! face, along y the high faces of a row are the low faces of the next; along z both rows are
 !! computed). The same products and differences as a per-cell evaluation of both faces, so the
 !! right-hand side is bitwise the same. One sweep (`volume_flux_rows`) serves a fluid and the
-!! solid. The rows are the state's work storage (`ice_work_t`), passed as explicit-shape
-!! arguments.
+!! solid; each row's flux is one loop over contiguous rows of the face velocity and the two
+!! fractions it chooses from (`upwind_flux`). The rows are the state's work storage
+!! (`ice_work_t`), passed as explicit-shape arguments.
 module ice_pressure_flux
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
@@ -19,13 +20,13 @@ module ice_pressure_flux
 contains
 
   !> rhs -= dt A (F_hi - F_lo) on the owned cells for the faces of direction `d`, F the volume
-  !! flux through a face of fluid `fluid` (F = phi_f u_f upwind, `row_volume_flux`) or of the
-  !! solid `solid` (F = phi_s,f u_s,f, `row_solid_flux`, and the rigid bodies' prescribed flux
-  !! R: rhs -= dt A (F_hi - F_lo + R_hi - R_lo), `row_update`); exactly one of the two is
-  !! given. Each face's F once per row (along x a cell's high face is the next cell's low face,
-  !! along y the high faces of a row are the low faces of the next; along z both rows are
-  !! computed), the same products and differences as a per-cell evaluation of both faces. The
-  !! rows are the state's work storage (at least this large).
+  !! flux through a face (`row_flux`) of fluid `fluid` (phi_f u_f, upwind) or of the solid
+  !! `solid` (phi_s,f u_s,f, and the rigid bodies' prescribed flux R: rhs -= dt A (F_hi - F_lo
+  !! + R_hi - R_lo), `row_update`); exactly one of the two is given. Each face's F once per row
+  !! (along x a cell's high face is the next cell's low face, along y the high faces of a row
+  !! are the low faces of the next; along z both rows are computed), the same products and
+  !! differences as a per-cell evaluation of both faces. The rows are the state's work storage
+  !! (at least this large).
   subroutine volume_flux_rows(grid, dt_area, d, rhs, flux_lo, flux_hi, fluid, solid)
     type(grid_t), intent(in) :: grid              !< block geometry
     real(wp), intent(in) :: dt_area               !< dt A [s m^2]
@@ -66,36 +67,42 @@ contains
   end subroutine volume_flux_rows
 
   !> The volume flux [m/s] through the faces of normal d whose high cell is (i, j, k),
-  !! i = i1..i2: of the fluid `fluid` its upwind phi_f u_f (the upwind cell's fraction: face - o
-  !! for u >= 0), or, where `solid` is given, the solid's phi_s,f u_s,f (`flux_fraction` of the
-  !! face planes' fractions).
+  !! i = i1..i2 (`upwind_flux` of the row): of the fluid `fluid` its phi_f u_f with the upwind
+  !! cell's fraction (face - o for u >= 0), or, where `solid` is given, the solid's
+  !! phi_s,f u_s,f with the fraction on the upwind side of the face plane.
   pure subroutine row_flux(grid, d, j, k, i1, i2, flux, fluid, solid)
     type(grid_t), intent(in) :: grid          !< block geometry
     integer, intent(in) :: d                  !< face normal
     integer, intent(in) :: j, k               !< the row of high cells
     integer, intent(in) :: i1, i2             !< faces of the row
-    real(wp), intent(inout) :: flux(grid%lo(1):) !< the faces' flux [m/s] (i1..i2 written)
+    real(wp), intent(inout) :: flux(grid%lo(1):grid%hi(1) + 1) !< the faces' flux [m/s] (i1..i2)
     type(ice_fluid_t), intent(in), optional :: fluid       !< a fluid
     class(ice_solid_view_t), intent(in), optional :: solid !< or the solid
-    integer :: i, o(3)
-    real(wp) :: u
+    integer :: o(3)
     if (present(solid)) then
-      associate (us => solid%uface, low => solid%face_fraction, high => solid%face_fraction_hi)
-        do i = i1, i2
-          flux(i) = flux_fraction(us(i, j, k, d), low(i, j, k, d), high(i, j, k, d)) * &
-            us(i, j, k, d)
-        end do
-      end associate
+      call upwind_flux(i2 - i1 + 1, solid%uface(i1:i2, j, k, d), &
+        solid%face_fraction(i1:i2, j, k, d), solid%face_fraction_hi(i1:i2, j, k, d), flux(i1:i2))
     else
       o = 0
       o(d) = 1
-      do i = i1, i2
-        u = fluid%uface(i, j, k, d)
-        flux(i) = merge(fluid%vfrac(i - o(1), j - o(2), k - o(3)), fluid%vfrac(i, j, k), &
-          u >= 0.0_wp) * u
-      end do
+      call upwind_flux(i2 - i1 + 1, fluid%uface(i1:i2, j, k, d), &
+        fluid%vfrac(i1 - o(1):i2 - o(1), j - o(2), k - o(3)), fluid%vfrac(i1:i2, j, k), flux(i1:i2))
     end if
   end subroutine row_flux
+
+  !> flux = phi u through a row of n faces, phi the fraction upwind of each face
+  !! (`flux_fraction`): `low` (the face's low side) for u >= 0, `high` otherwise.
+  pure subroutine upwind_flux(n, u, low, high, flux)
+    integer, intent(in) :: n           !< faces in the row
+    real(wp), intent(in) :: u(n)       !< face velocity [m/s]
+    real(wp), intent(in) :: low(n)     !< fraction on the low side of each face [-]
+    real(wp), intent(in) :: high(n)    !< fraction on its high side [-]
+    real(wp), intent(out) :: flux(n)   !< phi u [m/s]
+    integer :: i
+    do i = 1, n
+      flux(i) = flux_fraction(u(i), low(i), high(i)) * u(i)
+    end do
+  end subroutine upwind_flux
 
   !> rhs(i, j, k) -= dt A (F_hi(i) - F_lo(i)) on the row (j, k) of owned cells, and with the
   !! solid `solid` its rigid bodies' prescribed flux R as well: dt A (F_hi - F_lo + R_hi - R_lo)
@@ -125,11 +132,12 @@ contains
     end if
   end subroutine row_update
 
-  !> The solid fraction that crosses a face with solid velocity `u`: the one on the face plane's
-  !! low side (`low`) for u >= 0, on its high side (`high`) otherwise.
+  !> The fraction that crosses a face with velocity `u`: the one on the face's low side (`low`)
+  !! for u >= 0, on its high side (`high`) otherwise (the solid's: on either side of the face
+  !! plane; a fluid's: of the upwind cell).
   elemental real(wp) function flux_fraction(u, low, high) result(phi)
-    real(wp), intent(in) :: u     !< solid face velocity [m/s]
-    real(wp), intent(in) :: low   !< fraction on the low side of the face plane [-]
+    real(wp), intent(in) :: u     !< face velocity [m/s]
+    real(wp), intent(in) :: low   !< fraction on the low side of the face [-]
     real(wp), intent(in) :: high  !< fraction on its high side [-]
     if (u >= 0.0_wp) then
       phi = low
