@@ -17,7 +17,7 @@ module ice_pressure
   use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
   use ice_face_velocity, only: face_range, open_face_range, held_plane
-  use ice_pressure_flux, only: fluid_flux_rows, solid_flux_rows, flux_fraction
+  use ice_pressure_flux, only: volume_flux_rows, flux_fraction
   implicit none
   private
 
@@ -134,8 +134,8 @@ contains
     do d = 1, 3
       if (.not. sweep_direction(grid, d, o, area)) cycle
       do m = 1, state%nfluids
-        call fluid_flux_rows(state%fluid(m), grid, dt * area, d, state%rhs, &
-          state%work%flux_lo, state%work%flux_hi)
+        call volume_flux_rows(grid, dt * area, d, state%rhs, state%work%flux_lo, &
+          state%work%flux_hi, fluid=state%fluid(m))
       end do
       if (present(solid)) call solid_volume_flux(state, solid, grid, dt, d, o, area)
     end do
@@ -223,8 +223,8 @@ contains
       end do
     end do
     ! the solid's volume flux phi_s,f u_s,f and the rigid bodies' prescribed one
-    call solid_flux_rows(solid, grid, dt * area, d, state%rhs, state%work%flux_lo, &
-      state%work%flux_hi)
+    call volume_flux_rows(grid, dt * area, d, state%rhs, state%work%flux_lo, &
+      state%work%flux_hi, solid=solid)
   end subroutine solid_volume_flux
 
   !> A failed outer iteration: the rank that holds the cell of the largest |rhs|/V (`residual`,

@@ -3,8 +3,10 @@
 !! flux F computed once per row of faces (along x a cell's high face is the next cell's low
 !! face, along y the high faces of a row are the low faces of the next; along z both rows are
 !! computed). The same products and differences as a per-cell evaluation of both faces, so the
-!! right-hand side is bitwise the same. The rows are the state's work storage (`ice_work_t`),
-!! passed as explicit-shape arguments.
+!! right-hand side is bitwise the same. One sweep (`volume_flux_rows`) serves a fluid and the
+!! solid; each row's flux is one loop over contiguous rows of the face velocity and the two
+!! fractions it chooses from (`upwind_flux`). The rows are the state's work storage
+!! (`ice_work_t`), passed as explicit-shape arguments.
 module ice_pressure_flux
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
@@ -13,142 +15,129 @@ module ice_pressure_flux
   implicit none
   private
 
-  public :: fluid_flux_rows, solid_flux_rows, flux_fraction
+  public :: volume_flux_rows, flux_fraction
 
 contains
 
-  !> rhs -= dt A (F_hi - F_lo) on the owned cells for the faces of direction `d` of fluid `f`,
-  !! F = phi_f u_f its upwind volume flux through a face (`row_volume_flux`): each face's F once
-  !! per row (along x a cell's high face is the next cell's low face, along y the high faces of
-  !! a row are the low faces of the next; along z both rows are computed), the same products
-  !! and differences as a per-cell evaluation of both faces. The rows are the state's work
-  !! storage (at least this large).
-  subroutine fluid_flux_rows(f, grid, dt_area, d, rhs, flux_lo, flux_hi)
-    type(ice_fluid_t), intent(in) :: f            !< the fluid
+  !> rhs -= dt A (F_hi - F_lo) on the owned cells for the faces of direction `d`, F the volume
+  !! flux through a face (`row_flux`) of fluid `fluid` (phi_f u_f, upwind) or of the solid
+  !! `solid` (phi_s,f u_s,f, and the rigid bodies' prescribed flux R: rhs -= dt A (F_hi - F_lo
+  !! + R_hi - R_lo), `row_update`); exactly one of the two is given. Each face's F once per row
+  !! (along x a cell's high face is the next cell's low face, along y the high faces of a row
+  !! are the low faces of the next; along z both rows are computed), the same products and
+  !! differences as a per-cell evaluation of both faces. The rows are the state's work storage
+  !! (at least this large).
+  subroutine volume_flux_rows(grid, dt_area, d, rhs, flux_lo, flux_hi, fluid, solid)
     type(grid_t), intent(in) :: grid              !< block geometry
     real(wp), intent(in) :: dt_area               !< dt A [s m^2]
     integer, intent(in) :: d                      !< face direction
     real(wp), intent(inout) :: rhs(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< rhs [m^3]
     real(wp), intent(inout) :: flux_lo(grid%lo(1):grid%hi(1) + 1) !< low faces' F [m/s]
     real(wp), intent(inout) :: flux_hi(grid%lo(1):grid%hi(1) + 1) !< high faces' F [m/s]
-    integer :: i, j, k, i1, i2
+    type(ice_fluid_t), intent(in), optional :: fluid          !< a fluid
+    class(ice_solid_view_t), intent(in), optional :: solid    !< or the solid of a coupled scene
+    integer :: j, k, i1, i2, o(3)
     i1 = grid%lo(1)
     i2 = grid%hi(1)
+    o = 0
+    o(d) = 1
     do k = grid%lo(3), grid%hi(3)
       do j = grid%lo(2), grid%hi(2)
         select case (d)
         case (1)
-          call row_volume_flux(f, grid, d, j, k, i1, i2 + 1, flux_lo)
-          do i = i1, i2
-            rhs(i, j, k) = rhs(i, j, k) - dt_area * (flux_lo(i + 1) - flux_lo(i))
-          end do
+          ! one row of faces: the high faces are the low faces shifted by one
+          call row_flux(grid, d, j, k, i1, i2 + 1, flux_lo, fluid, solid)
+          call row_update(grid, dt_area, d, o, j, k, flux_lo(i1 + 1:i2 + 1), flux_lo(i1:i2), &
+            rhs, solid)
           cycle
         case (2)
           if (j == grid%lo(2)) then
-            call row_volume_flux(f, grid, d, j, k, i1, i2, flux_lo)
+            call row_flux(grid, d, j, k, i1, i2, flux_lo, fluid, solid)
           else
             flux_lo(i1:i2) = flux_hi(i1:i2)
           end if
-          call row_volume_flux(f, grid, d, j + 1, k, i1, i2, flux_hi)
+          call row_flux(grid, d, j + 1, k, i1, i2, flux_hi, fluid, solid)
         case default
-          call row_volume_flux(f, grid, d, j, k, i1, i2, flux_lo)
-          call row_volume_flux(f, grid, d, j, k + 1, i1, i2, flux_hi)
+          call row_flux(grid, d, j, k, i1, i2, flux_lo, fluid, solid)
+          call row_flux(grid, d, j, k + 1, i1, i2, flux_hi, fluid, solid)
         end select
-        do i = i1, i2
-          rhs(i, j, k) = rhs(i, j, k) - dt_area * (flux_hi(i) - flux_lo(i))
-        end do
+        call row_update(grid, dt_area, d, o, j, k, flux_hi(i1:i2), flux_lo(i1:i2), rhs, solid)
       end do
     end do
-  end subroutine fluid_flux_rows
+  end subroutine volume_flux_rows
 
-  !> The upwind volume flux phi_f u_f [m/s] of fluid `f` through the faces of normal d whose
-  !! high cell is (i, j, k), i = i1..i2 (the upwind cell's fraction: face - o for u >= 0).
-  pure subroutine row_volume_flux(f, grid, d, j, k, i1, i2, flux)
-    type(ice_fluid_t), intent(in) :: f        !< the fluid
+  !> The volume flux [m/s] through the faces of normal d whose high cell is (i, j, k),
+  !! i = i1..i2 (`upwind_flux` of the row): of the fluid `fluid` its phi_f u_f with the upwind
+  !! cell's fraction (face - o for u >= 0), or, where `solid` is given, the solid's
+  !! phi_s,f u_s,f with the fraction on the upwind side of the face plane.
+  pure subroutine row_flux(grid, d, j, k, i1, i2, flux, fluid, solid)
     type(grid_t), intent(in) :: grid          !< block geometry
     integer, intent(in) :: d                  !< face normal
     integer, intent(in) :: j, k               !< the row of high cells
     integer, intent(in) :: i1, i2             !< faces of the row
-    real(wp), intent(inout) :: flux(grid%lo(1):) !< phi_f u_f [m/s] (i1..i2 written)
-    integer :: i, o(3)
-    real(wp) :: u
-    o = 0
-    o(d) = 1
-    do i = i1, i2
-      u = f%uface(i, j, k, d)
-      flux(i) = merge(f%vfrac(i - o(1), j - o(2), k - o(3)), f%vfrac(i, j, k), u >= 0.0_wp) * u
-    end do
-  end subroutine row_volume_flux
+    real(wp), intent(inout) :: flux(grid%lo(1):grid%hi(1) + 1) !< the faces' flux [m/s] (i1..i2)
+    type(ice_fluid_t), intent(in), optional :: fluid       !< a fluid
+    class(ice_solid_view_t), intent(in), optional :: solid !< or the solid
+    integer :: o(3)
+    if (present(solid)) then
+      call upwind_flux(i2 - i1 + 1, solid%uface(i1:i2, j, k, d), &
+        solid%face_fraction(i1:i2, j, k, d), solid%face_fraction_hi(i1:i2, j, k, d), flux(i1:i2))
+    else
+      o = 0
+      o(d) = 1
+      call upwind_flux(i2 - i1 + 1, fluid%uface(i1:i2, j, k, d), &
+        fluid%vfrac(i1 - o(1):i2 - o(1), j - o(2), k - o(3)), fluid%vfrac(i1:i2, j, k), flux(i1:i2))
+    end if
+  end subroutine row_flux
 
-  !> rhs -= dt A (S_hi - S_lo + R_hi - R_lo) on the owned cells for the faces of direction `d`:
-  !! S = phi_s,f u_s,f the solid's volume flux through a face (`row_solid_flux`, once per face
-  !! as in `fluid_flux_rows`), R the rigid bodies' prescribed flux (`rigid_flux`).
-  subroutine solid_flux_rows(solid, grid, dt_area, d, rhs, flux_lo, flux_hi)
-    class(ice_solid_view_t), intent(in) :: solid  !< solid phase of a coupled scene
+  !> flux = phi u through a row of n faces, phi the fraction upwind of each face
+  !! (`flux_fraction`): `low` (the face's low side) for u >= 0, `high` otherwise.
+  pure subroutine upwind_flux(n, u, low, high, flux)
+    integer, intent(in) :: n           !< faces in the row
+    real(wp), intent(in) :: u(n)       !< face velocity [m/s]
+    real(wp), intent(in) :: low(n)     !< fraction on the low side of each face [-]
+    real(wp), intent(in) :: high(n)    !< fraction on its high side [-]
+    real(wp), intent(out) :: flux(n)   !< phi u [m/s]
+    integer :: i
+    do i = 1, n
+      flux(i) = flux_fraction(u(i), low(i), high(i)) * u(i)
+    end do
+  end subroutine upwind_flux
+
+  !> rhs(i, j, k) -= dt A (F_hi(i) - F_lo(i)) on the row (j, k) of owned cells, and with the
+  !! solid `solid` its rigid bodies' prescribed flux R as well: dt A (F_hi - F_lo + R_hi - R_lo)
+  !! (R_hi on the cell's face of offset `o`, R_lo on its own).
+  pure subroutine row_update(grid, dt_area, d, o, j, k, flux_hi, flux_lo, rhs, solid)
     type(grid_t), intent(in) :: grid              !< block geometry
     real(wp), intent(in) :: dt_area               !< dt A [s m^2]
     integer, intent(in) :: d                      !< face direction
+    integer, intent(in) :: o(3)                   !< unit offset of d
+    integer, intent(in) :: j, k                   !< the row of cells
+    real(wp), intent(in) :: flux_hi(grid%lo(1):grid%hi(1)) !< the cells' high faces' F [m/s]
+    real(wp), intent(in) :: flux_lo(grid%lo(1):grid%hi(1)) !< their low faces' F [m/s]
     real(wp), intent(inout) :: rhs(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< rhs [m^3]
-    real(wp), intent(inout) :: flux_lo(grid%lo(1):grid%hi(1) + 1) !< low faces' S [m/s]
-    real(wp), intent(inout) :: flux_hi(grid%lo(1):grid%hi(1) + 1) !< high faces' S [m/s]
-    integer :: i, j, k, i1, i2, o(3)
-    i1 = grid%lo(1)
-    i2 = grid%hi(1)
-    o = 0
-    o(d) = 1
-    associate (rigid => solid%rigid_flux)
-      do k = grid%lo(3), grid%hi(3)
-        do j = grid%lo(2), grid%hi(2)
-          select case (d)
-          case (1)
-            call row_solid_flux(solid, grid, d, j, k, i1, i2 + 1, flux_lo)
-            do i = i1, i2
-              rhs(i, j, k) = rhs(i, j, k) - dt_area * (flux_lo(i + 1) - flux_lo(i) + &
-                rigid(i + 1, j, k, d) - rigid(i, j, k, d))
-            end do
-            cycle
-          case (2)
-            if (j == grid%lo(2)) then
-              call row_solid_flux(solid, grid, d, j, k, i1, i2, flux_lo)
-            else
-              flux_lo(i1:i2) = flux_hi(i1:i2)
-            end if
-            call row_solid_flux(solid, grid, d, j + 1, k, i1, i2, flux_hi)
-          case default
-            call row_solid_flux(solid, grid, d, j, k, i1, i2, flux_lo)
-            call row_solid_flux(solid, grid, d, j, k + 1, i1, i2, flux_hi)
-          end select
-          do i = i1, i2
-            rhs(i, j, k) = rhs(i, j, k) - dt_area * (flux_hi(i) - flux_lo(i) + &
-              rigid(i + o(1), j + o(2), k + o(3), d) - rigid(i, j, k, d))
-          end do
-        end do
-      end do
-    end associate
-  end subroutine solid_flux_rows
-
-  !> The solid's volume flux phi_s,f u_s,f [m/s] through the faces of normal d whose high cell
-  !! is (i, j, k), i = i1..i2 (`flux_fraction` of the face planes' fractions).
-  pure subroutine row_solid_flux(solid, grid, d, j, k, i1, i2, flux)
-    class(ice_solid_view_t), intent(in) :: solid !< solid phase
-    type(grid_t), intent(in) :: grid          !< block geometry
-    integer, intent(in) :: d                  !< face normal
-    integer, intent(in) :: j, k               !< the row of high cells
-    integer, intent(in) :: i1, i2             !< faces of the row
-    real(wp), intent(inout) :: flux(grid%lo(1):) !< phi_s,f u_s,f [m/s] (i1..i2 written)
+    class(ice_solid_view_t), intent(in), optional :: solid !< the solid of a coupled scene
     integer :: i
-    associate (us => solid%uface, low => solid%face_fraction, high => solid%face_fraction_hi)
-      do i = i1, i2
-        flux(i) = flux_fraction(us(i, j, k, d), low(i, j, k, d), high(i, j, k, d)) * us(i, j, k, d)
+    if (present(solid)) then
+      associate (rigid => solid%rigid_flux)
+        do i = grid%lo(1), grid%hi(1)
+          rhs(i, j, k) = rhs(i, j, k) - dt_area * (flux_hi(i) - flux_lo(i) + &
+            rigid(i + o(1), j + o(2), k + o(3), d) - rigid(i, j, k, d))
+        end do
+      end associate
+    else
+      do i = grid%lo(1), grid%hi(1)
+        rhs(i, j, k) = rhs(i, j, k) - dt_area * (flux_hi(i) - flux_lo(i))
       end do
-    end associate
-  end subroutine row_solid_flux
+    end if
+  end subroutine row_update
 
-  !> The solid fraction that crosses a face with solid velocity `u`: the one on the face plane's
-  !! low side (`low`) for u >= 0, on its high side (`high`) otherwise.
+  !> The fraction that crosses a face with velocity `u`: the one on the face's low side (`low`)
+  !! for u >= 0, on its high side (`high`) otherwise (the solid's: on either side of the face
+  !! plane; a fluid's: of the upwind cell).
   elemental real(wp) function flux_fraction(u, low, high) result(phi)
-    real(wp), intent(in) :: u     !< solid face velocity [m/s]
-    real(wp), intent(in) :: low   !< fraction on the low side of the face plane [-]
+    real(wp), intent(in) :: u     !< face velocity [m/s]
+    real(wp), intent(in) :: low   !< fraction on the low side of the face [-]
     real(wp), intent(in) :: high  !< fraction on its high side [-]
     if (u >= 0.0_wp) then
       phi = low
