@@ -41,7 +41,7 @@ import numpy as np
 from postproc.analytic import (carman_kozeny_conductivity, oedometer_modulus,
                                terzaghi_degree_of_consolidation, terzaghi_excess_pressure)
 from postproc.figures import pyplot, save_figure, study_parser
-from postproc.mpmice_io import cell_centres, read_run_dumps
+from postproc.mpmice_io import cell_centres, list_dumps, read_dump, read_run_dumps
 from postproc.run_case import ROOT, run_mpmice
 
 NAMELIST = os.path.join(ROOT, "namelists", "mpmice_terzaghi_1d.nml")
@@ -107,6 +107,16 @@ def pressure_profile(dump: dict, reference_pressure: float = PARAMS["reference_p
     """(y [m], excess pressure [Pa]) along y of a 1D-in-y dump (from :func:`read_dump`)."""
     _, y, _ = cell_centres(dump)
     return y, dump["cell"]["pressure"][0, :, 0] - reference_pressure
+
+
+def excess_profiles(out: str) -> list[tuple[float, np.ndarray, np.ndarray]]:
+    """(time, y, excess pressure) of every dump of the run in ``out`` after the first."""
+    result = []
+    for path in list_dumps(out, NAME)[1:]:
+        dump = read_dump(path)
+        y, excess = pressure_profile(dump)
+        result.append((float(dump["time"]), y, excess))
+    return result
 
 
 def relative_l2(numeric: np.ndarray, exact: np.ndarray) -> float:

@@ -46,16 +46,6 @@ def clay_moduli(min_pressure: float, porosity: float = P["porosity"],
     return bulk, 1.5 * bulk * (1.0 - 2.0 * nu) / (1.0 + nu)
 
 
-def excess_profiles(out):
-    """(time, y, excess pressure) of every dump after the first."""
-    result = []
-    for path in list_dumps(out, mpmice_terzaghi.NAME)[1:]:
-        dump = read_dump(path)
-        y, excess = mpmice_terzaghi.pressure_profile(dump)
-        result.append((float(dump["time"]), y, excess))
-    return result
-
-
 def test_clay_moduli_and_skempton_b():
     """K = (1/0.7) 1000 / 0.04 = 35.7 kPa, E_oed = 57.7 kPa, B = 0.9999914."""
     bulk, shear = clay_moduli(1.0e3)
@@ -79,7 +69,7 @@ def test_cam_clay_undrained_column_builds_pore_pressure(solver, tmp_path):
                cwd=str(tmp_path), timeout=300)
     bulk, shear = clay_moduli(1.0e3)
     b = 1.0 / (1.0 + P["porosity"] * (bulk + 4.0 / 3.0 * shear) / P["bulk_modulus"])
-    profiles = excess_profiles(out)
+    profiles = mpmice_terzaghi.excess_profiles(out)
     late = [(t, p) for t, _, p in profiles if t >= 0.03 - 1e-12]
     assert len(late) >= 4
     for time, excess in late:
@@ -105,7 +95,7 @@ def test_cam_clay_below_p_min_consolidates_as_terzaghi(solver, tmp_path):
     bulk, _ = clay_moduli(1.0e5)
     params = dict(P, youngs_modulus=3.0 * bulk * (1.0 - 2.0 * P["poisson_ratio"]))
     c_v, p0 = mpmice_terzaghi.consolidation_constants(params)
-    profiles = excess_profiles(out)
+    profiles = mpmice_terzaghi.excess_profiles(out)
     assert profiles[-1][0] == pytest.approx(0.25)
     checked = 0
     for time, y, excess in profiles:

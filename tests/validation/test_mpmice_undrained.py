@@ -79,16 +79,6 @@ def solver(mpmice_exe, monkeypatch):
     monkeypatch.setenv("MPMICE_EXE", str(mpmice_exe))
 
 
-def excess_profiles(out):
-    """(time, y, excess pressure) of every dump after the first."""
-    result = []
-    for path in list_dumps(out, mpmice_terzaghi.NAME)[1:]:
-        dump = read_dump(path)
-        y, excess = mpmice_terzaghi.pressure_profile(dump)
-        result.append((float(dump["time"]), y, excess))
-    return result
-
-
 UNDRAINED_END = 0.05   # s
 
 
@@ -98,7 +88,7 @@ def undrained_run(tmp_path, nranks):
                 "--set", f"&run end_time = {UNDRAINED_END}, output_interval = 0.005, "
                          f"output_dir = '{out}' /"],
                nranks=nranks, cwd=str(tmp_path), timeout=300)
-    return excess_profiles(out)
+    return mpmice_terzaghi.excess_profiles(out)
 
 
 def test_undrained_column_holds_skempton_pressure(solver, tmp_path):
@@ -170,7 +160,7 @@ def test_drained_base_is_mirrored_terzaghi(solver, tmp_path):
     run_mpmice(mpmice_terzaghi.fixed_dt_args(100, P["grain_size"], 5.0e-6, 0.25, 0.0125, out)
                + ["--set", PLATEN, "--set", DRAINED_BASE], cwd=str(tmp_path), timeout=300)
     c_v, p0 = mpmice_terzaghi.consolidation_constants()
-    profiles = excess_profiles(out)
+    profiles = mpmice_terzaghi.excess_profiles(out)
     assert profiles[-1][0] == pytest.approx(0.25)
     assert len(profiles) == 20
     for time, y, excess in profiles:
@@ -194,7 +184,7 @@ def test_drained_base_adaptive_step_has_no_dump_spike(solver, tmp_path):
              "--set", f"&run end_time = 0.05, output_interval = 0.0125, output_dir = '{out}' /"]
     run_mpmice(args, cwd=str(tmp_path), timeout=300)
     _, p0 = mpmice_terzaghi.consolidation_constants()
-    profiles = excess_profiles(out)
+    profiles = mpmice_terzaghi.excess_profiles(out)
     assert len(profiles) == 4
     for time, y, excess in profiles:
         exact = mirrored_excess_pressure(y, time)
