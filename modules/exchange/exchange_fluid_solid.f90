@@ -156,10 +156,12 @@ contains
         call face_pair_mean(pl, pr, ghost_side, phi, wl, wr)
       end if
       if (sp%plane_drag .and. .not. sp%sliding) then
-        ! each half cell's solid share from its side of the face plane: the empty half of a
-        ! cell crossed by the solid's free surface adds no resistance
-        pl = sp%face_fraction(i, j, k, d)
-        pr = sp%face_fraction_hi(i, j, k, d)
+        ! each half cell with the solid fraction in it (the high half of the low cell, the low
+        ! half of the high cell): a half cell resists as the length of solid it holds, so the
+        ! empty half of a cell crossed by the solid's free surface adds nothing and the two
+        ! halves of a cell together resist as the cell
+        pl = sp%half_high(i - o(1), j - o(2), k - o(3), d)
+        pr = sp%half_low(i, j, k, d)
       end if
       if (ghost_side == 1) pl = 0.0_wp
       if (ghost_side == 2) pr = 0.0_wp

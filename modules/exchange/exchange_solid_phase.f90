@@ -29,9 +29,13 @@ module exchange_solid_phase
                                                 !! velocities alone [m/s]
     real(wp), allocatable :: rigid_face(:, :, :, :) !< 1 where the face velocity is prescribed
     logical :: explicit_drag = .false.          !< explicit (forward Euler) drag, for comparison
-    !> face drag: each half cell's solid share from its side of the face plane (`face_fraction`,
-    !! `face_fraction_hi`) instead of its cell's fraction (`&coupling face_drag = 'face_plane'`)
+    !> face drag: each half cell of a face (its two sides of the face plane) with the solid
+    !! fraction in that half (`half_low`, `half_high`) instead of its cell's fraction
+    !! (`&coupling face_drag = 'face_plane'`)
     logical :: plane_drag = .false.
+    real(wp), allocatable :: half_low(:, :, :, :)  !< solid fraction in the cell's low half
+                                                   !! along direction d (i,j,k,d) [-]
+    real(wp), allocatable :: half_high(:, :, :, :) !< the same in its high half [-]
     real(wp), allocatable :: heat_cap(:, :, :)  !< heat capacity per volume rho_bar_s c_s [J/m^3/K]
     real(wp), allocatable :: conductance(:, :, :) !< phi_s k_s of the grains [W/m/K]
     real(wp), allocatable :: temp(:, :, :)      !< solid cell temperature [K]: m c T / m c at the
@@ -96,6 +100,7 @@ contains
       allocate(s%source, s%rho, s%spvol, s%kappa, s%heat_cap, s%conductance, s%temp, &
         s%frac_def, s%xfrac, s%frac_rigid, source=s%vfrac)
       allocate(s%vel(l(1):u(1), l(2):u(2), l(3):u(3), 3), source=0.0_wp)
+      allocate(s%half_low, s%half_high, source=s%vel)
       allocate(s%drag(l(1):u(1), l(2):u(2), l(3):u(3), max(nfluids, 1)), source=0.0_wp)
       allocate(s%uface(l(1):uf(1), l(2):uf(2), l(3):uf(3), 3), source=0.0_wp)
       allocate(s%uface0, s%vface, s%rigid_face, s%face_fraction, s%face_fraction_hi, &
@@ -110,6 +115,7 @@ contains
       solid%kappa, solid%vel, solid%drag, solid%uface, solid%uface0, solid%vface, &
       solid%rigid_face, solid%face_fraction, solid%face_fraction_hi, solid%heat_cap, &
       solid%conductance, solid%temp, solid%rigid_flux, solid%rigid_fraction, &
-      solid%rigid_fraction_hi, solid%frac_def, solid%xfrac, solid%frac_rigid, solid%platen_coef)
+      solid%rigid_fraction_hi, solid%frac_def, solid%xfrac, solid%frac_rigid, solid%platen_coef, &
+      solid%half_low, solid%half_high)
   end subroutine solid_phase_free
 end module exchange_solid_phase

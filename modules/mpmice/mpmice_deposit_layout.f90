@@ -16,7 +16,9 @@
 !! * `lay%own_high(d)`: the grain fraction on the cell's own (low) side of its high face plane in
 !!   direction d [-];
 !! * `lay%rigid_low(d)`, `lay%rigid_high(d)`: a sliding rigid body's `plane_low` and
-!!   `plane_high` [-].
+!!   `plane_high` [-];
+!! * `lay%half_low(d)`: the grain volume in the cell's low half along direction d [m^3] (the
+!!   high half holds the rest of `deposit_grain_volume`).
 !!
 !! The indices follow in this order, the planes' directions interleaved (low, high, low, ...).
 !! `lay%size` = `deposit_size(ns)` components in all. The indices of the three directions of one
@@ -43,6 +45,7 @@ module mpmice_deposit_layout
     integer :: own_high(3) = 0      !< own (low) side of the cell's high face plane
     integer :: rigid_low(3) = 0     !< a sliding rigid body's plane_low
     integer :: rigid_high(3) = 0    !< a sliding rigid body's plane_high
+    integer :: half_low(3) = 0      !< grain volume in the cell's low half, per direction
     integer :: size = 0             !< number of components
   end type deposit_layout_t
 
@@ -68,7 +71,10 @@ contains
       lay%rigid_low(d) = lay%own_high(3) + 2 * d - 1
       lay%rigid_high(d) = lay%rigid_low(d) + 1
     end do
-    lay%size = lay%rigid_high(3)
+    do d = 1, 3
+      lay%half_low(d) = lay%rigid_high(3) + d
+    end do
+    lay%size = lay%half_low(3)
   end function deposit_layout
 
   !> Grain volume of solid `s` [m^3].

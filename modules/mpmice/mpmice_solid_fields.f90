@@ -40,7 +40,7 @@ contains
     type(solid_coupling_t), intent(in) :: solids(:) !< coupling parameters per solid
     real(wp), intent(in) :: max_fraction        !< largest solid fraction [-]
     real(wp), intent(out) :: phi_p(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< particle fraction
-    integer :: i, j, k, s, m, ns, ilo(2), ihi(2), irlo(2), irhi(2), icap, iene, icond
+    integer :: i, j, k, s, m, ns, ilo(2), ihi(2), irlo(2), irhi(2), icap, iene, icond, d
     type(deposit_layout_t) :: lay
     real(wp) :: vol, phi, cs, rho_f, slip, wsum, phi_body, scale, vol_imp, phi_imp, fs
     logical :: mixed
@@ -62,6 +62,16 @@ contains
           do i = grid%lbc(1), grid%ubc(1)
             sp%face_fraction(i, j, k, :) = min(dep(ilo(1):ilo(2):2, i, j, k), max_fraction)
             sp%face_fraction_hi(i, j, k, :) = min(dep(ihi(1):ihi(2):2, i, j, k), max_fraction)
+            ! the solid fraction in each half of the cell along d: its grain volume there over
+            ! the half cell's volume (the two halves average to the particles' cell fraction)
+            do d = 1, 3
+              vol = dep(lay%half_low(d), i, j, k)
+              sp%half_low(i, j, k, d) = min(max(2.0_wp * vol / grid%cell_volume, 0.0_wp), &
+                max_fraction)
+              vol = dep(deposit_grain_volume, i, j, k) - vol
+              sp%half_high(i, j, k, d) = min(max(2.0_wp * vol / grid%cell_volume, 0.0_wp), &
+                max_fraction)
+            end do
             if (sp%sliding) then
               sp%rigid_fraction(i, j, k, :) = min(dep(irlo(1):irlo(2):2, i, j, k), max_fraction)
               sp%rigid_fraction_hi(i, j, k, :) = min(dep(irhi(1):irhi(2):2, i, j, k), &
