@@ -40,7 +40,7 @@ contains
   !! the fluids (the tracked solid volume of a block sliding 1.5 cm on a 45 deg slope fell by 0.05
   !! cell volumes, which a closed box of water turned into -230 kPa), and the soil's lowest
   !! particles pass through them.
-  subroutine solid_deposit(p, s, nsolids, solid, grid, dep, sliding, wall_frac, dt)
+  subroutine solid_deposit(p, s, nsolids, solid, grid, dep, sliding, wall_frac, dt, halves)
     type(particles_t), intent(in) :: p          !< particles of solid s
     integer, intent(in) :: s                    !< solid index
     integer, intent(in) :: nsolids              !< number of solids
@@ -51,12 +51,16 @@ contains
     real(wp), intent(in), optional :: wall_frac(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !<
                                                 !! rigid fraction of the cells (previous deposit)
     real(wp), intent(in), optional :: dt        !< step [s]: plane fractions swept over it
+    logical, intent(in), optional :: halves     !< the half-cell grain volumes too (the
+                                                !! face-plane drag; without it they stay 0)
     integer :: ip, d, k, a, b, c, first(3), nc(3), nf(3), ff(3), e, cb(3), nt, tgt(3, 6)
     integer :: ilo(3), ihi(3), iown(3), ivol, icap, iene, icond, ihalf(3), idx(3)
     type(deposit_layout_t) :: lay
     real(wp) :: w(2, 3), wt, vg, l(3), lo, hi, wf, mc, tw(6), step, sup, sdn, wlo, whi, wlo0, whi0
     real(wp) :: r(2, 3)
-    logical :: own_planes, redirect, sweep, own
+    logical :: own_planes, redirect, sweep, own, with_halves
+    with_halves = .false.
+    if (present(halves)) with_halves = halves
     own_planes = .false.
     if (present(sliding)) own_planes = sliding .and. solid%rigid
     redirect = .false.
@@ -82,7 +86,7 @@ contains
       l = deformed_half_widths(p, ip, grid)
       do d = 1, 3
         call overlap_weights(grid, d, p%x(d, ip), l(d), first(d), nc(d), w(:, d))
-        r(:, d) = low_half_shares(grid, d, p%x(d, ip), l(d), first(d), nc(d))
+        if (with_halves) r(:, d) = low_half_shares(grid, d, p%x(d, ip), l(d), first(d), nc(d))
       end do
       ! the grain fraction V_g / (2 l A_face) the particle puts on each face plane its domain
       ! [lo, hi] (in cells) reaches, on the plane's low side (lo < k <= hi) and on its high side
@@ -161,9 +165,11 @@ contains
                 q(icap) = q(icap) + tw(e) * wt * mc
                 q(iene) = q(iene) + tw(e) * wt * mc * p%temperature(ip)
                 q(icond) = q(icond) + tw(e) * wt * vg * solid%conductivity
-                do d = 1, 3
-                  q(ihalf(d)) = q(ihalf(d)) + tw(e) * wt * vg * r(idx(d), d)
-                end do
+                if (with_halves) then
+                  do d = 1, 3
+                    q(ihalf(d)) = q(ihalf(d)) + tw(e) * wt * vg * r(idx(d), d)
+                  end do
+                end if
               end associate
             end do
           end do

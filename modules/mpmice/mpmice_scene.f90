@@ -262,7 +262,8 @@ contains
         self%static_dep = 0.0_wp
         do s = 1, ns
           if (self%so%static(s)) call solid_deposit(self%so%parts(s), s, ns, &
-            self%coupling(s), grid, self%static_dep, self%solid%sliding)
+            self%coupling(s), grid, self%static_dep, self%solid%sliding, &
+            halves=self%solid%plane_drag)
         end do
         self%static_dep_ready = .true.
       end if
@@ -273,7 +274,7 @@ contains
     do s = 1, ns
       if (self%so%static(s)) cycle
       call solid_deposit(self%so%parts(s), s, ns, self%coupling(s), grid, self%dep, &
-        self%solid%sliding, self%solid%frac_rigid, dt)
+        self%solid%sliding, self%solid%frac_rigid, dt, self%solid%plane_drag)
     end do
     call halo_reverse_cell_vec(self%halo, dom, grid, self%dep)
     call solid_cell_fields(self%fl%state, self%solid, grid, self%dep, self%coupling, &

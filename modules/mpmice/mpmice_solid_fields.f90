@@ -63,15 +63,18 @@ contains
             sp%face_fraction(i, j, k, :) = min(dep(ilo(1):ilo(2):2, i, j, k), max_fraction)
             sp%face_fraction_hi(i, j, k, :) = min(dep(ihi(1):ihi(2):2, i, j, k), max_fraction)
             ! the solid fraction in each half of the cell along d: its grain volume there over
-            ! the half cell's volume (the two halves average to the particles' cell fraction)
-            do d = 1, 3
-              vol = dep(lay%half_low(d), i, j, k)
-              sp%half_low(i, j, k, d) = min(max(2.0_wp * vol / grid%cell_volume, 0.0_wp), &
-                max_fraction)
-              vol = dep(deposit_grain_volume, i, j, k) - vol
-              sp%half_high(i, j, k, d) = min(max(2.0_wp * vol / grid%cell_volume, 0.0_wp), &
-                max_fraction)
-            end do
+            ! the half cell's volume (the two halves average to the particles' cell fraction);
+            ! only the face-plane drag reads them
+            if (sp%plane_drag) then
+              do d = 1, 3
+                vol = dep(lay%half_low(d), i, j, k)
+                sp%half_low(i, j, k, d) = min(max(2.0_wp * vol / grid%cell_volume, 0.0_wp), &
+                  max_fraction)
+                vol = dep(deposit_grain_volume, i, j, k) - vol
+                sp%half_high(i, j, k, d) = min(max(2.0_wp * vol / grid%cell_volume, 0.0_wp), &
+                  max_fraction)
+              end do
+            end if
             if (sp%sliding) then
               sp%rigid_fraction(i, j, k, :) = min(dep(irlo(1):irlo(2):2, i, j, k), max_fraction)
               sp%rigid_fraction_hi(i, j, k, :) = min(dep(irhi(1):irhi(2):2, i, j, k), &
