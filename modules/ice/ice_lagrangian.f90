@@ -27,9 +27,10 @@
 module ice_lagrangian
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
-  use ice_state, only: ice_state_t, ice_fluid_t
+  use ice_state, only: ice_state_t
   use ice_solid_view, only: ice_solid_view_t
   use ice_advection, only: potential_gravity
+  use ice_pressure_flux, only: volume_flux_rows
   implicit none
   private
 
@@ -38,8 +39,9 @@ module ice_lagrangian
 contains
 
   !> Fill `lag(:,:,:,1:5)` = (u, v, w, cv T, v) after the Lagrangian sources, owned cells.
-  !! Needs the face pressures and face velocities of the owned cells. The rows of the mixture
-  !! correction are the state's work storage (`ice_work_t`): nothing is allocated here.
+  !! Needs the face pressures and face velocities of the owned cells. The cell field and the rows
+  !! of the mixture correction are the state's work storage (`ice_work_t`): nothing is allocated
+  !! here.
   subroutine ice_lagrangian_values(state, grid, dt, gravity, sources, solid)
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
     type(grid_t), intent(in) :: grid           !< block geometry
@@ -50,35 +52,34 @@ contains
     real(wp), intent(in) :: sources(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :, :)
     !> the solid phase of a coupled scene (no mixture-energy correction with it)
     class(ice_solid_view_t), intent(in), optional :: solid
-    call lagrangian_rows(state, grid, dt, gravity, sources, state%work%work_row, &
-      state%work%flux_lo, state%work%flux_hi, state%work%flux_y, solid)
+    call lagrangian_rows(state, grid, dt, gravity, sources, state%work%pressure_work, &
+      state%work%flux_lo, state%work%flux_hi, solid)
   end subroutine ice_lagrangian_values
 
-  !> `ice_lagrangian_values` with its rows as explicit-shape arguments (from the work storage,
+  !> `ice_lagrangian_values` with its work as explicit-shape arguments (from the work storage,
   !! which is at least this large; not referenced through `state` here).
-  subroutine lagrangian_rows(state, grid, dt, gravity, sources, work_row, flux_lo, flux_hi, &
-    flux_y, solid)
+  subroutine lagrangian_rows(state, grid, dt, gravity, sources, pressure_work, flux_lo, flux_hi, &
+    solid)
     type(ice_state_t), intent(inout) :: state  !< fluids and pressure fields
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dt                 !< time step [s]
     real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
     !> viscous momentum (1:3) [kg m/s] and conducted heat (4) [J] per fluid
     real(wp), intent(in) :: sources(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):, :, :)
-    ! one row of cells: the pressure work through their faces, and the face fluxes p_f u_f phi_f
-    ! of the row's low and high faces (face i between cells i - o and i)
-    real(wp), intent(inout) :: work_row(grid%lo(1):grid%hi(1))        !< pressure work [J]
+    !> the pressure work of a fluid through the faces of each cell [J]
+    real(wp), intent(inout) :: pressure_work(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+      grid%lbc(3):grid%ubc(3))
+    ! the face fluxes p_f u_f phi_f of a row's low and high faces (face i between cells i - o
+    ! and i)
     real(wp), intent(inout) :: flux_lo(grid%lo(1):grid%hi(1) + 1)     !< low faces [Pa m/s]
     real(wp), intent(inout) :: flux_hi(grid%lo(1):grid%hi(1) + 1)     !< high faces [Pa m/s]
-    real(wp), intent(inout) :: flux_y(grid%lo(1):grid%hi(1))  !< high y faces of the last row
     !> the solid phase of a coupled scene (no mixture-energy correction with it)
     class(ice_solid_view_t), intent(in), optional :: solid
-    integer :: d, m, i, j, k, o(3), i1, i2
-    real(wp) :: mass, vol, mom, work, phi, fac, g_kinetic(3)
+    integer :: d, m, i, j, k, o(3)
+    real(wp) :: mass, vol, mom, work, phi, g_kinetic(3)
     logical :: mixture
 
     vol = grid%cell_volume
-    i1 = grid%lo(1)
-    i2 = grid%hi(1)
     ! the conservative mixture-energy correction (module header), not with a solid phase
     mixture = .not. present(solid)
     ! gravity work that stays kinetic: the components not carried as potential energy
@@ -88,46 +89,26 @@ contains
       grid%lo(3):grid%hi(3), :) = 0.0_wp
     do m = 1, state%nfluids
       associate (f => state%fluid(m))
+        ! pressure work through the faces with the fluid's upwind volume flux, also where the
+        ! fluid has no mass (its volume flux into a neighbour works on the cell): the sweep of
+        ! the pressure equation's volume flux (`volume_flux_rows`) with the flux p_f phi_f u_f,
+        ! each face's flux once
+        if (mixture) then
+          pressure_work(grid%lo(1):grid%hi(1), grid%lo(2):grid%hi(2), grid%lo(3):grid%hi(3)) = &
+            0.0_wp
+          do d = 1, 3
+            if (.not. grid%active(d)) cycle
+            call volume_flux_rows(grid, dt * vol / grid%dx(d), d, pressure_work, flux_lo, &
+              flux_hi, fluid=f, pface=state%pface)
+          end do
+        end if
         do k = grid%lo(3), grid%hi(3)
           do j = grid%lo(2), grid%hi(2)
-            ! pressure work through the faces with the fluid's upwind volume flux, also where
-            ! the fluid has no mass (its volume flux into a neighbour works on the cell): per
-            ! row, each face's flux once (along x the high face of a cell is the low face of the
-            ! next; along y the high faces of a row are the low faces of the next row)
-            if (mixture) then
-              work_row = 0.0_wp
-              do d = 1, 3
-                if (.not. grid%active(d)) cycle
-                fac = dt * vol / grid%dx(d)
-                select case (d)
-                case (1)
-                  call row_face_flux(f, state, grid, d, j, k, i1, i2 + 1, flux_lo)
-                  do i = i1, i2
-                    work_row(i) = work_row(i) - fac * (flux_lo(i + 1) - flux_lo(i))
-                  end do
-                  cycle
-                case (2)
-                  if (j == grid%lo(2)) then
-                    call row_face_flux(f, state, grid, d, j, k, i1, i2, flux_lo)
-                  else
-                    flux_lo(i1:i2) = flux_y(i1:i2)
-                  end if
-                  call row_face_flux(f, state, grid, d, j + 1, k, i1, i2, flux_hi)
-                  flux_y(i1:i2) = flux_hi(i1:i2)
-                case default
-                  call row_face_flux(f, state, grid, d, j, k, i1, i2, flux_lo)
-                  call row_face_flux(f, state, grid, d, j, k + 1, i1, i2, flux_hi)
-                end select
-                do i = i1, i2
-                  work_row(i) = work_row(i) - fac * (flux_hi(i) - flux_lo(i))
-                end do
-              end do
-            end if
             do i = grid%lo(1), grid%hi(1)
               mass = f%rho(i, j, k) * vol
               phi = f%vfrac(i, j, k)
               work = 0.0_wp
-              if (mixture) work = work_row(i)
+              if (mixture) work = pressure_work(i, j, k)
               if (mass <= 0.0_wp) then
                 f%lag(i, j, k, 1:3) = 0.0_wp
                 f%lag(i, j, k, 4) = f%eos%cv * f%temp(i, j, k)
@@ -179,26 +160,4 @@ contains
       end associate
     end do
   end subroutine lagrangian_rows
-
-  !> p_f u_f phi_f of fluid `f` on the faces of normal d whose high cell is (i, j, k),
-  !! i = i1..i2: face pressure times face velocity times the upwind cell's volume fraction (the
-  !! `upwind` of ice_face_velocity, inline), into flux(i1:i2).
-  pure subroutine row_face_flux(f, state, grid, d, j, k, i1, i2, flux)
-    type(ice_fluid_t), intent(in) :: f        !< the fluid
-    type(ice_state_t), intent(in) :: state    !< face pressures
-    type(grid_t), intent(in) :: grid          !< block geometry
-    integer, intent(in) :: d                  !< face normal
-    integer, intent(in) :: j, k               !< the row of high cells
-    integer, intent(in) :: i1, i2             !< faces of the row
-    real(wp), intent(inout), contiguous :: flux(grid%lo(1):) !< p_f u_f phi_f [Pa m/s] (i1..i2)
-    integer :: i, o(3)
-    real(wp) :: u
-    o = 0
-    o(d) = 1
-    do i = i1, i2
-      u = f%uface(i, j, k, d)
-      flux(i) = state%pface(i, j, k, d) * u * merge(f%vfrac(i - o(1), j - o(2), k - o(3)), &
-        f%vfrac(i, j, k), u >= 0.0_wp)
-    end do
-  end subroutine row_face_flux
 end module ice_lagrangian

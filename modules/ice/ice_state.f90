@@ -34,7 +34,8 @@ module ice_state
   !> Work storage of the stages, allocated with the state so that no stage allocates in the
   !! time loop: rows along x (cells and faces lbc(1)..ubc(1) + 1; face i of a row is the low face
   !! of cell i) for the sweeps of `ice_viscous`, `ice_lagrangian`, `ice_advection` and
-  !! `ice_pressure`, a cell field of `ice_face_pressures` and the per-fluid flags of
+  !! `ice_pressure`, a cell field of `ice_face_pressures` and one of `ice_lagrangian` (a
+  !! fluid's pressure work through the faces) and the per-fluid flags of
   !! `ice_equilibration`. A stage passes them to its worker as explicit-shape
   !! arguments of the extent it needs (at most the allocated one).
   type :: ice_work_t
@@ -42,10 +43,8 @@ module ice_state
     real(wp), allocatable :: tau_hi(:, :)   !< viscous stress of the high faces (i, component) [Pa]
     !> `row_stress` work per face: coefficient, normal derivatives (3), transverse (3), divergence
     real(wp), allocatable :: stress(:, :)
-    real(wp), allocatable :: work_row(:)    !< pressure work of a row of cells [J]
     real(wp), allocatable :: flux_lo(:)     !< face fluxes p_f u_f phi_f of the low faces
     real(wp), allocatable :: flux_hi(:)     !< face fluxes p_f u_f phi_f of the high faces
-    real(wp), allocatable :: flux_y(:)      !< the high y faces of the previous row
     logical, allocatable :: pos(:)          !< advection: upwind cell is the low one (u > 0)
     real(wp), allocatable :: urow(:)        !< advection: face velocities [m/s]
     real(wp), allocatable :: dist(:)        !< advection: centroid offset of the swept volume [m]
@@ -56,6 +55,7 @@ module ice_state
     real(wp), allocatable :: yc(:)          !< cell-centre coordinates along y [m]
     real(wp), allocatable :: zc(:)          !< cell-centre coordinates along z [m]
     real(wp), allocatable :: cell_weight(:, :, :) !< face pressures: the cells' weights [kg/m^3]
+    real(wp), allocatable :: pressure_work(:, :, :) !< Lagrangian values: pressure work [J]
     logical, allocatable :: active(:)       !< equilibration: fluids in the volume sum
     logical, allocatable :: trace_active(:) !< equilibration: the same without the traces
   end type ice_work_t
@@ -128,13 +128,14 @@ contains
     integer, intent(in) :: nfluids         !< number of fluids
     real(wp), allocatable :: row(:)
     allocate(row(l(1):u(1) + 1), source=0.0_wp)
-    allocate(work%work_row, work%flux_lo, work%flux_hi, work%flux_y, work%urow, work%dist, &
+    allocate(work%flux_lo, work%flux_hi, work%urow, work%dist, &
       work%mflux, work%qf, source=row)
     allocate(work%pos(l(1):u(1) + 1), source=.false.)
     allocate(work%tau_lo(l(1):u(1) + 1, 3), work%tau_hi(l(1):u(1) + 1, 3), &
       work%vf(l(1):u(1) + 1, 3), work%stress(l(1):u(1) + 1, 8), source=0.0_wp)
     allocate(work%xc(l(1):u(1)), work%yc(l(2):u(2)), work%zc(l(3):u(3)), source=0.0_wp)
-    allocate(work%cell_weight(l(1):u(1), l(2):u(2), l(3):u(3)), source=0.0_wp)
+    allocate(work%cell_weight(l(1):u(1), l(2):u(2), l(3):u(3)), work%pressure_work(l(1):u(1), &
+      l(2):u(2), l(3):u(3)), source=0.0_wp)
     allocate(work%active(nfluids), work%trace_active(nfluids), source=.false.)
   end subroutine work_alloc
 
