@@ -416,7 +416,8 @@ contains
   !! `&solid` and no `&fluid`, 'mpmice' at least one of each. The range checks of `&solid` and
   !! `&fluid` apply in every scene (so 'mpmice' gets those of 'ice' and 'mpm'); in particular
   !! `grain_size` > 0, which the drag laws 'kozeny_carman' and 'beetstra' need, and
-  !! 0 <= `porosity` < 1 are checked for every solid, rigid ones included.
+  !! 0 <= `porosity` < 1 are checked for every solid, rigid ones included. In 'mpmice' the
+  !! face-plane drag (`&coupling face_drag`) excludes frictional contact of rigid bodies.
   subroutine check_scene(cfg, err)
     type(config_t), intent(in) :: cfg           !< configuration
     type(config_error_t), intent(inout) :: err  !< problem record
@@ -439,6 +440,15 @@ contains
       if (cfg%nfluids < 1 .or. cfg%nsolids < 1) then
         call set_error(err, 'run', 'scene', quoted(cfg%run%scene), 'scene ''mpmice'' needs ' &
           // 'at least one &fluid group and at least one &solid group' // counts)
+      end if
+      ! the face-plane drag splits one solid phase's deposit; with frictional contact of rigid
+      ! bodies the faces take each solid's own fraction instead (`solid_face_partner`)
+      if (.not. err%found .and. trim(cfg%coupling%face_drag) == 'face_plane' .and. &
+        trim(cfg%mpm%rigid_contact) == 'friction' .and. &
+        any(cfg%solids(1:cfg%nsolids)%model == 'rigid')) then
+        call set_error(err, 'coupling', 'face_drag', quoted(cfg%coupling%face_drag), &
+          '''cell'' with &mpm rigid_contact = ''friction'' and a rigid &solid (the face-plane ' &
+          // 'drag does not apply to sliding rigid bodies)')
       end if
     case default
       ! other scenes take no &fluid or &solid groups into account

@@ -196,6 +196,11 @@ BAD_MPMICE_INPUTS = [
     ("modulus_exponent_above_one", "", ["&solid name = 'soil', model = 'mohr_coulomb', "
                                          "friction_angle = 30, modulus_exponent = 1.5 /"],
      ["--set", "&solid(1) modulus_exponent = 1.5", "0 <= m <= 1"]),
+    ("face_plane_with_sliding_rigid",
+     "&solid name = 'bed', model = 'rigid', drag_law = 'impermeable', upper = 1, 0.1, 1 /",
+     ["&mpm rigid_contact = 'friction' /", "&coupling face_drag = 'face_plane' /"],
+     ["--set", "&coupling face_drag = 'face_plane'", "'cell' with &mpm rigid_contact = "
+      "'friction' and a rigid &solid"]),
     ("traction_ramp_time_negative", "", ["&solid name = 'soil', traction_ramp_time = -1 /"],
      ["--set", "&solid(1) traction_ramp_time = -1.0", ">= 0 [s]"]),
     ("solid_outside_domain", "&solid name = 's2', lower = 0, 1.5, 0, upper = 1, 2, 1 /", [],
