@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import csv
 import os
+import tempfile
 
 from postproc.run_case import ROOT
 
@@ -40,6 +41,19 @@ def parse_study_args(parser: argparse.ArgumentParser, argv=None) -> argparse.Nam
     args = parser.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
     return args
+
+
+def run_study(doc: str, run, report, plot, write_csv, stem: str, argv=None) -> int:
+    """The ``main`` of a study with ``--out`` and ``--nranks`` (:func:`study_parser`): ``results =
+    run(workdir, nranks=N)`` in a temporary folder, then ``report(results)``, ``plot(results,
+    OUT/stem.png)`` and ``write_csv(results, OUT/stem.csv)``; returns 0."""
+    args = parse_study_args(study_parser(doc, nranks=True), argv)
+    with tempfile.TemporaryDirectory() as work:
+        results = run(work, nranks=args.nranks)
+    report(results)
+    plot(results, os.path.join(args.out, stem + ".png"))
+    write_csv(results, os.path.join(args.out, stem + ".csv"))
+    return 0
 
 
 def pyplot():

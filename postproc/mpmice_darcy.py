@@ -21,12 +21,11 @@ mpmice_darcy.png (U_f against dp, exact lines and numeric markers per phi_s) and
 from __future__ import annotations
 
 import os
-import tempfile
 
 import numpy as np
 
 from postproc.analytic import darcy_pore_velocity
-from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
+from postproc.figures import pyplot, run_study, save_figure
 from postproc.mpmice_io import cell_centres, read_run_dumps
 from postproc.run_case import ROOT, run_mpmice
 
@@ -196,14 +195,7 @@ def plot(results: list[dict], path: str) -> None:
 
 
 def main(argv=None) -> int:
-    parser = study_parser(__doc__, nranks=True)
-    args = parse_study_args(parser, argv)
-    with tempfile.TemporaryDirectory() as work:
-        results = run_darcy(work, nranks=args.nranks)
-    print_table(results)
-    plot(results, os.path.join(args.out, "mpmice_darcy.png"))
-    write_csv(results, os.path.join(args.out, "mpmice_darcy.csv"))
-    return 0
+    return run_study(__doc__, run_darcy, print_table, plot, write_csv, "mpmice_darcy", argv)
 
 
 if __name__ == "__main__":

@@ -18,12 +18,11 @@ dp: the quadratic law's and Darcy's lines, the numeric markers).
 from __future__ import annotations
 
 import os
-import tempfile
 
 import numpy as np
 
 from postproc import mpmice_darcy
-from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
+from postproc.figures import pyplot, run_study, save_figure
 
 MU = mpmice_darcy.MU                 # Pa s
 RHO = 999.8                          # kg/m^3, the namelist's water at p_ref
@@ -146,14 +145,7 @@ def plot(results: list[dict], path: str) -> None:
 
 
 def main(argv=None) -> int:
-    parser = study_parser(__doc__, nranks=True)
-    args = parse_study_args(parser, argv)
-    with tempfile.TemporaryDirectory() as work:
-        results = run_forchheimer(work, nranks=args.nranks)
-    print_table(results)
-    plot(results, os.path.join(args.out, "mpmice_forchheimer.png"))
-    write_csv(results, os.path.join(args.out, "mpmice_forchheimer.csv"))
-    return 0
+    return run_study(__doc__, run_forchheimer, print_table, plot, write_csv, "mpmice_forchheimer", argv)
 
 
 if __name__ == "__main__":
