@@ -208,12 +208,7 @@ contains
     integer :: c
     r = 0.5_wp
     if (.not. grid%active(d)) return
-    a = (x - l - grid%lower(d)) / grid%dx(d)
-    b = (x + l - grid%lower(d)) / grid%dx(d)
-    if (.not. grid%periodic(d)) then
-      a = max(a, 0.0_wp)
-      b = min(b, real(grid%ncells(d), wp))
-    end if
+    call domain_in_cells(grid, d, x, l, a, b)
     r = 0.0_wp
     do c = 1, n
       ! cell first + c - 1 spans [lo, lo + 1] in cells
@@ -272,12 +267,7 @@ contains
       w(1) = 1.0_wp
       return
     end if
-    a = (x - l - grid%lower(d)) / grid%dx(d)
-    b = (x + l - grid%lower(d)) / grid%dx(d)
-    if (.not. grid%periodic(d)) then
-      a = max(a, 0.0_wp)
-      b = min(b, real(grid%ncells(d), wp))
-    end if
+    call domain_in_cells(grid, d, x, l, a, b)
     first = floor(a) + 1
     last = min(floor(b) + 1, first + 1)
     if (b <= real(first, wp)) last = first
@@ -291,4 +281,20 @@ contains
       w(2) = (b - xb) / total
     end if
   end subroutine overlap_weights
+
+  !> The particle domain [x - l, x + l] along d in cells from the domain's low face, [a, b],
+  !! clipped to the domain where it is not periodic.
+  pure subroutine domain_in_cells(grid, d, x, l, a, b)
+    type(grid_t), intent(in) :: grid   !< block geometry
+    integer, intent(in) :: d           !< dimension
+    real(wp), intent(in) :: x          !< particle coordinate [m]
+    real(wp), intent(in) :: l          !< half-width [m]
+    real(wp), intent(out) :: a, b      !< the domain's ends [cells]
+    a = (x - l - grid%lower(d)) / grid%dx(d)
+    b = (x + l - grid%lower(d)) / grid%dx(d)
+    if (.not. grid%periodic(d)) then
+      a = max(a, 0.0_wp)
+      b = min(b, real(grid%ncells(d), wp))
+    end if
+  end subroutine domain_in_cells
 end module mpmice_deposit
