@@ -40,7 +40,8 @@ module mpm_scene
   implicit none
   private
 
-  public :: mpm_scene_t, mpm_setup, mpm_gravity, mpm_damping, mpm_stage_g2p, move_rigid, mpm_migrate_all, solid_energies, p2g_solids
+  public :: mpm_scene_t, mpm_setup, mpm_gravity, mpm_damping, mpm_stage_g2p, move_rigid
+  public :: mpm_migrate_all, solid_energies, p2g_solids
 
   !> Solid bodies on a background grid.
   type, extends(scene_t) :: mpm_scene_t

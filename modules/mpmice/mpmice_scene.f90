@@ -49,8 +49,8 @@ module mpmice_scene
     ice_stage_pressure, ice_stage_lagrangian, ice_stage_cell_exchange, ice_stage_advect
   use ice_equilibration, only: ice_equilibrate
   use ice_bc, only: ice_bc_fill, bc_scalar, bc_temperature, bc_wall, bc_free_slip
-  use mpm_scene, only: mpm_scene_t, mpm_setup, mpm_gravity, mpm_damping, mpm_stage_g2p, mpm_migrate_all, &
-    p2g_solids
+  use mpm_scene, only: mpm_scene_t, mpm_setup, mpm_gravity, mpm_damping, mpm_stage_g2p, &
+    mpm_migrate_all, p2g_solids
   use mpm_constitutive, only: model_rigid
   use mpm_p2g, only: p2g_complete
   use mpm_nodal, only: nodal_solve, nodal_finish, nodal_bc_at_time, bc_traction, nodal_damp
