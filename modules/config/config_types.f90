@@ -16,6 +16,7 @@ module config_types
     solid_shape_names, face_names, boundary_fluid_names, boundary_thermal_names, &
     boundary_solid_names, drag_law_names, drag_scheme_names, rigid_contact_names, &
     contact_normal_names, local_damping_force_names, face_drag_names, balance_names, &
+    velocity_transfer_names, &
     particles_per_cell_used, max_history_points, history_unset, history_points_used, &
     max_blocks_per_dim, scene_names, shape_function_names
   implicit none
@@ -30,7 +31,7 @@ module config_types
   public :: eos_names, solid_model_names, solid_shape_names, face_names
   public :: boundary_fluid_names, boundary_thermal_names, boundary_solid_names
   public :: drag_law_names, drag_scheme_names, rigid_contact_names, contact_normal_names
-  public :: local_damping_force_names, face_drag_names
+  public :: local_damping_force_names, face_drag_names, velocity_transfer_names
   public :: particles_per_cell_used, boundary_for_face
   public :: max_history_points, history_unset, history_points_used
   public :: max_blocks_per_dim

@@ -14,7 +14,7 @@ module config_validate_ranges
     boundary_params_t, scene_names, shape_function_names, eos_names, solid_model_names, &
     solid_shape_names, drag_law_names, rigid_contact_names, contact_normal_names, drag_scheme_names, &
     local_damping_force_names, face_drag_names, boundary_fluid_names, boundary_thermal_names, &
-    boundary_solid_names, balance_names
+    boundary_solid_names, balance_names, velocity_transfer_names
   use config_text, only: real_repr, ints_repr
   use config_check_tools, only: config_error_t, check_real, check_int, check_choice, check_finite, &
     check_nonblank

@@ -10,7 +10,8 @@
 !!   tolerances, output selection). The grid, the scene, the materials, the boundaries and the
 !!   initial conditions are those of the stored state;
 !! * a solid's model needs per-particle state that the checkpoint lacks (`model_state`: Cam-Clay's
-!!   `hardening`, the densifying sand's `cyclic` and `cyclic_half_time`).
+!!   `hardening`, the densifying sand's `cyclic` and `cyclic_half_time`; a deformable solid's
+!!   `affine` with `&mpm velocity_transfer = 'apic'`).
 !!
 !! A restart continues its own run in the checkpoint's folder: unless a `--set` gives another
 !! `&run output_dir`, the output folder is the folder that holds the checkpoint (as named on the
@@ -136,6 +137,8 @@ contains
           if (.not. any(datasets == g // 'cyclic')) missing = g // 'cyclic'
         end if
         if (hardening .and. .not. any(datasets == g // 'hardening')) missing = g // 'hardening'
+        if (stored%mpm%velocity_transfer == 'apic' .and. trim(sp%model) /= 'rigid' .and. &
+          .not. any(datasets == g // 'affine')) missing = g // 'affine'
         if (len(missing) > 0) then
           stat = 1
           errmsg = cannot_restart(path, 'it lacks /' // missing // ', which &solid ' // &

@@ -3,6 +3,9 @@
 !! the constitutive update.
 !!   FLIP: v_p <- v_p + sum S_ip a_i dt (eq. 70);  PIC: v_p <- sum S_ip v^L_i
 !!   v_p <- flip v_FLIP + (1 - flip) v_PIC  (`&mpm flip_fraction`)
+!!   APIC (`&mpm velocity_transfer = 'apic'`, a store with `has_affine`; Jiang et al. 2015):
+!!   v_p <- v_PIC,  C_p = B_p D_p^-1,  B_p = sum S_ip v^L_i (x_i - x_p)^T,
+!!   D_p = sum S_ip (x_i - x_p)(x_i - x_p)^T (diagonal for tensor-product shape functions)
 !!   x_p <- x_p + sum S_ip v^L_i dt (eq. 71);  L_p = sum v^L_i (grad S_ip)^T (eq. 72)
 !!   F_p <- (I + L_p dt) F_p (eq. 74);  V_p = det(F_p) V_p^0 (eq. 75)
 !! Temperature (eq. 73) is unchanged in the solid-only scene (no heat sources).
@@ -10,7 +13,7 @@ module mpm_g2p
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use particles_store, only: particles_t
-  use mpm_shape, only: particle_stencil, max_stencil
+  use mpm_shape, only: particle_stencil, max_stencil, node_offsets
   use mpm_nodes, only: mpm_nodes_t
   use mpm_tensor, only: det3, mul3
   use mpm_constitutive, only: material_t, constitutive_update, model_rigid
@@ -33,11 +36,17 @@ contains
     integer :: ip, i, j, k, a, b, c, first(3), nn(3), d
     real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s, g(3), wjk, gjk(3)
     real(wp) :: ap(3), vlp(3), l(3, 3), f(3, 3), fnew(3, 3), vl(3)
+    real(wp) :: off(max_stencil, 3), bmat(3, 3), dmat(3)
     do ip = 1, p%np
       call particle_stencil(kind, grid, p%x(:, ip), p%half_width, first, nn, w, dw)
       ap = 0.0_wp
       vlp = 0.0_wp
       l = 0.0_wp
+      if (p%has_affine) then
+        call node_offsets(grid, p%x(:, ip), first, nn, off)
+        bmat = 0.0_wp
+        dmat = 0.0_wp
+      end if
       do c = 1, nn(3)
         k = first(3) + c - 1
         do b = 1, nn(2)
@@ -57,10 +66,28 @@ contains
             do d = 1, 3
               l(:, d) = l(:, d) + vl * g(d)
             end do
+            if (p%has_affine) then
+              bmat(:, 1) = bmat(:, 1) + (s * off(a, 1)) * vl
+              bmat(:, 2) = bmat(:, 2) + (s * off(b, 2)) * vl
+              bmat(:, 3) = bmat(:, 3) + (s * off(c, 3)) * vl
+              dmat = dmat + s * [off(a, 1)**2, off(b, 2)**2, off(c, 3)**2]
+            end if
           end do
         end do
       end do
-      p%v(:, ip) = flip * (p%v(:, ip) + ap * dt) + (1.0_wp - flip) * vlp  ! eq. 70 + PIC blend
+      if (p%has_affine) then
+        p%v(:, ip) = vlp                                                  ! APIC: PIC velocity
+        do d = 1, 3
+          ! C_p = B_p D_p^-1; an inactive dimension (one node at offset 0) has D = 0, C = 0
+          if (dmat(d) > 0.0_wp) then
+            p%affine(3 * d - 2:3 * d, ip) = bmat(:, d) / dmat(d)
+          else
+            p%affine(3 * d - 2:3 * d, ip) = 0.0_wp
+          end if
+        end do
+      else
+        p%v(:, ip) = flip * (p%v(:, ip) + ap * dt) + (1.0_wp - flip) * vlp  ! eq. 70 + PIC blend
+      end if
       p%x(:, ip) = p%x(:, ip) + vlp * dt                                  ! eq. 71
       if (mat%model == model_rigid) cycle
       f(:, 1) = p%f(1:3, ip)

@@ -150,6 +150,11 @@ contains
       call transfer(file, g // 'cyclic', p%cyclic(1:cyclic_main, 1:n), write)
       call transfer(file, g // 'cyclic_half_time', p%cyclic(n_cyclic_state, 1:n), write)
     end if
+    if (p%has_affine) then
+      ! the APIC affine velocity C_p (`&mpm velocity_transfer = 'apic'`)
+      call require(file, g // 'affine', write)
+      call transfer(file, g // 'affine', p%affine(:, 1:n), write)
+    end if
     call transfer(file, g // 'temperature', p%temperature(1:n), write)
     call transfer(file, g // 'pore_pressure', p%pore_pressure(1:n), write)
   end subroutine checkpoint_state

@@ -2,13 +2,15 @@
 !! internal force f_i = -sum_p grad S_ip . sigma_p V_p (eq. 27), scattered into the block's node
 !! fields and summed into the owners by the reverse halo (copies refreshed, so every allocated
 !! node holds its global value). External forces (gravity) are added in the nodal solve.
+!! With the APIC transfer (a store with `has_affine`) the momentum a particle gives node i is
+!! m_p S_ip (v_p + C_p (x_i - x_p)) (Jiang et al. 2015; `mpm_g2p` sets C_p).
 module mpm_p2g
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_reverse_node
   use particles_store, only: particles_t
-  use mpm_shape, only: particle_stencil, max_stencil
+  use mpm_shape, only: particle_stencil, max_stencil, node_offsets
   use mpm_nodes, only: mpm_nodes_t, node_mass, node_momentum, node_force, node_rigid_mass, &
     node_rigid_momentum, node_rigid_gradient
   implicit none
@@ -48,15 +50,25 @@ contains
     integer, intent(in) :: kind                  !< shape_linear or shape_gimp
     integer :: ip, i, j, k, a, b, c, first(3), nn(3)
     real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s, g(3), m, mv(3), sv(6), wjk, gjk(3)
+    real(wp) :: off(max_stencil, 3), mc(3, 3), mvk(3), mvj(3), mvi(3)
+    logical :: affine
+    affine = p%has_affine
     do ip = 1, p%np
       call particle_stencil(kind, grid, p%x(:, ip), p%half_width, first, nn, w, dw)
       m = p%mass(ip)
       mv = m * p%v(:, ip)
+      mvi = mv
+      if (affine) then
+        call node_offsets(grid, p%x(:, ip), first, nn, off)
+        mc = m * reshape(p%affine(:, ip), [3, 3])
+      end if
       sv = p%stress(:, ip) * p%volume(ip)
       do c = 1, nn(3)
         k = first(3) + c - 1
+        if (affine) mvk = mv + mc(:, 3) * off(c, 3)
         do b = 1, nn(2)
           j = first(2) + b - 1
+          if (affine) mvj = mvk + mc(:, 2) * off(b, 2)
           wjk = w(b, 2) * w(c, 3)
           gjk(2) = dw(b, 2) * w(c, 3)
           gjk(3) = w(b, 2) * dw(c, 3)
@@ -66,10 +78,12 @@ contains
             g(1) = dw(a, 1) * wjk
             g(2) = w(a, 1) * gjk(2)
             g(3) = w(a, 1) * gjk(3)
+            ! the particle's momentum at the node: m v_p, plus m C_p (x_i - x_p) with APIC
+            if (affine) mvi = mvj + mc(:, 1) * off(a, 1)
             q(node_mass, i, j, k) = q(node_mass, i, j, k) + s * m
-            q(node_momentum, i, j, k) = q(node_momentum, i, j, k) + s * mv(1)
-            q(node_momentum + 1, i, j, k) = q(node_momentum + 1, i, j, k) + s * mv(2)
-            q(node_momentum + 2, i, j, k) = q(node_momentum + 2, i, j, k) + s * mv(3)
+            q(node_momentum, i, j, k) = q(node_momentum, i, j, k) + s * mvi(1)
+            q(node_momentum + 1, i, j, k) = q(node_momentum + 1, i, j, k) + s * mvi(2)
+            q(node_momentum + 2, i, j, k) = q(node_momentum + 2, i, j, k) + s * mvi(3)
             ! eq. 27: f = -sigma . grad S V (sigma symmetric: xx, yy, zz, xy, yz, xz)
             q(node_force, i, j, k) = q(node_force, i, j, k) &
               - (sv(1) * g(1) + sv(4) * g(2) + sv(6) * g(3))

@@ -129,7 +129,8 @@ contains
           self%motions(s) = rigid_motion_t(sp%prescribed_velocity, sp%acceleration_amplitude, &
             sp%acceleration_frequency, sp%acceleration_duration, sp%acceleration_start)
           call model_state(self%mats(s)%model, self%mats(s)%css%c1, keep_hardening, keep_cyclic)
-          call particles_select_state(self%parts(s), keep_hardening, keep_cyclic)
+          call particles_select_state(self%parts(s), keep_hardening, keep_cyclic, &
+            par%mpm%velocity_transfer == 'apic' .and. self%mats(s)%model /= model_rigid)
           call seed_solid(self%parts(s), sp, grid, self%gravity)
           if (self%mats(s)%model == model_rigid) call move_rigid(self, s, grid, 0.0_wp, 0.0_wp)
           self%static(s) = par%mpm%cache_static_rigid .and. &

@@ -15,6 +15,7 @@ module mpm_shape
   private
 
   public :: shape_linear, shape_gimp, max_stencil, shape_kind_from_name, particle_stencil
+  public :: node_offsets
 
   integer, parameter :: shape_linear = 1   !< linear (tent) functions
   integer, parameter :: shape_gimp = 2     !< uGIMP functions
@@ -83,4 +84,22 @@ contains
       end if
     end do
   end subroutine particle_stencil
+
+  !> Node-minus-particle offsets x_i - x_p [m] of a particle's stencil, per dimension (0 in an
+  !! inactive dimension).
+  pure subroutine node_offsets(grid, xp, first, nn, off)
+    type(grid_t), intent(in) :: grid                 !< block geometry
+    real(wp), intent(in) :: xp(3)                    !< particle position [m]
+    integer, intent(in) :: first(3)                  !< global index of the first node
+    integer, intent(in) :: nn(3)                     !< nodes per dimension
+    real(wp), intent(out) :: off(max_stencil, 3)     !< offsets [m]
+    integer :: d, a
+    off = 0.0_wp
+    do d = 1, 3
+      if (.not. grid%active(d)) cycle
+      do a = 1, nn(d)
+        off(a, d) = grid%lower(d) + real(first(d) + a - 2, wp) * grid%dx(d) - xp(d)
+      end do
+    end do
+  end subroutine node_offsets
 end module mpm_shape

@@ -13,7 +13,8 @@ module particles_migration
   use grid_layout, only: grid_t
   use parallel_domain, only: domain_t, domain_block_range
   use parallel_comm, only: alltoall_counts, alltoallv_real, cart_rank
-  use particles_store, only: particles_t, particles_reserve, particles_compact, n_cyclic_state
+  use particles_store, only: particles_t, particles_reserve, particles_compact, n_cyclic_state, &
+    n_affine
   implicit none
   private
 
@@ -74,6 +75,7 @@ contains
     nf = n_common
     if (p%has_hardening) nf = nf + 1
     if (p%has_cyclic) nf = nf + n_cyclic_state
+    if (p%has_affine) nf = nf + n_affine
   end function particle_reals
 
   !> Send every particle of `p` to its owner; `removed` = particles of this rank that left the
@@ -206,7 +208,11 @@ contains
       buf(k + 1) = p%hardening(ip)
       k = k + 1
     end if
-    if (p%has_cyclic) buf(k + 1:k + n_cyclic_state) = p%cyclic(:, ip)
+    if (p%has_cyclic) then
+      buf(k + 1:k + n_cyclic_state) = p%cyclic(:, ip)
+      k = k + n_cyclic_state
+    end if
+    if (p%has_affine) buf(k + 1:k + n_affine) = p%affine(:, ip)
   end subroutine pack_particle
 
   !> Unpack `buf(particle_reals(p))` into slot `ip` of `p` (capacity must suffice).
@@ -232,6 +238,10 @@ contains
       p%hardening(ip) = buf(k + 1)
       k = k + 1
     end if
-    if (p%has_cyclic) p%cyclic(:, ip) = buf(k + 1:k + n_cyclic_state)
+    if (p%has_cyclic) then
+      p%cyclic(:, ip) = buf(k + 1:k + n_cyclic_state)
+      k = k + n_cyclic_state
+    end if
+    if (p%has_affine) p%affine(:, ip) = buf(k + 1:k + n_affine)
   end subroutine unpack_particle
 end module particles_migration

@@ -12,18 +12,22 @@
 !! The model-specific state exists only in a store whose solid's model uses it
 !! (`mpm_constitutive%model_state`, set by `particles_select_state` before the first
 !! allocation): `hardening` (Cam-Clay) when `has_hardening`, `cyclic` (critical-state sand with
-!! densification) when `has_cyclic`; otherwise those arrays stay unallocated, and are neither
-!! migrated nor checkpointed.
+!! densification) when `has_cyclic`, `affine` (the APIC velocity transfer, `&mpm
+!! velocity_transfer = 'apic'`) when `has_affine`; otherwise those arrays stay unallocated, and
+!! are neither migrated nor checkpointed.
 module particles_store
   use mpmice_kinds, only: wp, i8
   implicit none
   private
 
   public :: particles_t, particles_reserve, particles_resize, particles_compact
-  public :: particles_free, identity_f, n_cyclic_state, particles_select_state
+  public :: particles_free, identity_f, n_cyclic_state, n_affine, particles_select_state
 
   !> Entries of the per-particle cyclic state (`mpm_critical_state_sand`'s css_n_cyclic).
   integer, parameter :: n_cyclic_state = 6
+
+  !> Entries of the per-particle affine velocity matrix C_p (3x3, column-major as `f`).
+  integer, parameter :: n_affine = 9
 
   !> 3x3 identity as stored in `f(9)`.
   real(wp), parameter :: identity_f(9) = [1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
@@ -36,6 +40,7 @@ module particles_store
     real(wp) :: half_width(3) = 0.0_wp         !< GIMP particle half-width l_p per dimension [m]
     logical :: has_hardening = .false.         !< `hardening` allocated (Cam-Clay)
     logical :: has_cyclic = .false.            !< `cyclic` allocated (sand with densification)
+    logical :: has_affine = .false.            !< `affine` allocated (APIC velocity transfer)
     real(wp), allocatable :: x(:, :)           !< (3, np) position [m]
     real(wp), allocatable :: v(:, :)           !< (3, np) velocity [m/s]
     real(wp), allocatable :: mass(:)           !< mass [kg]
@@ -52,6 +57,10 @@ module particles_store
     !! (`css_densify`: eps_vd, gamma_xy, its last reversal and extreme, reversals, time since
     !! the last reversal); 0 at seeding; allocated only when `has_cyclic`
     real(wp), allocatable :: cyclic(:, :)
+    !> (n_affine, np) affine velocity C_p [1/s] of the APIC transfer (column-major 3x3: the
+    !! particle's velocity at x is v_p + C_p (x - x_p)); 0 at seeding; allocated only when
+    !! `has_affine`
+    real(wp), allocatable :: affine(:, :)
     real(wp), allocatable :: temperature(:)    !< temperature [K]
     real(wp), allocatable :: pore_pressure(:)  !< pore pressure (0 without a fluid) [Pa]
     integer(i8), allocatable :: id(:)          !< global particle id (unique, stable)
@@ -60,12 +69,14 @@ module particles_store
 contains
 
   !> Choose the model-specific state of an empty store (before its first allocation).
-  subroutine particles_select_state(p, hardening, cyclic)
+  subroutine particles_select_state(p, hardening, cyclic, affine)
     type(particles_t), intent(inout) :: p  !< store, not yet allocated
     logical, intent(in) :: hardening       !< keep the Cam-Clay p_c
     logical, intent(in) :: cyclic          !< keep the sand's cyclic state
+    logical, intent(in) :: affine          !< keep the APIC affine velocity
     p%has_hardening = hardening
     p%has_cyclic = cyclic
+    p%has_affine = affine
   end subroutine particles_select_state
 
   !> Make room for at least `n` particles, keeping the first `np`. Grows to max(n, 2 capacity)
@@ -89,6 +100,7 @@ contains
       q%pore_pressure(cap), q%id(cap))
     if (p%has_hardening) allocate(q%hardening(cap))
     if (p%has_cyclic) allocate(q%cyclic(n_cyclic_state, cap))
+    if (p%has_affine) allocate(q%affine(n_affine, cap))
     if (n > 0) then
       q%x(:, 1:n) = p%x(:, 1:n)
       q%v(:, 1:n) = p%v(:, 1:n)
@@ -101,6 +113,7 @@ contains
       q%plastic_strain(1:n) = p%plastic_strain(1:n)
       if (p%has_hardening) q%hardening(1:n) = p%hardening(1:n)
       if (p%has_cyclic) q%cyclic(:, 1:n) = p%cyclic(:, 1:n)
+      if (p%has_affine) q%affine(:, 1:n) = p%affine(:, 1:n)
       q%temperature(1:n) = p%temperature(1:n)
       q%pore_pressure(1:n) = p%pore_pressure(1:n)
       q%id(1:n) = p%id(1:n)
@@ -116,6 +129,7 @@ contains
     call move_alloc(q%plastic_strain, p%plastic_strain)
     if (p%has_hardening) call move_alloc(q%hardening, p%hardening)
     if (p%has_cyclic) call move_alloc(q%cyclic, p%cyclic)
+    if (p%has_affine) call move_alloc(q%affine, p%affine)
     call move_alloc(q%temperature, p%temperature)
     call move_alloc(q%pore_pressure, p%pore_pressure)
     call move_alloc(q%id, p%id)
@@ -144,6 +158,7 @@ contains
       p%plastic_strain(j) = p%plastic_strain(i)
       if (p%has_hardening) p%hardening(j) = p%hardening(i)
       if (p%has_cyclic) p%cyclic(:, j) = p%cyclic(:, i)
+      if (p%has_affine) p%affine(:, j) = p%affine(:, i)
       p%temperature(j) = p%temperature(i)
       p%pore_pressure(j) = p%pore_pressure(i)
       p%id(j) = p%id(i)
@@ -158,6 +173,7 @@ contains
       p%stress_unrot, p%plastic_strain, p%temperature, p%pore_pressure, p%id)
     if (allocated(p%hardening)) deallocate(p%hardening)
     if (allocated(p%cyclic)) deallocate(p%cyclic)
+    if (allocated(p%affine)) deallocate(p%affine)
     p%np = 0
     p%capacity = 0
   end subroutine particles_free

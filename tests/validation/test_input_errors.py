@@ -229,6 +229,8 @@ BAD_MPMICE_INPUTS = [
      ["case.nml", "&mpm", "local_damping_end", "-1.0", ">= 0 [s]"]),
     ("local_damping_force_unknown", "&mpm local_damping_force = 'fluid' /", [],
      ["case.nml", "&mpm", "local_damping_force", "'fluid'", "one of solid, total"]),
+    ("velocity_transfer_unknown", "&mpm velocity_transfer = 'mls' /", [],
+     ["case.nml", "&mpm", "velocity_transfer", "'mls'", "one of flip, apic"]),
     ("face_drag_unknown", "&coupling face_drag = 'nodal' /", [],
      ["case.nml", "&coupling", "face_drag", "'nodal'", "one of cell, face_plane"]),
 ] + [

@@ -1,5 +1,7 @@
 """MPM scene on several ranks: decomposition invariance with particles crossing block boundaries
-(1, 2, 4 ranks; PIC and FLIP), and bitwise-identical continuation from a checkpoint."""
+(1, 2, 4 ranks; PIC, FLIP and APIC, whose affine velocity migrates with the particle), and
+bitwise-identical continuation from a checkpoint (FLIP; APIC, whose checkpoint carries the
+affine velocity: without it the continued run differs)."""
 import os
 
 import h5py
@@ -19,15 +21,22 @@ def _executable(mpmice_exe, monkeypatch):
     monkeypatch.setenv("MPMICE_EXE", str(mpmice_exe))
 
 
+def _transfer(flip):
+    """The `&mpm` setting of a velocity update: a FLIP fraction, or 'apic'."""
+    if flip == "apic":
+        return "&mpm velocity_transfer = 'apic' /"
+    return f"&mpm flip_fraction = {flip} /"
+
+
 def _run(tmp_path, nranks, flip, extra=()):
     out = tmp_path / f"r{nranks}_f{flip}"
     run_mpmice([NAMELIST, "--set", f"&run output_dir = '{out}' /",
-                "--set", f"&mpm flip_fraction = {flip} /", *extra], nranks=nranks,
+                "--set", _transfer(flip), *extra], nranks=nranks,
                cwd=str(tmp_path))
     return out
 
 
-@pytest.mark.parametrize("flip", [0.0, 0.99])
+@pytest.mark.parametrize("flip", [0.0, 0.99, "apic"])
 def test_rank_invariance_with_crossing_particles(tmp_path, flip):
     """Final particle positions, velocities and stresses on 2 and 4 ranks equal the 1-rank run
     to round-off: |dx| < 1e-14 m, |dv| < 3e-13 m/s, |d sigma| < 3e-13 max|sigma| (measured at
@@ -56,14 +65,14 @@ def test_rank_invariance_with_crossing_particles(tmp_path, flip):
             assert diff < 3e-13 * scale, (nranks, c, diff / scale)
 
 
-@pytest.mark.parametrize("nranks", [1, 2])
-def test_restart_is_bitwise_identical(tmp_path, nranks):
+@pytest.mark.parametrize("nranks,flip", [(1, 0.99), (2, 0.99), (2, "apic")])
+def test_restart_is_bitwise_identical(tmp_path, nranks, flip):
     """Run to the end; run 60 steps (checkpoint at the stop), restart, finish: every dump of the
     continued run equals the uninterrupted one bit for bit."""
-    full = _run(tmp_path, nranks, 0.99)
+    full = _run(tmp_path, nranks, flip)
     half = tmp_path / "half"
-    run_mpmice([NAMELIST, "--set", f"&run output_dir = '{half}', max_steps = 60 /"],
-               nranks=nranks, cwd=str(tmp_path))
+    run_mpmice([NAMELIST, "--set", f"&run output_dir = '{half}', max_steps = 60 /",
+                "--set", _transfer(flip)], nranks=nranks, cwd=str(tmp_path))
     checkpoint = half / "slide2d_checkpoint_000060.h5"
     assert checkpoint.is_file()
     run_mpmice(["--restart", str(checkpoint), "--set", "&run max_steps = 0 /"], nranks=nranks,
@@ -72,6 +81,47 @@ def test_restart_is_bitwise_identical(tmp_path, nranks):
     assert len(full_dumps) == 3  # t = 0, 0.06, 0.12
     for path in full_dumps:
         assert_dumps_identical(path, half / os.path.basename(path))
+
+
+def test_apic_checkpoint_carries_the_affine_velocity(tmp_path):
+    """APIC on the collapsing column (namelists/mpm_collapse_2d.nml to 0.05 s, 392 steps): the
+    checkpoint after 200 steps holds `affine` (9 per particle); a restart from it with `affine`
+    zeroed ends elsewhere than the uninterrupted run (largest velocity difference > 1e-4 of
+    the largest speed: the state is needed), and without the dataset the restart is refused:
+    exit status 1, one input-error line naming it, nothing written."""
+    collapse = os.path.join(ROOT, "namelists", "mpm_collapse_2d.nml")
+    run = "end_time = 0.05, output_interval = 0.025"
+    full = tmp_path / "full"
+    run_mpmice([collapse, "--set", f"&run output_dir = '{full}', {run} /",
+                "--set", _transfer("apic")], cwd=str(tmp_path))
+    half = tmp_path / "half"
+    run_mpmice([collapse, "--set", f"&run output_dir = '{half}', {run}, max_steps = 200 /",
+                "--set", _transfer("apic")], cwd=str(tmp_path))
+    checkpoint = half / "collapse2d_checkpoint_000200.h5"
+    with h5py.File(checkpoint, "a") as f:
+        affine = f["checkpoint/particles/sand/affine"]
+        assert 9 in affine.shape and np.max(np.abs(affine[...])) > 0.0
+        affine[...] = 0.0
+    run_mpmice(["--restart", str(checkpoint), "--set", "&run max_steps = 0 /"],
+               cwd=str(tmp_path))
+    last = list_dumps(str(full), "collapse2d")[-1]
+    _, ref = particles(last, "sand")
+    _, zeroed = particles(str(half / os.path.basename(last)), "sand")
+    speed = np.max(np.hypot(ref["velocity_x"], ref["velocity_y"]))
+    assert np.max(np.abs(zeroed["velocity_x"] - ref["velocity_x"])) > 1e-4 * speed
+    with h5py.File(checkpoint, "a") as f:
+        del f["checkpoint/particles/sand/affine"]
+    bad = tmp_path / "bad"
+    bad.mkdir()
+    os.replace(checkpoint, bad / checkpoint.name)
+    result = run_mpmice(["--restart", str(bad / checkpoint.name), "--set",
+                         "&run max_steps = 0 /"], cwd=str(tmp_path), check=False,
+                        overwrite=False)
+    assert result.returncode == 1, result.stderr
+    lines = [line for line in result.stderr.splitlines() if line.startswith("mpmice:")]
+    assert len(lines) == 1, result.stderr
+    assert "input error" in lines[0] and "checkpoint/particles/sand/affine" in lines[0]
+    assert sorted(os.listdir(bad)) == [checkpoint.name]
 
 
 def test_rank_without_particles(tmp_path):
