@@ -453,5 +453,12 @@ contains
     case default
       ! other scenes take no &fluid or &solid groups into account
     end select
+    ! APIC with the tent functions: the bar of docs/mpm.md "Velocity transfer" crossing cells
+    ! gains energy without bound (45 times its own in 10 periods)
+    if (.not. err%found .and. cfg%nsolids > 0 .and. trim(cfg%mpm%velocity_transfer) == 'apic' &
+      .and. trim(cfg%numerics%shape_function) == 'linear') then
+      call set_error(err, 'mpm', 'velocity_transfer', quoted(cfg%mpm%velocity_transfer), &
+        '''flip'' with &numerics shape_function = ''linear'' (APIC needs ''gimp'')')
+    end if
   end subroutine check_scene
 end module config_validate_phases

@@ -231,6 +231,9 @@ BAD_MPMICE_INPUTS = [
      ["case.nml", "&mpm", "local_damping_force", "'fluid'", "one of solid, total"]),
     ("velocity_transfer_unknown", "&mpm velocity_transfer = 'mls' /", [],
      ["case.nml", "&mpm", "velocity_transfer", "'mls'", "one of flip, apic"]),
+    ("apic_with_linear_shapes", "&mpm velocity_transfer = 'apic' /",
+     ["&numerics shape_function = 'linear' /"],
+     ["case.nml", "&mpm", "velocity_transfer", "'apic'", "shape_function = 'linear'", "gimp"]),
     ("face_drag_unknown", "&coupling face_drag = 'nodal' /", [],
      ["case.nml", "&coupling", "face_drag", "'nodal'", "one of cell, face_plane"]),
 ] + [
