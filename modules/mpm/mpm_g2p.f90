@@ -36,17 +36,11 @@ contains
     integer :: ip, i, j, k, a, b, c, first(3), nn(3), d
     real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s, g(3), wjk, gjk(3)
     real(wp) :: ap(3), vlp(3), l(3, 3), f(3, 3), fnew(3, 3), vl(3)
-    real(wp) :: off(max_stencil, 3), bmat(3, 3), dmat(3)
     do ip = 1, p%np
       call particle_stencil(kind, grid, p%x(:, ip), p%half_width, first, nn, w, dw)
       ap = 0.0_wp
       vlp = 0.0_wp
       l = 0.0_wp
-      if (p%has_affine) then
-        call node_offsets(grid, p%x(:, ip), first, nn, off)
-        bmat = 0.0_wp
-        dmat = 0.0_wp
-      end if
       do c = 1, nn(3)
         k = first(3) + c - 1
         do b = 1, nn(2)
@@ -66,25 +60,12 @@ contains
             do d = 1, 3
               l(:, d) = l(:, d) + vl * g(d)
             end do
-            if (p%has_affine) then
-              bmat(:, 1) = bmat(:, 1) + (s * off(a, 1)) * vl
-              bmat(:, 2) = bmat(:, 2) + (s * off(b, 2)) * vl
-              bmat(:, 3) = bmat(:, 3) + (s * off(c, 3)) * vl
-              dmat = dmat + s * [off(a, 1)**2, off(b, 2)**2, off(c, 3)**2]
-            end if
           end do
         end do
       end do
       if (p%has_affine) then
         p%v(:, ip) = vlp                                                  ! APIC: PIC velocity
-        do d = 1, 3
-          ! C_p = B_p D_p^-1; an inactive dimension (one node at offset 0) has D = 0, C = 0
-          if (dmat(d) > 0.0_wp) then
-            p%affine(3 * d - 2:3 * d, ip) = bmat(:, d) / dmat(d)
-          else
-            p%affine(3 * d - 2:3 * d, ip) = 0.0_wp
-          end if
-        end do
+        call affine_velocity(nodes, grid, p%x(:, ip), first, nn, w, p%affine(:, ip))
       else
         p%v(:, ip) = flip * (p%v(:, ip) + ap * dt) + (1.0_wp - flip) * vlp  ! eq. 70 + PIC blend
       end if
@@ -114,4 +95,44 @@ contains
       end if
     end do
   end subroutine g2p_update
+
+  !> APIC's affine velocity C_p = B_p D_p^-1 of a particle at `xp` from the nodes' v^L, B_p =
+  !! sum S_ip v^L_i (x_i - x_p)^T, D_p = sum S_ip (x_i - x_p)(x_i - x_p)^T (diagonal: the
+  !! weights are tensor products, and each 1-D sum of w (x_i - x_p) vanishes). An inactive
+  !! dimension (one node at offset 0) has D = 0 and C = 0.
+  pure subroutine affine_velocity(nodes, grid, xp, first, nn, w, affine)
+    type(mpm_nodes_t), intent(in) :: nodes       !< solved node fields
+    type(grid_t), intent(in) :: grid             !< block geometry
+    real(wp), intent(in) :: xp(3)                !< particle position at the start of the step [m]
+    integer, intent(in) :: first(3)              !< first node per dimension
+    integer, intent(in) :: nn(3)                 !< nodes per dimension
+    real(wp), intent(in) :: w(max_stencil, 3)    !< 1-D weights
+    real(wp), intent(out) :: affine(9)           !< C_p, column-major [1/s]
+    real(wp) :: off(max_stencil, 3), bmat(3, 3), dmat(3), s
+    integer :: i, j, k, a, b, c, d
+    call node_offsets(grid, xp, first, nn, off)
+    bmat = 0.0_wp
+    dmat = 0.0_wp
+    do c = 1, nn(3)
+      k = first(3) + c - 1
+      do b = 1, nn(2)
+        j = first(2) + b - 1
+        do a = 1, nn(1)
+          i = first(1) + a - 1
+          s = w(a, 1) * w(b, 2) * w(c, 3)
+          bmat(:, 1) = bmat(:, 1) + (s * off(a, 1)) * nodes%vel_l(:, i, j, k)
+          bmat(:, 2) = bmat(:, 2) + (s * off(b, 2)) * nodes%vel_l(:, i, j, k)
+          bmat(:, 3) = bmat(:, 3) + (s * off(c, 3)) * nodes%vel_l(:, i, j, k)
+          dmat = dmat + s * [off(a, 1)**2, off(b, 2)**2, off(c, 3)**2]
+        end do
+      end do
+    end do
+    do d = 1, 3
+      if (dmat(d) > 0.0_wp) then
+        affine(3 * d - 2:3 * d) = bmat(:, d) / dmat(d)
+      else
+        affine(3 * d - 2:3 * d) = 0.0_wp
+      end if
+    end do
+  end subroutine affine_velocity
 end module mpm_g2p

@@ -2,8 +2,8 @@
 !! internal force f_i = -sum_p grad S_ip . sigma_p V_p (eq. 27), scattered into the block's node
 !! fields and summed into the owners by the reverse halo (copies refreshed, so every allocated
 !! node holds its global value). External forces (gravity) are added in the nodal solve.
-!! With the APIC transfer (a store with `has_affine`) the momentum a particle gives node i is
-!! m_p S_ip (v_p + C_p (x_i - x_p)) (Jiang et al. 2015; `mpm_g2p` sets C_p).
+!! With the APIC transfer (a store with `has_affine`) node i also gets the particle's affine
+!! momentum m_p S_ip C_p (x_i - x_p) (Jiang et al. 2015; `mpm_g2p` sets C_p).
 module mpm_p2g
   use mpmice_kinds, only: wp
   use grid_layout, only: grid_t
@@ -50,25 +50,15 @@ contains
     integer, intent(in) :: kind                  !< shape_linear or shape_gimp
     integer :: ip, i, j, k, a, b, c, first(3), nn(3)
     real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s, g(3), m, mv(3), sv(6), wjk, gjk(3)
-    real(wp) :: off(max_stencil, 3), mc(3, 3), mvk(3), mvj(3), mvi(3)
-    logical :: affine
-    affine = p%has_affine
     do ip = 1, p%np
       call particle_stencil(kind, grid, p%x(:, ip), p%half_width, first, nn, w, dw)
       m = p%mass(ip)
       mv = m * p%v(:, ip)
-      mvi = mv
-      if (affine) then
-        call node_offsets(grid, p%x(:, ip), first, nn, off)
-        mc = m * reshape(p%affine(:, ip), [3, 3])
-      end if
       sv = p%stress(:, ip) * p%volume(ip)
       do c = 1, nn(3)
         k = first(3) + c - 1
-        if (affine) mvk = mv + mc(:, 3) * off(c, 3)
         do b = 1, nn(2)
           j = first(2) + b - 1
-          if (affine) mvj = mvk + mc(:, 2) * off(b, 2)
           wjk = w(b, 2) * w(c, 3)
           gjk(2) = dw(b, 2) * w(c, 3)
           gjk(3) = w(b, 2) * dw(c, 3)
@@ -78,12 +68,10 @@ contains
             g(1) = dw(a, 1) * wjk
             g(2) = w(a, 1) * gjk(2)
             g(3) = w(a, 1) * gjk(3)
-            ! the particle's momentum at the node: m v_p, plus m C_p (x_i - x_p) with APIC
-            if (affine) mvi = mvj + mc(:, 1) * off(a, 1)
             q(node_mass, i, j, k) = q(node_mass, i, j, k) + s * m
-            q(node_momentum, i, j, k) = q(node_momentum, i, j, k) + s * mvi(1)
-            q(node_momentum + 1, i, j, k) = q(node_momentum + 1, i, j, k) + s * mvi(2)
-            q(node_momentum + 2, i, j, k) = q(node_momentum + 2, i, j, k) + s * mvi(3)
+            q(node_momentum, i, j, k) = q(node_momentum, i, j, k) + s * mv(1)
+            q(node_momentum + 1, i, j, k) = q(node_momentum + 1, i, j, k) + s * mv(2)
+            q(node_momentum + 2, i, j, k) = q(node_momentum + 2, i, j, k) + s * mv(3)
             ! eq. 27: f = -sigma . grad S V (sigma symmetric: xx, yy, zz, xy, yz, xz)
             q(node_force, i, j, k) = q(node_force, i, j, k) &
               - (sv(1) * g(1) + sv(4) * g(2) + sv(6) * g(3))
@@ -94,8 +82,39 @@ contains
           end do
         end do
       end do
+      if (p%has_affine) call add_affine_momentum(q, grid, p%x(:, ip), m, p%affine(:, ip), &
+        first, nn, w)
     end do
   end subroutine p2g_accumulate
+
+  !> Add a particle's affine momentum m S_i C (x_i - x_p) to the nodes of its stencil (APIC).
+  pure subroutine add_affine_momentum(q, grid, xp, m, affine, first, nn, w)
+    type(grid_t), intent(in) :: grid             !< block geometry
+    real(wp), intent(inout) :: q(:, grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< node fields
+    real(wp), intent(in) :: xp(3)                !< particle position [m]
+    real(wp), intent(in) :: m                    !< particle mass [kg]
+    real(wp), intent(in) :: affine(9)            !< C_p, column-major [1/s]
+    integer, intent(in) :: first(3)              !< first node per dimension
+    integer, intent(in) :: nn(3)                 !< nodes per dimension
+    real(wp), intent(in) :: w(max_stencil, 3)    !< 1-D weights
+    real(wp) :: off(max_stencil, 3), mc(3, 3), mk(3), mj(3)
+    integer :: i, j, k, a, b, c
+    call node_offsets(grid, xp, first, nn, off)
+    mc = m * reshape(affine, [3, 3])
+    do c = 1, nn(3)
+      k = first(3) + c - 1
+      mk = mc(:, 3) * off(c, 3)
+      do b = 1, nn(2)
+        j = first(2) + b - 1
+        mj = mk + mc(:, 2) * off(b, 2)
+        do a = 1, nn(1)
+          i = first(1) + a - 1
+          q(node_momentum:node_momentum + 2, i, j, k) = q(node_momentum:node_momentum + 2, &
+            i, j, k) + (w(a, 1) * w(b, 2) * w(c, 3)) * (mj + mc(:, 1) * off(a, 1))
+        end do
+      end do
+    end do
+  end subroutine add_affine_momentum
 
   !> Add the mass, momentum and mass gradient of the rigid particles `p` to the rigid components
   !! of `q` (`node_rigid_mass`, `node_rigid_momentum`, `node_rigid_gradient`).
