@@ -13,7 +13,7 @@ module mpm_scene
   use mpmice_errors, only: int_text, real_short_text, fatal
   use mpmice_log, only: log_info, log_warning
   use mpmice_timers, only: timer_register, timer_start, timer_stop
-  use config_types, only: history_points_used, solid_params_t
+  use config_types, only: history_points_used, solid_params_t, mpm_params_t
   use scene_params, only: mpm_scene_params_t
   use parallel_domain, only: domain_t
   use parallel_halo, only: halo_t, halo_init, halo_free
@@ -97,6 +97,7 @@ contains
     integer :: s, face, n
     real(wp) :: mmin
     logical :: keep_hardening, keep_cyclic
+    type(mpm_params_t) :: default_mpm  ! the documented defaults of &mpm
     self%ctx = ctx
     associate (dom => ctx%dom, grid => ctx%grid, timers => ctx%timers)
       if (any(grid%active .and. grid%ng < 1)) call fatal('mpm scene: &grid ghost_width must be >= 1')
@@ -114,6 +115,12 @@ contains
       self%damping_end = par%mpm%local_damping_end
       self%damp_total = par%mpm%local_damping_force == 'total'
       self%flip = par%mpm%flip_fraction
+      ! APIC takes the PIC velocity: a FLIP fraction other than the default has no effect
+      if (par%mpm%velocity_transfer == 'apic' .and. &
+        par%mpm%flip_fraction /= default_mpm%flip_fraction) then
+        call log_warning('mpm: &mpm flip_fraction = ' // real_short_text(par%mpm%flip_fraction) &
+          // ' is not used with velocity_transfer = ''apic''')
+      end if
       mmin = huge(1.0_wp)
       do s = 1, self%nsolids
         associate (sp => par%solids(s))

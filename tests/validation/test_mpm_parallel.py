@@ -134,3 +134,19 @@ def test_rank_without_particles(tmp_path):
     with h5py.File(out / "collapse2d_checkpoint_000005.h5") as f:
         assert f["checkpoint/particles/sand/id"].shape == (3200,)
         assert list(f["checkpoint/particles/sand/rank_counts"][...]) == [3200, 0]
+
+
+def test_apic_warns_of_an_unused_flip_fraction(tmp_path):
+    """APIC takes the PIC velocity: a `flip_fraction` other than the default (the bar's 1.0)
+    is named in one warning line; the default (the sliding block) gives none."""
+    bar = os.path.join(ROOT, "namelists", "mpm_bar_1d.nml")
+    for namelist, warned in ((bar, True), (NAMELIST, False)):
+        out = tmp_path / os.path.basename(namelist)
+        result = run_mpmice([namelist, "--set", _transfer("apic"),
+                             "--set", f"&run output_dir = '{out}', max_steps = 2 /"],
+                            cwd=str(tmp_path))
+        text = result.stdout + result.stderr
+        lines = [line for line in text.splitlines() if "flip_fraction" in line]
+        assert len(lines) == (1 if warned else 0), lines
+        if warned:
+            assert "warning" in lines[0] and "not used with velocity_transfer = 'apic'" in lines[0]
