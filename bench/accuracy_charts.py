@@ -461,27 +461,31 @@ def list_dumps_read(out: str, name: str) -> list[dict]:
 
 
 #: The Rondon et al. (2011) pair (docs/validation/rondon2011.md): method -> (shape function,
-#: &time cfl, cells along x of the full ladder, of --quick). 30 / 60 / 120 / 240 cells: 10 /
-#: 5 / 2.5 / 1.25 mm.
+#: &time cfl, cells along x of the full ladder, of --quick, &mpm velocity_transfer). 30 / 60 /
+#: 120 / 240 cells: 10 / 5 / 2.5 / 1.25 mm.
 RONDON_METHODS = {
-    "GIMP, cfl 0.4": ("gimp", 0.4, (30, 60, 120, 240), (30,)),
-    "linear, cfl 0.4": ("linear", 0.4, (30, 60, 120), (30,)),
-    "GIMP, cfl 0.2": ("gimp", 0.2, (30, 60), ()),
+    "GIMP, cfl 0.4": ("gimp", 0.4, (30, 60, 120, 240), (30,), "flip"),
+    "linear, cfl 0.4": ("linear", 0.4, (30, 60, 120), (30,), "flip"),
+    "GIMP, cfl 0.2": ("gimp", 0.2, (30, 60), (), "flip"),
+    "GIMP, cfl 0.4, APIC": ("gimp", 0.4, (30, 60, 120), (), "apic"),
 }
 
 
 def run_rondon_pair(work: str, cells: int, shape: str, cfl: float,
-                    t_end: float = rondon.CHART_END) -> tuple[dict, dict]:
+                    t_end: float = rondon.CHART_END,
+                    transfer: str = "flip") -> tuple[dict, dict]:
     """The dense and the loose Rondon scene at `cells` x cells/3 (dumps every 0.05 s, to
-    `t_end`); returns the pair as one run (run_s, wall_s, steps summed; failed if either failed)
-    and rondon.chart_error of the pair (empty when a run failed)."""
+    `t_end`) with the velocity transfer `transfer`; returns the pair as one run (run_s, wall_s,
+    steps summed; failed if either failed) and rondon.chart_error of the pair (empty when a run
+    failed)."""
     runs, dirs = [], {}
     for case in rondon.CASES:
-        out = os.path.join(work, f"rondon_{case}_{shape}_{cfl:g}_{cells}")
+        out = os.path.join(work, f"rondon_{case}_{shape}_{cfl:g}_{transfer}_{cells}")
         runs.append(timed_run([os.path.join(ROOT, "namelists", f"mpmice_rondon_{case}_2d.nml"),
                                "--set", f"&grid ncells = {cells}, {cells // 3}, 1 /",
                                "--set", f"&numerics shape_function = '{shape}' /",
                                "--set", f"&time cfl = {cfl!r} /",
+                               "--set", f"&mpm velocity_transfer = '{transfer}' /",
                                "--set", f"&run output_dir = '{out}', end_time = {t_end!r}, "
                                         f"output_interval = 0.05 /"],
                               out, rondon.NAME, 1, work, timeout=4 * 3600))
@@ -493,11 +497,14 @@ def run_rondon_pair(work: str, cells: int, shape: str, cfl: float,
     return pair, ({} if failed else rondon.chart_error(dirs, t_end=t_end))
 
 
-def chart_rondon(work: str, quick: bool) -> list[dict]:
+def chart_rondon(work: str, quick: bool, methods=None) -> list[dict]:
+    """The Rondon chart's rows: every method of RONDON_METHODS, or those named in `methods`."""
     rows = []
-    for method, (shape, cfl, ladder, quick_ladder) in RONDON_METHODS.items():
+    for method, (shape, cfl, ladder, quick_ladder, transfer) in RONDON_METHODS.items():
+        if methods is not None and method not in methods:
+            continue
         for n in (quick_ladder if quick else ladder):
-            run, err = run_rondon_pair(work, n, shape, cfl)
+            run, err = run_rondon_pair(work, n, shape, cfl, transfer=transfer)
             rows.append(row_of("rondon", method, n, 1, run, err.get("error", math.nan),
                                dx_mm=300.0 / n,
                                **{k: v for k, v in err.items() if k != "error"}))
