@@ -9,7 +9,7 @@
 !!   variables of `restart_changeable` (run control, decomposition, time-step limits, solver
 !!   tolerances, output selection). The grid, the scene, the materials, the boundaries and the
 !!   initial conditions are those of the stored state;
-!! * a solid's model needs per-particle state that the checkpoint lacks (`model_state`: Cam-Clay's
+!! * a solid needs per-particle state that the checkpoint lacks (`model_state`: Cam-Clay's
 !!   `hardening`, the densifying sand's `cyclic` and `cyclic_half_time`; a deformable solid's
 !!   `affine` with `&mpm velocity_transfer = 'apic'`).
 !!
@@ -125,11 +125,12 @@ contains
     integer, intent(inout) :: stat                         !< 1 on refusal
     character(len=:), allocatable, intent(inout) :: errmsg !< error line
     character(len=:), allocatable :: g, missing
-    logical :: hardening, cyclic
+    logical :: hardening, cyclic, affine
     integer :: k
     do k = 1, stored%nsolids
       associate (sp => stored%solids(k))
-        call model_state(model_from_name(sp%model), sp%densification_c1, hardening, cyclic)
+        call model_state(model_from_name(sp%model), sp%densification_c1, &
+          stored%mpm%velocity_transfer, hardening, cyclic, affine)
         g = 'checkpoint/particles/' // trim(sp%name) // '/'
         missing = ''
         if (cyclic) then
@@ -137,8 +138,7 @@ contains
           if (.not. any(datasets == g // 'cyclic')) missing = g // 'cyclic'
         end if
         if (hardening .and. .not. any(datasets == g // 'hardening')) missing = g // 'hardening'
-        if (stored%mpm%velocity_transfer == 'apic' .and. trim(sp%model) /= 'rigid' .and. &
-          .not. any(datasets == g // 'affine')) missing = g // 'affine'
+        if (affine .and. .not. any(datasets == g // 'affine')) missing = g // 'affine'
         if (len(missing) > 0) then
           stat = 1
           errmsg = cannot_restart(path, 'it lacks /' // missing // ', which &solid ' // &

@@ -74,17 +74,23 @@ contains
     if (model == 0) model = model_linear_elastic
   end function model_from_name
 
-  !> The per-particle state a solid's model carries beyond the common fields: the Cam-Clay
-  !! preconsolidation pressure (`hardening`, model `cam_clay`) and the critical-state sand's
+  !> The per-particle state a solid carries beyond the common fields: the Cam-Clay
+  !! preconsolidation pressure (`hardening`, model `cam_clay`), the critical-state sand's
   !! cyclic densification state (`cyclic`, model `critical_state_sand` with
-  !! `&solid densification_c1 > 0`). `constitutive_update` reads and writes nothing else.
-  pure subroutine model_state(model, densification_c1, hardening, cyclic)
-    integer, intent(in) :: model              !< model id (`model_from_name`)
-    real(wp), intent(in) :: densification_c1  !< `&solid densification_c1` [-]
-    logical, intent(out) :: hardening         !< carries p_c
-    logical, intent(out) :: cyclic            !< carries the cyclic state
+  !! `&solid densification_c1 > 0`; `constitutive_update` reads and writes nothing else), and
+  !! the APIC affine velocity of a deformable solid (`affine`, `&mpm velocity_transfer =
+  !! 'apic'`; `mpm_p2g`, `mpm_g2p`).
+  pure subroutine model_state(model, densification_c1, velocity_transfer, hardening, cyclic, &
+    affine)
+    integer, intent(in) :: model                       !< model id (`model_from_name`)
+    real(wp), intent(in) :: densification_c1           !< `&solid densification_c1` [-]
+    character(len=*), intent(in) :: velocity_transfer  !< `&mpm velocity_transfer`
+    logical, intent(out) :: hardening                  !< carries p_c
+    logical, intent(out) :: cyclic                     !< carries the cyclic state
+    logical, intent(out) :: affine                     !< carries C_p
     hardening = model == model_cam_clay
     cyclic = model == model_critical_state_sand .and. densification_c1 > 0.0_wp
+    affine = trim(velocity_transfer) == 'apic' .and. model /= model_rigid
   end subroutine model_state
 
   !> The material in effect over a step that starts at `time` [s]: `mat` itself, except

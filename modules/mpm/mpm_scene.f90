@@ -96,7 +96,7 @@ contains
     type(scene_context_t), intent(in) :: ctx     !< decomposition, grid and timers of the run
     integer :: s, face, n
     real(wp) :: mmin
-    logical :: keep_hardening, keep_cyclic
+    logical :: keep_hardening, keep_cyclic, keep_affine
     type(mpm_params_t) :: default_mpm  ! the documented defaults of &mpm
     self%ctx = ctx
     associate (dom => ctx%dom, grid => ctx%grid, timers => ctx%timers)
@@ -135,9 +135,9 @@ contains
           call set_soil_params(self%mats(s), sp)
           self%motions(s) = rigid_motion_t(sp%prescribed_velocity, sp%acceleration_amplitude, &
             sp%acceleration_frequency, sp%acceleration_duration, sp%acceleration_start)
-          call model_state(self%mats(s)%model, self%mats(s)%css%c1, keep_hardening, keep_cyclic)
-          call particles_select_state(self%parts(s), keep_hardening, keep_cyclic, &
-            par%mpm%velocity_transfer == 'apic' .and. self%mats(s)%model /= model_rigid)
+          call model_state(self%mats(s)%model, self%mats(s)%css%c1, par%mpm%velocity_transfer, &
+            keep_hardening, keep_cyclic, keep_affine)
+          call particles_select_state(self%parts(s), keep_hardening, keep_cyclic, keep_affine)
           call seed_solid(self%parts(s), sp, grid, self%gravity)
           if (self%mats(s)%model == model_rigid) call move_rigid(self, s, grid, 0.0_wp, 0.0_wp)
           self%static(s) = par%mpm%cache_static_rigid .and. &
