@@ -10,7 +10,7 @@ module mpm_constitutive
   use mpm_tensor, only: polar_rotation, rotate_to, rotate_from, mat_to_sym, det3
   use mpm_elastic, only: elastic_increment, lame_from_young
   use mpm_neo_hookean, only: neo_hookean_stress
-  use mpm_mohr_coulomb, only: mc_params_t, mc_return
+  use mpm_mohr_coulomb, only: mc_params_t, mc_params, mc_return
   use mpm_cam_clay, only: mcc_params_t, mcc_update, mcc_moduli, mcc_invariants
   use mpm_critical_state_sand, only: css_params_t, css_return, css_densify, css_n_cyclic, &
     css_gamma, css_gamma_ext
@@ -152,11 +152,7 @@ contains
     mat%model = model
     mat%density = density
     call lame_from_young(youngs, poisson, mat%lambda, mat%mu)
-    mat%mc%cohesion = cohesion
-    mat%mc%phi = phi_deg * deg
-    mat%mc%psi = psi_deg * deg
-    mat%mc%tension_cutoff = tension_cutoff
-    mat%mc%tensile_strength = tensile_strength
+    mat%mc = mc_params(cohesion, phi_deg * deg, psi_deg * deg, tension_cutoff, tensile_strength)
   end function material_init
 
   !> Dilatational (P) wave speed [m/s] of a particle with deformation gradient `f` (0 for a
@@ -309,8 +305,8 @@ contains
     case (model_critical_state_sand)
       apex = 0.0_wp
     case (model_mohr_coulomb)
-      if (sin(mat%mc%phi) <= 0.0_wp) return
-      apex = mat%mc%cohesion * cos(mat%mc%phi) / sin(mat%mc%phi)
+      if (mat%mc%sin_phi <= 0.0_wp) return
+      apex = mat%mc%cohesion * mat%mc%cos_phi / mat%mc%sin_phi
     case default
       return
     end select

@@ -33,14 +33,28 @@ contains
     type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: dt                   !< step [s]
     real(wp), intent(in) :: flip                 !< FLIP fraction 0..1
-    integer :: ip, i, j, k, a, b, c, first(3), nn(3), d
+    integer :: ip, i, j, k, a, b, c, first(3), nn(3)
     real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s, g(3), wjk, gjk(3)
     real(wp) :: ap(3), vlp(3), l(3, 3), f(3, 3), fnew(3, 3), vl(3)
+    ! the sums in scalars (kept in registers; as arrays they went through memory every node)
+    real(wp) :: ax, ay, az, px, py, pz, l11, l21, l31, l12, l22, l32, l13, l23, l33
     do ip = 1, p%np
       call particle_stencil(kind, grid, p%x(:, ip), p%half_width, first, nn, w, dw)
-      ap = 0.0_wp
-      vlp = 0.0_wp
-      l = 0.0_wp
+      ax = 0.0_wp
+      ay = 0.0_wp
+      az = 0.0_wp
+      px = 0.0_wp
+      py = 0.0_wp
+      pz = 0.0_wp
+      l11 = 0.0_wp
+      l21 = 0.0_wp
+      l31 = 0.0_wp
+      l12 = 0.0_wp
+      l22 = 0.0_wp
+      l32 = 0.0_wp
+      l13 = 0.0_wp
+      l23 = 0.0_wp
+      l33 = 0.0_wp
       do c = 1, nn(3)
         k = first(3) + c - 1
         do b = 1, nn(2)
@@ -55,14 +69,29 @@ contains
             g(2) = w(a, 1) * gjk(2)
             g(3) = w(a, 1) * gjk(3)
             vl = nodes%vel_l(:, i, j, k)
-            ap = ap + s * nodes%acc(:, i, j, k)
-            vlp = vlp + s * vl
-            do d = 1, 3
-              l(:, d) = l(:, d) + vl * g(d)
-            end do
+            ax = ax + s * nodes%acc(1, i, j, k)
+            ay = ay + s * nodes%acc(2, i, j, k)
+            az = az + s * nodes%acc(3, i, j, k)
+            px = px + s * vl(1)
+            py = py + s * vl(2)
+            pz = pz + s * vl(3)
+            l11 = l11 + vl(1) * g(1)
+            l21 = l21 + vl(2) * g(1)
+            l31 = l31 + vl(3) * g(1)
+            l12 = l12 + vl(1) * g(2)
+            l22 = l22 + vl(2) * g(2)
+            l32 = l32 + vl(3) * g(2)
+            l13 = l13 + vl(1) * g(3)
+            l23 = l23 + vl(2) * g(3)
+            l33 = l33 + vl(3) * g(3)
           end do
         end do
       end do
+      ap = [ax, ay, az]
+      vlp = [px, py, pz]
+      l(:, 1) = [l11, l21, l31]
+      l(:, 2) = [l12, l22, l32]
+      l(:, 3) = [l13, l23, l33]
       if (p%has_affine) then
         p%v(:, ip) = vlp                                                  ! APIC: PIC velocity
         call affine_velocity(nodes, grid, p%x(:, ip), first, nn, w, p%affine(:, ip))

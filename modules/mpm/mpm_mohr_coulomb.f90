@@ -18,27 +18,49 @@ module mpm_mohr_coulomb
   implicit none
   private
 
-  public :: mc_params_t, mc_return, mc_yield
+  public :: mc_params_t, mc_params, mc_return, mc_yield
 
   !> Parameters of the model (the elastic constants are arguments of `mc_return`: a particle's
-  !! current ones, `mpm_constitutive` current_moduli).
+  !! current ones, `mpm_constitutive` current_moduli); made by `mc_params`, which also sets the
+  !! angles' sines and cosine that every return reads.
   type :: mc_params_t
     real(wp) :: cohesion = 0.0_wp         !< c' [Pa]
     real(wp) :: phi = 0.0_wp              !< friction angle phi' [rad]
     real(wp) :: psi = 0.0_wp              !< dilation angle psi' [rad]
     logical :: tension_cutoff = .false.   !< cap principal stresses at `tensile_strength`
     real(wp) :: tensile_strength = 0.0_wp !< tensile strength [Pa]
+    real(wp) :: sin_phi = 0.0_wp          !< sin(phi)
+    real(wp) :: cos_phi = 1.0_wp          !< cos(phi)
+    real(wp) :: sin_psi = 0.0_wp          !< sin(psi)
   end type mc_params_t
 
   real(wp), parameter :: order_tol = 1.0e-12_wp  !< relative tolerance of the principal order
 
 contains
 
+  !> The parameters c' [Pa], phi', psi' [rad], the tension cut-off and its strength [Pa].
+  pure function mc_params(cohesion, phi, psi, tension_cutoff, tensile_strength) result(p)
+    real(wp), intent(in) :: cohesion           !< c' [Pa]
+    real(wp), intent(in) :: phi                !< friction angle [rad]
+    real(wp), intent(in) :: psi                !< dilation angle [rad]
+    logical, intent(in) :: tension_cutoff      !< tension cut-off on
+    real(wp), intent(in) :: tensile_strength   !< tensile strength [Pa]
+    type(mc_params_t) :: p
+    p%cohesion = cohesion
+    p%phi = phi
+    p%psi = psi
+    p%tension_cutoff = tension_cutoff
+    p%tensile_strength = tensile_strength
+    p%sin_phi = sin(phi)
+    p%cos_phi = cos(phi)
+    p%sin_psi = sin(psi)
+  end function mc_params
+
   !> Yield function f [Pa] of eq. 17 (tension positive) at principal stresses s(1) >= s(2) >= s(3).
   pure real(wp) function mc_yield(p, s) result(f)
     type(mc_params_t), intent(in) :: p  !< parameters
     real(wp), intent(in) :: s(3)        !< principal stresses [Pa]
-    f = (s(1) - s(3)) + (s(1) + s(3)) * sin(p%phi) - 2.0_wp * p%cohesion * cos(p%phi)
+    f = (s(1) - s(3)) + (s(1) + s(3)) * p%sin_phi - 2.0_wp * p%cohesion * p%cos_phi
   end function mc_yield
 
   !> Return the trial stress `sig` (xx, yy, zz, xy, yz, xz) [Pa] to the yield surface in place;
@@ -62,9 +84,10 @@ contains
     if (clearly_elastic(p, sig)) return
     call sym_eigen(sig, s_tr, q)
     s = s_tr
-    sphi = sin(p%phi)
-    spsi = sin(psi)
-    k = 2.0_wp * p%cohesion * cos(p%phi)
+    sphi = p%sin_phi
+    spsi = p%sin_psi
+    if (psi /= p%psi) spsi = sin(psi)
+    k = 2.0_wp * p%cohesion * p%cos_phi
     scale = max(abs(s_tr(1)), abs(s_tr(3)), k, tiny(1.0_wp))
     f = mc_yield(p, s_tr)
     plastic = f > 1.0e-14_wp * scale
@@ -96,7 +119,7 @@ contains
         if (g1 < 0.0_wp .or. g2 < 0.0_wp .or. .not. ordered(s, scale)) then
           ! apex (phi > 0 required; with phi = 0 the surface has no apex)
           if (sphi > 0.0_wp) then
-            s = p%cohesion * cos(p%phi) / sphi
+            s = p%cohesion * p%cos_phi / sphi
           end if
         end if
       end if
@@ -139,12 +162,12 @@ contains
     radius = sqrt((0.5_wp * (sig(1) - sig(2)))**2 + sig(4)**2)
     s1 = max(mean + radius, sig(3))
     s3 = min(mean - radius, sig(3))
-    k = 2.0_wp * p%cohesion * cos(p%phi)
+    k = 2.0_wp * p%cohesion * p%cos_phi
     scale = max(abs(sig(1)), abs(sig(2)), abs(sig(3)), abs(sig(4)), k, tiny(1.0_wp))
     if (p%tension_cutoff) then
       if (s1 > p%tensile_strength - margin * scale) return
     end if
-    clearly_elastic = (s1 - s3) + (s1 + s3) * sin(p%phi) - k < -margin * scale
+    clearly_elastic = (s1 - s3) + (s1 + s3) * p%sin_phi - k < -margin * scale
   end function clearly_elastic
 
   !> Principal-space elastic stiffness applied to `b`: lambda (sum b) 1 + 2 mu b.

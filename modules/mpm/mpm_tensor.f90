@@ -99,6 +99,10 @@ contains
     real(wp), intent(in) :: s(6)     !< symmetric tensor
     real(wp) :: t(6)
     real(wp) :: rt(3, 3)
+    if (planar(r, s)) then
+      t = rotate_planar(r, s)
+      return
+    end if
     ! the transpose in a local: passed as an expression, it was packed into a heap temporary
     ! (`_gfortran_internal_pack`) on every call
     rt = transpose(r)
@@ -112,8 +116,42 @@ contains
     real(wp) :: t(6)
     real(wp) :: rt(3, 3)
     rt = transpose(r)
+    if (planar(r, s)) then
+      t = rotate_planar(rt, s)
+      return
+    end if
     t = mat_to_sym(mul3(r, mul3(sym_to_mat(s), rt)))
   end function rotate_from
+
+  !> True for a rotation about z and a tensor without yz, xz parts (every plane-strain state):
+  !! `rotate_planar` then gives the 3 x 3 products' values.
+  pure logical function planar(r, s)
+    real(wp), intent(in) :: r(3, 3)  !< rotation
+    real(wp), intent(in) :: s(6)     !< symmetric tensor
+    planar = r(1, 3) == 0.0_wp .and. r(2, 3) == 0.0_wp .and. r(3, 1) == 0.0_wp .and. &
+      r(3, 2) == 0.0_wp .and. r(3, 3) == 1.0_wp .and. s(5) == 0.0_wp .and. s(6) == 0.0_wp
+  end function planar
+
+  !> Q^T S Q of a symmetric tensor S without yz, xz parts and a rotation Q about z (Q = R in
+  !! `rotate_to`, R^T in `rotate_from`): the xy block of their 3 x 3 products with the zero terms
+  !! left out (each an exact zero, so the sums are the same), zz unchanged.
+  pure function rotate_planar(q, s) result(t)
+    real(wp), intent(in) :: q(3, 3)       !< rotation about z
+    real(wp), intent(in) :: s(6)          !< symmetric tensor, s(5) = s(6) = 0
+    real(wp) :: t(6)
+    real(wp) :: m11, m12, m21, m22, t11, t12, t21, t22
+    ! M = S Q
+    m11 = s(1) * q(1, 1) + s(4) * q(2, 1)
+    m12 = s(1) * q(1, 2) + s(4) * q(2, 2)
+    m21 = s(4) * q(1, 1) + s(2) * q(2, 1)
+    m22 = s(4) * q(1, 2) + s(2) * q(2, 2)
+    ! T = Q^T M
+    t11 = q(1, 1) * m11 + q(2, 1) * m21
+    t12 = q(1, 1) * m12 + q(2, 1) * m22
+    t21 = q(1, 2) * m11 + q(2, 2) * m21
+    t22 = q(1, 2) * m12 + q(2, 2) * m22
+    t = [t11, t22, s(3), 0.5_wp * (t12 + t21), 0.0_wp, 0.0_wp]
+  end function rotate_planar
 
   !> Product a b of 3x3 matrices (explicit loops: no temporaries).
   pure function mul3(a, b) result(c)

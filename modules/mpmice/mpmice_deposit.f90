@@ -54,6 +54,7 @@ contains
     logical, intent(in), optional :: halves     !< the half-cell grain volumes too (the
                                                 !! face-plane drag; without it they stay 0)
     integer :: ip, d, k, a, b, c, first(3), nc(3), nf(3), ff(3), e, cb(3), nt, tgt(3, 6)
+    integer :: ci, cj, ck
     integer :: ilo(3), ihi(3), iown(3), ivol, icap, iene, icond, ihalf(3), idx(3)
     type(deposit_layout_t) :: lay
     real(wp) :: w(2, 3), wt, vg, l(3), lo, hi, wf, mc, tw(6), step, sup, sdn, wlo, whi, wlo0, whi0
@@ -122,60 +123,78 @@ contains
           do c = 1, nf(3)
             do b = 1, nf(2)
               do a = 1, nf(1)
+                ! wf times the tangential weights, in the order of the directions
                 wt = wf
-                do e = 1, 3
-                  if (e == d) cycle
-                  wt = wt * w(merge(a, merge(b, c, e == 2), e == 1), e)
-                end do
-                cb = [ff(1) + a - 1, ff(2) + b - 1, ff(3) + c - 1]
+                if (d /= 1) wt = wt * w(a, 1)
+                if (d /= 2) wt = wt * w(b, 2)
+                if (d /= 3) wt = wt * w(c, 3)
+                ci = ff(1) + a - 1
+                cj = ff(2) + b - 1
+                ck = ff(3) + c - 1
                 sweep = .true.
-                if (redirect) sweep = .not. wall_plane(wall_frac, grid, cb, d)
-                associate (q => dep(:, cb(1), cb(2), cb(3)))
-                  q(ilo(d)) = q(ilo(d)) + merge(wlo, wlo0, sweep) * wt
-                  q(ihi(d)) = q(ihi(d)) + merge(whi, whi0, sweep) * wt
-                end associate
+                if (redirect) sweep = .not. wall_plane(wall_frac, grid, [ci, cj, ck], d)
+                dep(ilo(d), ci, cj, ck) = dep(ilo(d), ci, cj, ck) + merge(wlo, wlo0, sweep) * wt
+                dep(ihi(d), ci, cj, ck) = dep(ihi(d), ci, cj, ck) + merge(whi, whi0, sweep) * wt
                 if (.not. own) cycle
-                cb = cb - unit_offset(:, d)
-                dep(iown(d), cb(1), cb(2), cb(3)) = dep(iown(d), cb(1), cb(2), cb(3)) + wt
+                ci = ci - unit_offset(1, d)
+                cj = cj - unit_offset(2, d)
+                ck = ck - unit_offset(3, d)
+                dep(iown(d), ci, cj, ck) = dep(iown(d), ci, cj, ck) + wt
               end do
             end do
           end do
         end do
       end do
-      do c = 1, nc(3)
-        do b = 1, nc(2)
-          do a = 1, nc(1)
-            wt = w(a, 1) * w(b, 2) * w(c, 3)
-            cb = [first(1) + a - 1, first(2) + b - 1, first(3) + c - 1]
-            idx = [a, b, c]
-            nt = 1
-            tgt(:, 1) = cb
-            tw(1) = 1.0_wp
-            ! the share over a wall cell of a rigid body goes to its face neighbours outside
-            ! the wall, by inverse distance from the particle (continuous as it moves)
-            if (redirect) then
+      if (redirect) then
+        ! the share over a wall cell of a rigid body goes to its face neighbours outside the
+        ! wall, by inverse distance from the particle (continuous as it moves)
+        do c = 1, nc(3)
+          do b = 1, nc(2)
+            do a = 1, nc(1)
+              wt = w(a, 1) * w(b, 2) * w(c, 3)
+              cb = [first(1) + a - 1, first(2) + b - 1, first(3) + c - 1]
+              idx = [a, b, c]
+              nt = 1
+              tgt(:, 1) = cb
+              tw(1) = 1.0_wp
               if (wall_frac(cb(1), cb(2), cb(3)) >= wall_fraction) call wall_neighbours(grid, &
                 wall_frac, cb, p%x(:, ip), nt, tgt, tw)
-            end if
-            do e = 1, nt
-              associate (q => dep(:, tgt(1, e), tgt(2, e), tgt(3, e)))
-                q(deposit_mass) = q(deposit_mass) + tw(e) * wt * p%mass(ip)
-                q(deposit_grain_volume) = q(deposit_grain_volume) + tw(e) * wt * vg
-                q(ivol) = q(ivol) + tw(e) * wt * vg
-                q(icap) = q(icap) + tw(e) * wt * mc
-                q(iene) = q(iene) + tw(e) * wt * mc * p%temperature(ip)
-                q(icond) = q(icond) + tw(e) * wt * vg * solid%conductivity
-                if (with_halves) then
-                  do d = 1, 3
-                    q(ihalf(d)) = q(ihalf(d)) + tw(e) * wt * vg * r(idx(d), d)
-                  end do
-                end if
-              end associate
+              do e = 1, nt
+                call add_cell_share(dep(:, tgt(1, e), tgt(2, e), tgt(3, e)), tw(e) * wt)
+              end do
             end do
           end do
         end do
-      end do
+      else
+        do c = 1, nc(3)
+          do b = 1, nc(2)
+            do a = 1, nc(1)
+              idx = [a, b, c]
+              call add_cell_share(dep(:, first(1) + a - 1, first(2) + b - 1, first(3) + c - 1), &
+                w(a, 1) * w(b, 2) * w(c, 3))
+            end do
+          end do
+        end do
+      end if
     end do
+  contains
+    !> The particle's cell deposit with the share `wt` of it into the components `q` of a cell.
+    subroutine add_cell_share(q, wt)
+      real(wp), intent(inout) :: q(:)  !< the cell's deposit components
+      real(wp), intent(in) :: wt       !< share [-]
+      integer :: h
+      q(deposit_mass) = q(deposit_mass) + wt * p%mass(ip)
+      q(deposit_grain_volume) = q(deposit_grain_volume) + wt * vg
+      q(ivol) = q(ivol) + wt * vg
+      q(icap) = q(icap) + wt * mc
+      q(iene) = q(iene) + wt * mc * p%temperature(ip)
+      q(icond) = q(icond) + wt * vg * solid%conductivity
+      if (with_halves) then
+        do h = 1, 3
+          q(ihalf(h)) = q(ihalf(h)) + wt * vg * r(idx(h), h)
+        end do
+      end if
+    end subroutine add_cell_share
   end subroutine solid_deposit
 
   !> Share of the slab [a, b] (in cells) that the particle domain [lo, hi] covers, over the slab's
@@ -226,13 +245,18 @@ contains
   !> A coordinate in cells, put on the nearest plane when it lies within 1e-9 cells of it.
   pure real(wp) function snap_to_plane(x) result(y)
     real(wp), intent(in) :: x  !< coordinate [cells]
+    real(wp) :: n
+    ! the nearest plane wherever it matters (x within 1e-9 of it: floor(x + 1/2) is then
+    ! anint(x)), without the library call of anint
+    n = real(floor(x + 0.5_wp), wp)
     y = x
-    if (abs(x - anint(x)) < 1.0e-9_wp) y = anint(x)
+    if (abs(x - n) < 1.0e-9_wp) y = n
   end function snap_to_plane
 
   !> Half-widths [m] along the axes of particle `ip`'s deformed domain F [-l0, l0] (its bounding
   !! box), at most dx/2, so that the domain's faces move with the material (a compressed particle
-  !! does not shed solid).
+  !! does not shed solid); 0 along an inactive dimension (one cell: `overlap_weights` and
+  !! `low_half_shares` do not read it there).
   pure function deformed_half_widths(p, ip, grid) result(l)
     type(particles_t), intent(in) :: p          !< particles
     integer, intent(in) :: ip                   !< particle
@@ -241,6 +265,7 @@ contains
     integer :: d, k
     do d = 1, 3
       l(d) = 0.0_wp
+      if (.not. grid%active(d)) cycle
       do k = 1, 3
         if (grid%active(k)) l(d) = l(d) + abs(p%f(d + 3 * (k - 1), ip)) * p%half_width(k)
       end do
