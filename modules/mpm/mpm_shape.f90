@@ -15,7 +15,7 @@ module mpm_shape
   private
 
   public :: shape_linear, shape_gimp, max_stencil, shape_kind_from_name, particle_stencil
-  public :: node_offsets
+  public :: node_offsets, nearest_integer
 
   integer, parameter :: shape_linear = 1   !< linear (tent) functions
   integer, parameter :: shape_gimp = 2     !< uGIMP functions
@@ -64,7 +64,7 @@ contains
           call linear_1d(r, h, w(a, d), dw(a, d))
         end do
       else
-        first(d) = nint(s)
+        first(d) = nearest_integer(s)
         nn(d) = 3
         do a = 1, 3
           r = xp(d) - (grid%lower(d) + real(first(d) + a - 2, wp) * h)
@@ -84,6 +84,20 @@ contains
       end if
     end do
   end subroutine particle_stencil
+
+  !> nint(s) (the nearest integer, halves away from zero) without the library call of nint:
+  !! s - int(s) is exact, so the test of the fraction against 1/2 is too.
+  pure integer function nearest_integer(s) result(n)
+    real(wp), intent(in) :: s   !< value, |s| < huge(n)
+    real(wp) :: frac
+    n = int(s)
+    frac = s - real(n, wp)
+    if (frac >= 0.5_wp) then
+      n = n + 1
+    else if (frac <= -0.5_wp) then
+      n = n - 1
+    end if
+  end function nearest_integer
 
   !> Node-minus-particle offsets x_i - x_p [m] of a particle's stencil, per dimension (0 in an
   !! inactive dimension).
