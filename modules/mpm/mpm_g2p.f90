@@ -33,6 +33,23 @@ contains
     type(grid_t), intent(in) :: grid             !< block geometry
     real(wp), intent(in) :: dt                   !< step [s]
     real(wp), intent(in) :: flip                 !< FLIP fraction 0..1
+    call g2p_particles(p, nodes, nodes%acc, nodes%vel_l, mat, kind, grid, dt, flip)
+  end subroutine g2p_update
+
+  !> `g2p_update` with the node accelerations and velocities as explicit-shape arrays (their
+  !! bounds in registers: through the node store's descriptors the gather cost a third more).
+  subroutine g2p_particles(p, nodes, acc, vel_l, mat, kind, grid, dt, flip)
+    type(particles_t), intent(inout) :: p        !< particles
+    type(mpm_nodes_t), intent(in) :: nodes       !< solved node fields (APIC's affine part)
+    type(grid_t), intent(in) :: grid             !< block geometry
+    real(wp), intent(in) :: acc(3, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
+      grid%lbn(3):grid%ubn(3))                   !< node accelerations a [m/s^2]
+    real(wp), intent(in) :: vel_l(3, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
+      grid%lbn(3):grid%ubn(3))                   !< node velocities v^L [m/s]
+    type(material_t), intent(in) :: mat          !< constitutive model
+    integer, intent(in) :: kind                  !< shape_linear or shape_gimp
+    real(wp), intent(in) :: dt                   !< step [s]
+    real(wp), intent(in) :: flip                 !< FLIP fraction 0..1
     integer :: ip, i, j, k, a, b, c, first(3), nn(3)
     real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s, g(3), wjk, gjk(3)
     real(wp) :: ap(3), vlp(3), l(3, 3), f(3, 3), fnew(3, 3), vl(3)
@@ -68,10 +85,10 @@ contains
             g(1) = dw(a, 1) * wjk
             g(2) = w(a, 1) * gjk(2)
             g(3) = w(a, 1) * gjk(3)
-            vl = nodes%vel_l(:, i, j, k)
-            ax = ax + s * nodes%acc(1, i, j, k)
-            ay = ay + s * nodes%acc(2, i, j, k)
-            az = az + s * nodes%acc(3, i, j, k)
+            vl = vel_l(:, i, j, k)
+            ax = ax + s * acc(1, i, j, k)
+            ay = ay + s * acc(2, i, j, k)
+            az = az + s * acc(3, i, j, k)
             px = px + s * vl(1)
             py = py + s * vl(2)
             pz = pz + s * vl(3)
@@ -123,7 +140,7 @@ contains
           p%plastic_strain(ip))
       end if
     end do
-  end subroutine g2p_update
+  end subroutine g2p_particles
 
   !> APIC's affine velocity C_p = B_p D_p^-1 of a particle at `xp` from the nodes' v^L, B_p =
   !! sum S_ip v^L_i (x_i - x_p)^T, D_p = sum S_ip (x_i - x_p)(x_i - x_p)^T (diagonal: the

@@ -12,7 +12,7 @@ module mpm_p2g
   use particles_store, only: particles_t
   use mpm_shape, only: particle_stencil, max_stencil, node_offsets
   use mpm_nodes, only: mpm_nodes_t, node_mass, node_momentum, node_force, node_rigid_mass, &
-    node_rigid_momentum, node_rigid_gradient
+    node_rigid_momentum, node_rigid_gradient, nq
   implicit none
   private
 
@@ -46,7 +46,8 @@ contains
   subroutine p2g_accumulate(p, q, kind, grid)
     type(particles_t), intent(in) :: p           !< particles
     type(grid_t), intent(in) :: grid             !< block geometry
-    real(wp), intent(inout) :: q(:, grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< node fields
+    real(wp), intent(inout) :: q(nq, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
+      grid%lbn(3):grid%ubn(3))                   !< node fields (the whole store)
     integer, intent(in) :: kind                  !< shape_linear or shape_gimp
     integer :: ip, i, j, k, a, b, c, first(3), nn(3)
     real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s, g(3), m, mv(3), sv(6), wjk, gjk(3)
