@@ -71,10 +71,11 @@ contains
           call gimp_1d(r, h, lp(d), w(a, d), dw(a, d))
         end do
       end if
-      if (.not. grid%periodic(d)) then
-        ! nodes beyond a wall take no part (a particle closer than l_p to the wall would reach
-        ! them; the reverse halo does not sum such locations, so keeping them would make the
-        ! result depend on the decomposition)
+      ! nodes beyond a wall take no part (a particle closer than l_p to the wall would reach
+      ! them; the reverse halo does not sum such locations, so keeping them would make the
+      ! result depend on the decomposition); most stencils lie inside, one test for them
+      if (.not. grid%periodic(d) .and. (first(d) < 1 .or. &
+        first(d) + nn(d) - 1 > grid%ncells(d) + 1)) then
         do a = 1, nn(d)
           if (first(d) + a - 1 < 1 .or. first(d) + a - 1 > grid%ncells(d) + 1) then
             w(a, d) = 0.0_wp
