@@ -21,7 +21,8 @@
 !!   high half holds the rest of `deposit_grain_volume`).
 !!
 !! The indices follow in this order, the planes' directions interleaved (low, high, low, ...).
-!! `lay%size` = `deposit_size(ns)` components in all. The indices of the three directions of one
+!! `lay%size` = `deposit_size(ns)` components in all; a scene stores those it uses
+!! (`deposit_size` with its options). The indices of the three directions of one
 !! kind of plane component are 2 apart (low/high sides interleave): `lay%plane_low(1):
 !! lay%plane_low(3):2` is the low sides of the three low planes.
 module mpmice_deposit_layout
@@ -83,11 +84,25 @@ contains
     idx = deposit_grain_volume + s
   end function deposit_solid_volume
 
-  !> Number of deposit components of `ns` solids.
-  pure integer function deposit_size(ns) result(n)
-    integer, intent(in) :: ns  !< number of solids
+  !> Number of deposit components of `ns` solids; a scene without sliding rigid bodies
+  !! (`rigid_planes` false) or without the half-cell volumes (`halves` false) stores only the
+  !! components before the groups it does not use (they come last: the rigid planes, then the
+  !! halves; the other indices are those of `deposit_layout`). Without the optional arguments:
+  !! every component.
+  pure integer function deposit_size(ns, rigid_planes, halves) result(n)
+    integer, intent(in) :: ns                     !< number of solids
+    logical, intent(in), optional :: rigid_planes !< a sliding rigid body's plane components
+    logical, intent(in), optional :: halves       !< the half-cell grain volumes
     type(deposit_layout_t) :: lay
+    logical :: with_rigid, with_halves
     lay = deposit_layout(ns)
+    with_rigid = .true.
+    with_halves = .true.
+    if (present(rigid_planes)) with_rigid = rigid_planes
+    if (present(halves)) with_halves = halves
     n = lay%size
+    if (with_halves) return
+    n = lay%half_low(1) - 1
+    if (.not. with_rigid) n = lay%rigid_low(1) - 1
   end function deposit_size
 end module mpmice_deposit_layout

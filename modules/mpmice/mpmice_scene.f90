@@ -134,7 +134,7 @@ contains
     class(mpmice_scene_t), intent(inout) :: self    !< scene
     type(mpmice_scene_params_t), intent(in) :: par  !< the scene's groups
     type(scene_context_t), intent(in) :: ctx        !< decomposition, grid and timers of the run
-    integer :: s, m, ns, its, failed, face, d
+    integer :: s, m, ns, its, failed, face, d, ndep
     type(boundary_params_t) :: b
     self%ctx = ctx
     associate (dom => ctx%dom, grid => ctx%grid, timers => ctx%timers)
@@ -189,7 +189,10 @@ contains
         self%fl%state%p_boundary(face) = b%pressure
       end do
       self%solid%h_exchange = par%coupling%heat_exchange_coefficient
-      allocate(self%dep(deposit_size(ns), grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
+      ! only the components the scene uses (the zero fill, the reverse halo and the reads move
+      ! 15 of the 24 components of one solid without sliding bodies or face-plane drag)
+      ndep = deposit_size(ns, self%solid%sliding, self%solid%plane_drag)
+      allocate(self%dep(ndep, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
         grid%lbc(3):grid%ubc(3)), source=0.0_wp)
       if (any(self%so%static)) allocate(self%static_dep, mold=self%dep)
       allocate(self%du(6, grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
@@ -203,7 +206,7 @@ contains
         io_join_path(trim(par%mpm%run%output_dir), trim(par%mpm%run%name) // '_contact_force.csv'))
       allocate(self%phi_p(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
         grid%lbc(3):grid%ubc(3)), source=0.0_wp)
-      call halo_init(self%halo, dom, grid, deposit_size(ns))
+      call halo_init(self%halo, dom, grid, max(ndep, size(self%du, 1)))
       allocate(self%uprev(3, grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
         grid%lbc(3):grid%ubc(3), par%ice%nfluids), source=0.0_wp)
       allocate(self%nbuf(grid%lbn(1):grid%ubn(1), grid%lbn(2):grid%ubn(2), &
