@@ -225,9 +225,17 @@ contains
     real(wp), intent(in) :: max_fraction        !< largest solid fraction [-]
     integer :: i, j, k, d, o(3)
     real(wp) :: flux, phi_l, phi_r, area
+    ! the x faces' upwind fractions of a row, each face once (a cell's high face is the next
+    ! cell's low face)
+    real(wp) :: phi_x(grid%lo(1):grid%hi(1) + 1)
     associate (sp => solid)
       do k = grid%lo(3), grid%hi(3)
         do j = grid%lo(2), grid%hi(2)
+          if (grid%active(1)) then
+            do i = grid%lo(1), grid%hi(1) + 1
+              phi_x(i) = solid_face_fraction(solid, 1, [1, 0, 0], i, j, k)
+            end do
+          end if
           do i = grid%lo(1), grid%hi(1)
             flux = 0.0_wp
             do d = 1, 3
@@ -235,8 +243,13 @@ contains
               o = 0
               o(d) = 1
               area = grid%cell_volume / grid%dx(d)
-              phi_r = solid_face_fraction(solid, d, o, i + o(1), j + o(2), k + o(3))
-              phi_l = solid_face_fraction(solid, d, o, i, j, k)
+              if (d == 1) then
+                phi_r = phi_x(i + 1)
+                phi_l = phi_x(i)
+              else
+                phi_r = solid_face_fraction(solid, d, o, i + o(1), j + o(2), k + o(3))
+                phi_l = solid_face_fraction(solid, d, o, i, j, k)
+              end if
               flux = flux + area * (phi_r * sp%uface(i + o(1), j + o(2), k + o(3), d) - &
                 phi_l * sp%uface(i, j, k, d) + sp%rigid_flux(i + o(1), j + o(2), k + o(3), d) - &
                 sp%rigid_flux(i, j, k, d))
