@@ -15,6 +15,7 @@ module mpmice_deposit
   use mpmice_deposit_layout, only: deposit_layout_t, deposit_layout, deposit_mass, &
     deposit_grain_volume, deposit_solid_volume
   use mpmice_rigid_contact, only: wall_fraction, wall_neighbours, wall_plane
+  use mpm_shape, only: nearest_integer
   implicit none
   private
 
@@ -246,9 +247,7 @@ contains
   pure real(wp) function snap_to_plane(x) result(y)
     real(wp), intent(in) :: x  !< coordinate [cells]
     real(wp) :: n
-    ! the nearest plane wherever it matters (x within 1e-9 of it: floor(x + 1/2) is then
-    ! anint(x)), without the library call of anint
-    n = real(floor(x + 0.5_wp), wp)
+    n = real(nearest_integer(x), wp)   ! anint(x), without its library call
     y = x
     if (abs(x - n) < 1.0e-9_wp) y = n
   end function snap_to_plane
