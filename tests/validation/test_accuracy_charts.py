@@ -1,4 +1,5 @@
-"""Speed-against-accuracy charts and stability maps (bench/accuracy_charts.py, docs/accuracy.md).
+"""Speed-against-accuracy charts and stability maps (bench/accuracy_charts.py,
+bench/stability_maps.py, docs/accuracy.md).
 
 The Pareto-front logic is tested on synthetic points; the --quick path of one scene (Sod, ~5 s)
 checks that the CSV and PNG are written, that the front is the set of non-dominated runs and that
@@ -13,6 +14,8 @@ import numpy as np
 import pytest
 
 from bench import accuracy_charts as ac
+from bench import accuracy_runs as runs
+from bench import stability_maps as maps
 
 
 # --------------------------------------------------------------------------- Pareto front
@@ -88,18 +91,18 @@ def test_bar_failure_classification(mpmice_exe, tmp_path, monkeypatch):
     orders of magnitude or the run stops with status 3; with the map's stops the energy stop
     ends it early, and the stable run is the same with and without them."""
     monkeypatch.setenv("MPMICE_EXE", str(mpmice_exe))
-    ok = ac.run_bar(str(tmp_path), 40, "linear", cfl=0.5)
-    assert ok["run"]["state"] == "finished" and not ac.run_failed(ok["run"])
-    assert ok["energy_growth"] < ac.ENERGY_LIMIT and ok["history_error"] < ac.BAR_ERROR_LIMIT
-    bad = ac.run_bar(str(tmp_path), 40, "linear", cfl=1.0)
-    assert ac.run_failed(bad["run"], bad.get("particles_lost", 0)) \
-        or not (bad.get("energy_growth", math.inf) < ac.ENERGY_LIMIT)
+    ok = runs.run_bar(str(tmp_path), 40, "linear", cfl=0.5)
+    assert ok["run"]["state"] == "finished" and not runs.run_failed(ok["run"])
+    assert ok["energy_growth"] < runs.ENERGY_LIMIT and ok["history_error"] < maps.BAR_ERROR_LIMIT
+    bad = runs.run_bar(str(tmp_path), 40, "linear", cfl=1.0)
+    assert runs.run_failed(bad["run"], bad.get("particles_lost", 0)) \
+        or not (bad.get("energy_growth", math.inf) < runs.ENERGY_LIMIT)
     # the map's run-loop stops: the energy stop ends the unstable run within 100 steps (the
     # full run takes ~2,100), the stable one is untouched
     (tmp_path / "stops").mkdir()
-    stopped = ac.run_bar(str(tmp_path / "stops"), 40, "linear", cfl=1.0, stops=True)
-    assert ac.stop_kind(stopped["run"]) == "energy growth" and stopped["run"]["steps"] < 100
-    assert ac.ENERGY_LIMIT < stopped["energy_growth"] < 1.0
-    watched = ac.run_bar(str(tmp_path / "stops"), 40, "linear", cfl=0.5, stops=True)
-    assert watched["run"]["exit_code"] == 0 and ac.stop_kind(watched["run"]) == ""
+    stopped = runs.run_bar(str(tmp_path / "stops"), 40, "linear", cfl=1.0, stops=True)
+    assert runs.stop_kind(stopped["run"]) == "energy growth" and stopped["run"]["steps"] < 100
+    assert runs.ENERGY_LIMIT < stopped["energy_growth"] < 1.0
+    watched = runs.run_bar(str(tmp_path / "stops"), 40, "linear", cfl=0.5, stops=True)
+    assert watched["run"]["exit_code"] == 0 and runs.stop_kind(watched["run"]) == ""
     assert watched["history_error"] == ok["history_error"]

@@ -96,7 +96,7 @@ COLUMN_SETS = ["&grid ncells = 1, 31, 1 /", "&numerics shape_function = 'linear'
 
 
 def column_sets(youngs: float) -> list[str]:
-    """The column of bench/accuracy_charts.run_column: ramp gravity over 10 periods of the first
+    """The column of bench/stability_maps.run_column: ramp gravity over 10 periods of the first
     mode, run for 20."""
     period = 4.0 / math.sqrt(youngs * 0.7 / (1.3 * 0.4) / 2000.0)
     return COLUMN_SETS + [f"&solid name = 'soil', youngs_modulus = {youngs!r} /",

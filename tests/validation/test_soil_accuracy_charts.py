@@ -1,14 +1,16 @@
-"""Soil entries of the speed-against-accuracy study (bench/accuracy_charts.py, docs/accuracy.md):
-the Rondon chart's error against the experiment (postproc.mpmice_rondon.data_errors) on
-synthetic series, and the soil models' stability limit in the step (soil_cfl_map) on four short
-column runs (~4 s): stable and accurate at cfl 0.5, failed at cfl 1.
+"""Soil entries of the speed-against-accuracy study (bench/accuracy_charts.py,
+bench/stability_maps.py, docs/accuracy.md): the Rondon chart's error against the experiment
+(postproc.mpmice_rondon.data_errors) on synthetic series, and the soil models' stability limit
+in the step (soil_cfl_map) on four short column runs (~4 s): stable and accurate at cfl 0.5,
+failed at cfl 1.
 """
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from bench import accuracy_charts as ac
+from bench import accuracy_runs as runs
+from bench import stability_maps as maps
 from postproc import mpmice_rondon as rondon
 from postproc import mpmice_rondon_diagnose as diagnose
 
@@ -67,13 +69,13 @@ def test_soil_column_stable_at_half_cfl_fails_at_one(model, stiffness, mpmice_ex
     at cfl 1 the sand is stopped by the energy check and the clay is noisy (measured: 66 steps;
     oscillation 91 %)."""
     monkeypatch.setenv("MPMICE_EXE", str(mpmice_exe))
-    ok = ac.run_soil_column(str(tmp_path), model, stiffness, 0.5)
+    ok = maps.run_soil_column(str(tmp_path), model, stiffness, 0.5)
     assert ok["run"]["exit_code"] == 0 and ok["particles_lost"] == 0
-    assert ok["stress_error"] < ac.SOIL_ERROR_LIMIT
-    assert ok["oscillation"] < ac.NOISE_LIMIT
-    bad = ac.run_soil_column(str(tmp_path), model, stiffness, 1.0)
+    assert ok["stress_error"] < maps.SOIL_ERROR_LIMIT
+    assert ok["oscillation"] < maps.NOISE_LIMIT
+    bad = maps.run_soil_column(str(tmp_path), model, stiffness, 1.0)
     if model == "critical_state_sand":
-        assert ac.stop_kind(bad["run"]) == "energy growth"
+        assert runs.stop_kind(bad["run"]) == "energy growth"
     else:
         assert bad["run"]["exit_code"] == 0
-        assert bad["oscillation"] > ac.NOISE_LIMIT
+        assert bad["oscillation"] > maps.NOISE_LIMIT
