@@ -144,6 +144,27 @@ COLUMN_E = (1.0e7, 1.0e6, 3.0e5, 1.0e5, 3.0e4)
 NOISE_LIMIT = 0.05
 
 
+def column_stress(out: str, run: dict, unit_weight: float, height: float) -> tuple:
+    """The 1D column runs' measures (particles 'soil' in <out>/column1d_*.h5): particles lost,
+    the stress error max |sigma_yy - exact| / (unit_weight H) (exact: -unit_weight (H - Y0), the
+    weight above the particle, valid at any strain in 1D) and the stress oscillation max |s_i -
+    (s_{i-1} + s_{i+1}) / 2| / (unit_weight H) (sigma_yy sorted by height), NaN for a failed
+    run; with the first and the last dump's particles."""
+    paths = list_dumps(out, "column1d")
+    _, p0 = particles(paths[0], "soil")
+    _, p1 = particles(paths[-1], "soil")
+    res = {"particles_lost": lost_particles(run, p0, p1), "stress_error": math.nan,
+           "oscillation": math.nan}
+    if not run_failed(run, res["particles_lost"]):
+        order = np.argsort(p0["y"])
+        s = p1["stress_yy"][order]
+        scale = unit_weight * height
+        res["stress_error"] = float(np.max(np.abs(s + unit_weight * (height - p0["y"][order])))
+                                    / scale)
+        res["oscillation"] = float(np.max(np.abs(s[1:-1] - 0.5 * (s[:-2] + s[2:]))) / scale)
+    return res, p0, p1
+
+
 def run_column(work: str, cells: int, shape: str, youngs: float) -> dict:
     """The 1D column of postproc.mpm_column with Young's modulus `youngs`: ramp 10 periods of
     the first mode, end after 20 (the validation's 0.5 s / 1 s at E = 1e7 Pa)."""
@@ -162,19 +183,9 @@ def run_column(work: str, cells: int, shape: str, youngs: float) -> dict:
                               f"max_steps = {int(STEP_CAP * 20 * 4 * cells / 0.4) + 100} /",
                      "--set", MAP_STOPS],
                     out, "column1d", 1, work)
-    res = {"run": run, "u_top_cells": rho * g * height**2 / (2.0 * m) * cells / height,
-           "oscillation": math.nan, "stress_error": math.nan}
-    paths = list_dumps(out, "column1d")
-    _, p0 = particles(paths[0], "soil")
-    _, p1 = particles(paths[-1], "soil")
-    res["particles_lost"] = lost_particles(run, p0, p1)
+    res, p0, p1 = column_stress(out, run, rho * g, height)
+    res.update({"run": run, "u_top_cells": rho * g * height**2 / (2.0 * m) * cells / height})
     if not run_failed(run, res["particles_lost"]):
-        order = np.argsort(p0["y"])
-        y0 = p0["y"][order]
-        s = p1["stress_yy"][order]
-        scale = rho * g * height
-        res["stress_error"] = float(np.max(np.abs(s + rho * g * (height - y0))) / scale)
-        res["oscillation"] = float(np.max(np.abs(s[1:-1] - 0.5 * (s[:-2] + s[2:]))) / scale)
         res["top_displacement_cells"] = float((np.max(p1["y"]) - np.max(p0["y"])) * cells
                                               / height)
     return res
@@ -260,19 +271,10 @@ def run_soil_column(work: str, model: str, stiffness: float, cfl: float) -> dict
                      "--set", MAP_STOPS,
                      "--set", f"&run max_energy_growth = {SOIL_ENERGY_FACTOR!r} /"],
                     out, "column1d", 1, work)
-    res = {"run": run, "stress_error": math.nan, "oscillation": math.nan,
-           "base_modulus": soil_base_modulus(model, stiffness), "period": period}
-    paths = list_dumps(out, "column1d")
-    _, p0 = particles(paths[0], "soil")
-    _, p1 = particles(paths[-1], "soil")
-    res["particles_lost"] = lost_particles(run, p0, p1)
+    res, p0, p1 = column_stress(out, run, rho * 9.81, SOIL_H)
+    res.update({"run": run, "base_modulus": soil_base_modulus(model, stiffness),
+                "period": period})
     if not run_failed(run, res["particles_lost"]):
-        order = np.argsort(p0["y"])
-        s = p1["stress_yy"][order]
-        scale = rho * 9.81 * SOIL_H
-        res["stress_error"] = float(np.max(np.abs(s + rho * 9.81 * (SOIL_H - p0["y"][order])))
-                                    / scale)
-        res["oscillation"] = float(np.max(np.abs(s[1:-1] - 0.5 * (s[:-2] + s[2:]))) / scale)
         res["settlement_cells"] = float((np.max(p0["y"]) - np.max(p1["y"])) / dx)
     return res
 
@@ -335,6 +337,14 @@ def _verdict_points(ax, rows: list[dict], x: str, y: str, plot, note, xytext) ->
                         fontsize=6)
 
 
+def _cfl_axis(ax, rows: list[dict], title: str) -> None:
+    """The x axis, title and verdict legend of a map over &time cfl."""
+    ax.set_xlabel("&time cfl (dt = cfl dx / (c + |v|); validation caps it at 1)")
+    ax.set_title(title, fontsize=9)
+    ax.set_xlim(0.15, 1.15)
+    _legend_verdicts(ax, rows)
+
+
 def plot_drag(rows: list[dict], path: str) -> None:
     plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
@@ -364,10 +374,7 @@ def plot_mpm_cfl(rows: list[dict], path: str) -> None:
                         ax.semilogy,
                         lambda r: f"{r['energy_growth']:+.1e}\n{r['history_error']:.1e}"
                         if math.isfinite(r["energy_growth"]) else None, (5, -12))
-        ax.set_xlabel("&time cfl (dt = cfl dx / (c + |v|); validation caps it at 1)")
-        ax.set_title(f"shape_function = '{shape}'")
-        ax.set_xlim(0.15, 1.15)
-        _legend_verdicts(ax, rows)
+        _cfl_axis(ax, rows, f"shape_function = '{shape}'")
     axes[0].set_ylabel("tip amplitude [cells] (E / E_ref = 1 .. 1e-5 at v0 = 0.01 m/s)")
     fig.suptitle(f"Elastic bar, {MPM_CELLS} cells, 10 periods. unstable: stopped by &run "
                  f"max_energy_growth = {1 + ENERGY_LIMIT:g} (energy > {1 + ENERGY_LIMIT:g} E(0)); "
@@ -419,10 +426,7 @@ def plot_soil_cfl(rows: list[dict], path: str) -> None:
         _verdict_points(ax, [r for r in rows if r["model"] == model], "cfl", "base_modulus",
                         ax.semilogy, lambda r: f"{r['stress_error']:.1e}"
                         if math.isfinite(r["stress_error"]) else None, (5, -10))
-        ax.set_xlabel("&time cfl (dt = cfl dx / (c + |v|); validation caps it at 1)")
-        ax.set_title(f"model = '{model}': {labels[model]}", fontsize=9)
-        ax.set_xlim(0.15, 1.15)
-        _legend_verdicts(ax, rows)
+        _cfl_axis(ax, rows, f"model = '{model}': {labels[model]}")
     axes[0].set_ylabel("constrained modulus at the base, t = 0 [Pa]")
     fig.suptitle(f"Soil column under self-weight (1D MPM, GIMP, {SOIL_CELLS} cells, geostatic "
                  f"start, 20 periods). unstable: stopped by &run max_energy_growth = "
