@@ -31,11 +31,12 @@ contains
     logical :: with_solid, rigid, pair
 
     nf = state%nfluids
-    ! two fluids beside a solid phase: at an inner face with no solid in either cell the general
+    ! two fluids beside a solid phase: at an inner face where neither cell holds the fluids'
+    ! solid partner (`solid_face_partner`: the solid fraction, or with sliding rigid bodies the
+    ! partner's fraction xfrac, which is zero wherever the deformable solid's is) the general
     ! path below reduces to the closed-form 2 x 2 solve of exchange_solve, which
     ! `exchange_faces_two` takes directly (the same arithmetic)
-    pair = nf == 2 .and. k_exchange > 0.0_wp .and. .not. solid%sliding .and. &
-      .not. solid%explicit_drag
+    pair = nf == 2 .and. k_exchange > 0.0_wp .and. .not. solid%explicit_drag
     do d = 1, 3
       if (.not. open_face_sweep(state, grid, d, o, r)) cycle
       do k = r(1, 3), r(2, 3)
@@ -44,8 +45,7 @@ contains
             side = boundary_side(grid, d, [i, j, k])
             if (pair .and. side == 0) then
               ! the fluids' closed-form exchange, `exchange_faces_two` below
-              if (solid%vfrac(i - o(1), j - o(2), k - o(3)) <= 0.0_wp .and. &
-                solid%vfrac(i, j, k) <= 0.0_wp) then
+              if (partner_free(solid, [i, j, k] - o, [i, j, k])) then
                 solid%vface(i, j, k, d) = 0.0_wp
                 cycle
               end if
@@ -109,9 +109,29 @@ contains
         end do
       end do
     end do
-    ! two fluids beside a solid phase: the inner faces with no solid in either cell
-    if (pair) call exchange_faces_two(state, grid, dt, k_exchange, solid%vfrac)
+    ! two fluids beside a solid phase: the inner faces with no solid partner in either cell
+    if (pair .and. solid%sliding) then
+      call exchange_faces_two(state, grid, dt, k_exchange, solid%xfrac)
+    else if (pair) then
+      call exchange_faces_two(state, grid, dt, k_exchange, solid%vfrac)
+    end if
   end procedure solid_phase_exchange_faces
+
+  !> True when neither cell of a face holds the fluids' solid partner of `solid_face_partner`:
+  !! the solid fraction, or with sliding rigid bodies the partner's fraction `xfrac` (the
+  !! deformable solid's where it has any, else a wall's; zero wherever `frac_def` is).
+  pure logical function partner_free(solid, lo, hi)
+    class(solid_phase_t), intent(in) :: solid  !< solid phase
+    integer, intent(in) :: lo(3)               !< cell on the face's low side
+    integer, intent(in) :: hi(3)               !< cell on the face's high side
+    if (solid%sliding) then
+      partner_free = solid%xfrac(lo(1), lo(2), lo(3)) <= 0.0_wp .and. &
+        solid%xfrac(hi(1), hi(2), hi(3)) <= 0.0_wp
+    else
+      partner_free = solid%vfrac(lo(1), lo(2), lo(3)) <= 0.0_wp .and. &
+        solid%vfrac(hi(1), hi(2), hi(3)) <= 0.0_wp
+    end if
+  end function partner_free
 
   !> The solid phase at the low face of cell (i,j,k) in direction d: mean volume fraction,
   !! grain specific volume, whether its velocity is prescribed there, and per fluid m the
