@@ -348,7 +348,7 @@ contains
     if (.not. (with_partner .or. (h_exchange > 0.0_wp .and. nf > 1))) return
     nh = nf
     if (with_partner) nh = nf + 1
-    beta = 0.0_wp
+    beta(1:nh, 1:nh) = 0.0_wp  ! the block exchange_solve reads
     do m = 1, nf
       associate (f => state%fluid(m))
         x(m, 1) = f%lag(i, j, k, 4) / f%eos%cv
