@@ -33,7 +33,7 @@ contains
     nf = state%nfluids
     ! two fluids beside a solid phase: at an inner face where neither cell holds the fluids'
     ! solid partner (`solid_face_partner`: the solid fraction, or with sliding rigid bodies the
-    ! partner's fraction xfrac, which is zero wherever the deformable solid's is) the general
+    ! partner's fraction xfrac, zero only where the deformable solid's is zero too) the general
     ! path below reduces to the closed-form 2 x 2 solve of exchange_solve, which
     ! `exchange_faces_two` takes directly (the same arithmetic)
     pair = nf == 2 .and. k_exchange > 0.0_wp .and. .not. solid%explicit_drag
@@ -119,7 +119,7 @@ contains
 
   !> True when neither cell of a face holds the fluids' solid partner of `solid_face_partner`:
   !! the solid fraction, or with sliding rigid bodies the partner's fraction `xfrac` (the
-  !! deformable solid's where it has any, else a wall's; zero wherever `frac_def` is).
+  !! deformable solid's where it has any, else a wall's, so `frac_def` is zero where it is).
   pure logical function partner_free(solid, lo, hi)
     class(solid_phase_t), intent(in) :: solid  !< solid phase
     integer, intent(in) :: lo(3)               !< cell on the face's low side
