@@ -58,8 +58,7 @@ MONITOR_RADIUS = 0.3         # m
 MONITORS = {"crest": (5.789, 1.5), "left flank": (3.1, 1.0), "right flank": (8.5, 1.0)}
 # pore-pressure ratio r_u = (mean excess pore pressure) / (mean initial vertical effective
 # stress -sigma'_yy) of the particles that start within RU_RADIUS of these points: the bank's
-# core and the basal layer under the crest and under each flank (docs/soil_models.md,
-# "Earthquake-induced liquefaction")
+# core and the basal layer under the crest and under each flank (docs/earthquake_liquefaction.md)
 RU_RADIUS = 0.25             # m
 RU_MONITORS = {"bank core": (5.789, 1.2), "layer, crest": (5.789, 0.35),
                "layer, left flank": (3.1, 0.35), "layer, right flank": (8.5, 0.35)}

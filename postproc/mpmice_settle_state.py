@@ -1,4 +1,4 @@
-"""The state of a settling bank of critical-state sand, per dump (docs/soil_models.md,
+"""The state of a settling bank of critical-state sand, per dump (docs/earthquake_liquefaction.md,
 "Elastic gravity loading"): the sediment's kinetic energy and largest particle speed (is it at
 rest?), the share of its particles with p' <= 10 Pa, the share beyond the yield surface and the
 mobilised strength tau / (mu p') of those with p' > 10 Pa, and the share that has yielded

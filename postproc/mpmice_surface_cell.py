@@ -1,5 +1,6 @@
 """The pore pressure in the cell that a settling sediment's surface passes through (issue 32
-item 5; docs/soil_models.md, "The surface cell of a settling sediment"). Per dump, for a column
+item 5;
+docs/earthquake_liquefaction.md, "The surface cell of a settling sediment"). Per dump, for a column
 of cells x_left < x < x_right (the whole width in 1D):
 
 * the sediment surface (the column's highest particle plus half its deformed height in 1D,

@@ -1,4 +1,5 @@
-"""The time window of the local damping (`&mpm local_damping_end`, docs/soil_models.md "Damped
+"""The time window of the local damping (`&mpm local_damping_end`,
+docs/earthquake_liquefaction.md "Damped
 settle"): the damping acts on the steps that begin before the end time and not after.
 
 The elastic column of namelists/mpm_column_1d.nml (H = 1 m, E = 10 MPa, nu = 0.3, rho = 2000

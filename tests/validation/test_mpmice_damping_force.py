@@ -1,5 +1,5 @@
 """The local damping in the coupled scene (`&mpm local_damping_force`, `local_damping_end`;
-docs/soil_models.md "Damped settle"), on the submerged layer of test_mpmice_geostatic.py
+docs/earthquake_liquefaction.md "Damped settle"), on the submerged layer of test_mpmice_geostatic.py
 (namelists/mpmice_submerged_block_2d.nml with the sand block widened to a 0.2 m layer, started
 with its geostatic effective stress and hydrostatic water: in equilibrium, particle speeds below
 4e-7 m/s undamped) over 0.05 s, with alpha = 0.75.

@@ -106,8 +106,8 @@ def liquefaction_rows(tmp_path, kind):
 
 
 def test_loose_sand_liquefies_dense_sand_sucks(tmp_path):
-    """The critical-state sand variants of the shaken bank (docs/soil_models.md,
-    "Earthquake-induced liquefaction"), 0.25 m cells, the first 0.15 s of the 1 g shaking.
+    """The critical-state sand variants of the shaken bank
+    (docs/earthquake_liquefaction.md), 0.25 m cells, the first 0.15 s of the 1 g shaking.
     Loose (phi0 = 0.57 < phi_m): in the basal layer under the crest and both flanks the pore-
     pressure ratio r_u = excess pore pressure / initial sigma'_v rises from 0.05 to 0.15 s and
     reaches >= 0.6 at 0.15 s (measured 0.77 / 1.03 / 1.02), and the skeleton there has lost

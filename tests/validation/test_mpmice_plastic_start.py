@@ -1,4 +1,4 @@
-"""Elastic gravity loading (`&solid plastic_start`, docs/soil_models.md "Elastic gravity
+"""Elastic gravity loading (`&solid plastic_start`, docs/earthquake_liquefaction.md "Elastic gravity
 loading"): before the given time a plastic model's stress follows its elastic law only.
 
 The undrained cyclic shear column (namelists/mpmice_cyclic_shear_column_1d.nml, one cycle per

@@ -1,4 +1,5 @@
-"""A geostatic settle before the shaking (`&solid densification_start`, docs/soil_models.md
+"""A geostatic settle before the shaking (`&solid densification_start`,
+docs/earthquake_liquefaction.md
 "Shaking from a settled bank"): the cyclic densification counts only from the given time.
 
 The undrained cyclic shear column (namelists/mpmice_cyclic_shear_column_1d.nml, one cycle per

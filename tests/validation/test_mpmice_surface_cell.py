@@ -1,5 +1,5 @@
 """The excess pore pressure in the cell that a sediment's surface passes through (issue 32 item
-5; docs/soil_models.md, "The surface cell of a settling sediment"), measured with
+5; docs/earthquake_liquefaction.md, "The surface cell of a settling sediment"), measured with
 postproc/mpmice_surface_cell.py:
 
 * 1D (namelists/mpmice_settling_column_1d.nml, 3 s, about 2 s): a stress-free soft layer

@@ -65,7 +65,7 @@ def test_affine_shear_and_half_range():
 
 def test_buoyant_overburden_and_kozeny_carman():
     """(rho_s - rho_w) phi g over the column above y_m, the cell holding y_m from y_m up; the
-    conductivity of the 0.1 mm sand at n = 0.43 is docs/soil_models.md's 1.3e-4 m/s."""
+    conductivity of the 0.1 mm sand at n = 0.43 is docs/earthquake_liquefaction.md's 1.3e-4 m/s."""
     nx, ny, dy = 4, 10, 0.1
     attrs = {"ncells": [nx, ny, 1], "lower": [0.0, 0.0, 0.0], "dx": [0.1, dy, 0.1]}
     solid = np.zeros((nx, ny, 1))
