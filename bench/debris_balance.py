@@ -4,10 +4,12 @@ the largest and the mean time over ranks, the whole run's wall time and the effi
 t1 / (2 t2) of the timed stages.
 
 Usage:  python -m bench.debris_balance [--cell 0.01] [--steps 200] [--particle-weight 0.5]
-                                       [--runs 1 2c 2w 2y] [--restart CHECKPOINT] [--csv FILE]
+                                       [--runs 1 2c 2w 2y 2b] [--block-cells-x N1,N2]
+                                       [--restart CHECKPOINT] [--csv FILE]
 
 Runs: `1` one rank, `2c` two ranks split evenly in x, `2w` two ranks cut in x by cost, `2y` two
-ranks split evenly in y (`dims = 1, 2, 1`). `--restart` starts every run from a checkpoint of
+ranks split evenly in y (`dims = 1, 2, 1`), `2b` two ranks cut in x at `--block-cells-x`
+(`&grid block_cells_x`). `--restart` starts every run from a checkpoint of
 the same cell size (the flow in motion; `--steps` then counts the steps of the run). With
 MPMICE_CPU_TIMERS=1 the stage timers measure CPU time (the machine shared with other jobs);
 on 2 ranks a rank's time then includes polling while it waits for the other.
@@ -25,20 +27,22 @@ from postproc.run_case import ROOT, run_mpmice, stage_timers
 NAMELIST = os.path.join(ROOT, "namelists", "mpmice_debris_flow_2d.nml")
 #: run label: ranks, `&grid balance`, `&grid dims`
 LABELS = {"1": (1, "cells", "0, 0, 0"), "2c": (2, "cells", "2, 1, 1"),
-          "2w": (2, "cost", "2, 1, 1"), "2y": (2, "cells", "1, 2, 1")}
+          "2w": (2, "cost", "2, 1, 1"), "2y": (2, "cells", "1, 2, 1"),
+          "2b": (2, "cells", "2, 1, 1")}
 
 
 def run_one(cell: float, steps: int, label: str, weight: float, work: str,
-            restart: str = "") -> dict:
-    """Run `steps` steps at cell size `cell` (from `restart` when given); return the stage
-    times and the blocks."""
+            restart: str = "", block_cells_x: str = "") -> dict:
+    """Run `steps` steps at cell size `cell` (from `restart` when given; run `2b` cut at
+    `block_cells_x`); return the stage times and the blocks."""
     nranks, balance, dims = LABELS[label]
     nx, ny = int(round(4.0 / cell)), int(round(2.0 / cell))
+    cut = f", block_cells_x = {block_cells_x}" if label == "2b" else ""
     out = os.path.join(work, f"c{cell}_{label}")
     started = time.perf_counter()
     result = run_mpmice((["--restart", restart] if restart else [NAMELIST]) +
                         ["--set", f"&grid ncells = {nx}, {ny}, 1, balance = '{balance}', "
-                                  f"particle_weight = {weight}, dims = {dims} /",
+                                  f"particle_weight = {weight}, dims = {dims}{cut} /",
                          "--set", f"&run output_dir = '{out}', max_steps = {steps}, "
                                   "output_interval = 10.0, checkpoint_interval = 0.0, "
                                   "progress_interval = 0.0 /"],
@@ -49,7 +53,7 @@ def run_one(cell: float, steps: int, label: str, weight: float, work: str,
     mean = stage_timers(result.stdout, column="mean")
     keys = [k for k in worst if k != "output and checkpoint" and "of which" not in k]
     return {"label": label, "cells": nx * ny, "steps": worst["ICE advection"][0],
-            "blocks": blocks.group(1) if blocks else "even",
+            "blocks": blocks.group(1) if blocks else (block_cells_x if cut else "even"),
             "max": {k: worst[k][1] for k in keys}, "mean": {k: mean[k][1] for k in keys},
             "timed": sum(worst[k][1] for k in keys), "wall": wall}
 
@@ -60,14 +64,18 @@ def main(argv=None) -> int:
     parser.add_argument("--steps", type=int, default=200)
     parser.add_argument("--particle-weight", type=float, default=0.5)
     parser.add_argument("--runs", nargs="+", default=["1", "2c", "2w"], choices=list(LABELS))
+    parser.add_argument("--block-cells-x", default="",
+                        help="the x cut of run 2b, e.g. 380,420 (cells of each block)")
     parser.add_argument("--restart", default="",
                         help="checkpoint of a run at the same cell size to start from")
     parser.add_argument("--csv", default="")
     args = parser.parse_args(argv)
     restart = os.path.abspath(args.restart) if args.restart else ""
+    if "2b" in args.runs and not args.block_cells_x:
+        parser.error("run 2b needs --block-cells-x")
     with tempfile.TemporaryDirectory() as work:
-        rows = [run_one(args.cell, args.steps, r, args.particle_weight, work, restart)
-                for r in args.runs]
+        rows = [run_one(args.cell, args.steps, r, args.particle_weight, work, restart,
+                        args.block_cells_x) for r in args.runs]
     print(f"cells {rows[0]['cells']}, steps {rows[0]['steps']}")
     print(f"{'stage [s]: max / mean over ranks':>36} " + " ".join(f"{r['label']:>15}" for r in rows))
     for k in rows[0]["max"]:
