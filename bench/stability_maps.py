@@ -49,8 +49,9 @@ from bench.accuracy_runs import (                                   # noqa: E402
     ENERGY_LIMIT, MAP_STOPS, STEP_CAP, lost_particles, run_bar, run_failed, stop_kind, timed_run)
 from postproc import mpmice_terzaghi                                # noqa: E402
 from postproc import mpmice_stiff_drag as stiff                     # noqa: E402
+from postproc.analytic import oedometer_modulus                     # noqa: E402
 from postproc.figures import pyplot, save_figure                    # noqa: E402
-from postproc.mpm_common import constrained_modulus, particles      # noqa: E402
+from postproc.mpm_common import particles                           # noqa: E402
 from postproc.mpmice_io import list_dumps, read_dump                # noqa: E402
 from postproc.run_case import ROOT                                  # noqa: E402
 
@@ -64,7 +65,7 @@ DRAG_ERROR_LIMIT = 0.05   # max |p - p_exact| / p0 below the top 5 cells
 #: paper's densities the undrained P-wave ringing of the step load (resolved, hence undamped, at
 #: small dt) is still 10-27 % of p0 at t = 2^-6 s, a dynamic effect eq. 78 does not contain.
 DRAG_SOLID_DENSITY, DRAG_FLUID_DENSITY = 26.5, 9.998
-SOLID_WAVE_SPEED = math.sqrt(constrained_modulus(1.0e7, 0.3) / DRAG_SOLID_DENSITY)   # m/s
+SOLID_WAVE_SPEED = math.sqrt(oedometer_modulus(1.0e7, 0.3) / DRAG_SOLID_DENSITY)   # m/s
 
 
 def drag_rate(grain_size: float, solid_fraction: float = 0.7) -> float:
@@ -169,7 +170,7 @@ def run_column(work: str, cells: int, shape: str, youngs: float) -> dict:
     """The 1D column of postproc.mpm_column with Young's modulus `youngs`: ramp 10 periods of
     the first mode, end after 20 (the validation's 0.5 s / 1 s at E = 1e7 Pa)."""
     rho, g, nu, height = 2000.0, 9.81, 0.3, 1.0
-    m = constrained_modulus(youngs, nu)
+    m = oedometer_modulus(youngs, nu)
     period = 4.0 * height / math.sqrt(m / rho)
     out = os.path.join(work, f"column_{shape}_{cells}_{youngs:g}")
     run = timed_run([os.path.join(ROOT, "namelists", "mpm_column_1d.nml"),
@@ -229,7 +230,7 @@ def soil_base_modulus(model: str, stiffness: float) -> float:
     """Constrained modulus [Pa] at the column's base at t = 0: the sand's from E and nu; the
     clay's K + 4G/3 with K = v p' / kappa, p' = (1 + 2 K0) / 3 sigma'_v (docs/soil_models.md)."""
     if model == "critical_state_sand":
-        return constrained_modulus(stiffness, SOIL_NU)
+        return oedometer_modulus(stiffness, SOIL_NU)
     n = SOIL_POROSITY[model]
     k0 = SOIL_NU / (1.0 - SOIL_NU)
     p = (1.0 + 2.0 * k0) / 3.0 * (1.0 - n) * SOIL_RHO_S * 9.81 * SOIL_H

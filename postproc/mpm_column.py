@@ -18,8 +18,9 @@ import tempfile
 
 import numpy as np
 
+from postproc.analytic import oedometer_modulus
 from postproc.figures import parse_study_args, pyplot, save_figure, study_parser
-from postproc.mpm_common import constrained_modulus, particles, series
+from postproc.mpm_common import particles, series
 from postproc.mpmice_io import list_dumps
 from postproc.run_case import ROOT, run_mpmice
 
@@ -29,7 +30,7 @@ RHO, G, E, NU, H, RAMP = 2000.0, 9.81, 1.0e7, 0.3, 1.0, 0.5
 
 def ramp_residual() -> float:
     """Residual oscillation / static displacement of the first mode after a linear ramp."""
-    c = np.sqrt(constrained_modulus(E, NU) / RHO)
+    c = np.sqrt(oedometer_modulus(E, NU) / RHO)
     half = 0.5 * np.pi * c / (2.0 * H) * RAMP
     return float(abs(np.sin(half)) / half)
 
@@ -48,7 +49,7 @@ def run_column(workdir: str, dim: int, nranks: int = 1, shape: str = "gimp",
     time, p1 = particles(paths[-1], "soil")
     y0 = p0["y"]
     u = p1["y"] - y0
-    m = constrained_modulus(E, NU)
+    m = oedometer_modulus(E, NU)
     u_exact = -(RHO * G / m) * (H * y0 - 0.5 * y0 ** 2)
     s_exact = -RHO * G * (H - y0)
     utop = RHO * G * H ** 2 / (2.0 * m)
@@ -89,7 +90,7 @@ def main(argv=None) -> int:
               f"(single-mode estimate {ramp_residual():.3e})")
         y = np.linspace(0.0, H, 200)
         axes[0].plot(RHO * G * (H - y) / 1e3, y, "k-", lw=1, label="exact")
-        m = constrained_modulus(E, NU)
+        m = oedometer_modulus(E, NU)
         axes[1].plot((RHO * G / m) * (H * y - 0.5 * y ** 2) * 1e3, y, "k-", lw=1, label="exact")
     axes[0].set_xlabel("-sigma_yy [kPa]")
     axes[1].set_xlabel("-u_y [mm]")

@@ -27,8 +27,3 @@ def series(output_dir: str, name: str) -> dict[str, np.ndarray]:
     """Columns of <output_dir>/<name>_mpm_series.csv (time, kinetic_energy, strain_energy,
     xmax, ymax, zmax, xmin, ymin, zmin)."""
     return read_step_csv(os.path.join(output_dir, f"{name}_mpm_series.csv"))
-
-
-def constrained_modulus(youngs: float, poisson: float) -> float:
-    """M = lambda + 2 mu = E (1 - nu) / ((1 + nu)(1 - 2 nu)) [Pa]."""
-    return youngs * (1.0 - poisson) / ((1.0 + poisson) * (1.0 - 2.0 * poisson))

@@ -21,6 +21,7 @@ import argparse
 
 import numpy as np
 
+from postproc.analytic import oedometer_modulus
 from postproc.mpmice_io import list_dumps, read_dump
 from postproc.namelist import parse_namelist_groups
 from postproc.run_files import pick_dumps, run_name
@@ -47,7 +48,7 @@ def solid_params(dump: dict, name: str) -> dict | None:
         e, nu, n = float(g["youngs_modulus"]), float(g["poisson_ratio"]), float(g["porosity"])
         n_max = float(g.get("max_porosity", 1.0))
         return {"rho0": (1.0 - n) * float(g["density"]),
-                "modulus": e * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+                "modulus": oedometer_modulus(e, nu),
                 "j_loose": (1.0 - n) / (1.0 - n_max) if n_max < 1.0 else np.inf}
     return None
 

@@ -40,7 +40,8 @@ def test_column_3d_neo_hookean(tmp_path):
 
     import numpy as np
 
-    from postproc.mpm_common import constrained_modulus, particles
+    from postproc.analytic import oedometer_modulus
+    from postproc.mpm_common import particles
     from postproc.mpmice_io import list_dumps
     from postproc.run_case import ROOT, run_mpmice
 
@@ -51,7 +52,7 @@ def test_column_3d_neo_hookean(tmp_path):
         paths = list_dumps(str(out), "column3d")
         _, p0 = particles(paths[0], "soil")
         _, p1 = particles(paths[-1], "soil")
-        rho_g, m = 2000.0 * 9.81, constrained_modulus(1.0e7, 0.3)
+        rho_g, m = 2000.0 * 9.81, oedometer_modulus(1.0e7, 0.3)
         z = p0["z"]
         s_exact = -rho_g * (1.0 - z)
         u_exact = -(rho_g / m) * (z - 0.5 * z ** 2)
