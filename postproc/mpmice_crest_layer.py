@@ -2,9 +2,8 @@
 shaking cycle, for the layer monitors of :mod:`postproc.mpmice_earthquake_slope` (the particles
 that start within 0.25 m of (x, 0.35 m) under the crest and under the flanks), the shaking that
 arrives there, the cyclic densification it drives, the pore water that leaves, and how close
-the skeleton is to its yield surface
-(docs/earthquake_liquefaction.md, "Why the layer under the crest
-holds").
+the skeleton is to its yield surface (docs/earthquake_liquefaction.md, "Why the layer under
+the crest holds").
 
     python -m postproc.mpmice_crest_layer --dir RUN_DIR [--monitors "layer, crest" ...]
 

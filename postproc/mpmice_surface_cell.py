@@ -1,7 +1,6 @@
 """The pore pressure in the cell that a settling sediment's surface passes through (issue 32
-item 5;
-docs/earthquake_liquefaction.md, "The surface cell of a settling sediment"). Per dump, for a column
-of cells x_left < x < x_right (the whole width in 1D):
+item 5; docs/earthquake_liquefaction.md, "The surface cell of a settling sediment"). Per dump,
+for a column of cells x_left < x < x_right (the whole width in 1D):
 
 * the sediment surface (the column's highest particle plus half its deformed height in 1D,
   the highest particle in 2D) and the surface cell js (the cell holding the highest particle);

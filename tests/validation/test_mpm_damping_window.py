@@ -1,6 +1,5 @@
-"""The time window of the local damping (`&mpm local_damping_end`,
-docs/earthquake_liquefaction.md "Damped
-settle"): the damping acts on the steps that begin before the end time and not after.
+"""The time window of the local damping (`&mpm local_damping_end`, docs/earthquake_liquefaction.md
+"Damped settle"): the damping acts on the steps that begin before the end time and not after.
 
 The elastic column of namelists/mpm_column_1d.nml (H = 1 m, E = 10 MPa, nu = 0.3, rho = 2000
 kg/m^3, first period T = 4 H / c = 0.049 s) loaded by its full weight at once (`gravity_ramp_time

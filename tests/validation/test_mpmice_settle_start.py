@@ -1,6 +1,6 @@
 """A geostatic settle before the shaking (`&solid densification_start`,
-docs/earthquake_liquefaction.md
-"Shaking from a settled bank"): the cyclic densification counts only from the given time.
+docs/earthquake_liquefaction.md "Shaking from a settled bank"): the cyclic densification counts only
+from the given time.
 
 The undrained cyclic shear column (namelists/mpmice_cyclic_shear_column_1d.nml, one cycle per
 0.5 s) with the dense sand of test_mpmice_css_densification.py (densification_c1 = 0.5), to
