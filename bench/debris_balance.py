@@ -4,12 +4,13 @@ the largest and the mean time over ranks, the whole run's wall time and the effi
 t1 / (2 t2) of the timed stages.
 
 Usage:  python -m bench.debris_balance [--cell 0.01] [--steps 200] [--particle-weight 0.5]
-                                       [--runs 1 2c 2w 2y 2b] [--block-cells-x N1,N2]
+                                       [--runs 1 2c 2w 2y 2b 2a] [--block-cells-x N1,N2]
                                        [--restart CHECKPOINT] [--csv FILE]
 
 Runs: `1` one rank, `2c` two ranks split evenly in x, `2w` two ranks cut in x by cost, `2y` two
 ranks split evenly in y (`dims = 1, 2, 1`), `2b` two ranks cut in x at `--block-cells-x`
-(`&grid block_cells_x`). `--restart` starts every run from a checkpoint of
+(`&grid block_cells_x`), `2a` two ranks cut by cost with the layout (x or y cut) chosen by the
+model (`dims = 0, 0, 0`). `--restart` starts every run from a checkpoint of
 the same cell size (the flow in motion; `--steps` then counts the steps of the run). With
 MPMICE_CPU_TIMERS=1 the stage timers measure CPU time (the machine shared with other jobs);
 on 2 ranks a rank's time then includes polling while it waits for the other.
@@ -28,7 +29,7 @@ NAMELIST = os.path.join(ROOT, "namelists", "mpmice_debris_flow_2d.nml")
 #: run label: ranks, `&grid balance`, `&grid dims`
 LABELS = {"1": (1, "cells", "0, 0, 0"), "2c": (2, "cells", "2, 1, 1"),
           "2w": (2, "cost", "2, 1, 1"), "2y": (2, "cells", "1, 2, 1"),
-          "2b": (2, "cells", "2, 1, 1")}
+          "2b": (2, "cells", "2, 1, 1"), "2a": (2, "cost", "0, 0, 0")}
 
 
 def run_one(cell: float, steps: int, label: str, weight: float, work: str,

@@ -6,7 +6,7 @@ module driver_run_mod
   use mpmice_errors, only: exit_cleanly, int_text
   use mpmice_log, only: log_info, log_is_root, log_warning, log_open_file, log_close_file
   use mpmice_build_info, only: mpmice_version
-  use config_types, only: config_t
+  use config_types, only: config_t, max_blocks_per_dim
   use config_echo, only: config_to_text, config_write_used, config_used_path
   use parallel_domain, only: grid_init, domain_t, domain_init, domain_free
   use grid_layout, only: grid_t
@@ -37,10 +37,12 @@ contains
     character(len=:), allocatable :: text
     character(len=msg_len) :: errmsg
     character(len=:), allocatable :: log_msg, dir_errmsg
-    integer :: stat
+    character(len=msg_len) :: balance_report
+    integer :: stat, block_cells(max_blocks_per_dim, 3)
 
+    block_cells = run_block_cells(cfg, comm, restart_file, balance_report)
     call domain_init(dom, comm, cfg%grid%ncells, cfg%grid%periodic, cfg%grid%ghost_width, &
-      cfg%grid%dims, run_block_cells(cfg, comm, restart_file))
+      cfg%grid%dims, block_cells)
     call grid_init(grid, dom, cfg%grid%lower, cfg%grid%upper)
     text = config_to_text(cfg)
 
@@ -75,12 +77,11 @@ contains
       int_text(grid%ncells(1)) // ' x ' // int_text(grid%ncells(2)) // ' x ' // &
       int_text(grid%ncells(3)))
     if (trim(cfg%grid%balance) == 'cost') then
-      if (len(restart_file) > 0) then
-        call log_info('mpmice: blocks balanced by cost: ' // block_text(dom) // &
-          ' (particles counted in the checkpoint)')
-      else
-        call log_info('mpmice: blocks balanced by cost: ' // block_text(dom))
-      end if
+      if (len_trim(balance_report) > 0) balance_report = '; ' // balance_report
+      if (len(restart_file) > 0) balance_report = ' (particles counted in the checkpoint)' // &
+        balance_report
+      call log_info('mpmice: blocks balanced by cost: ' // block_text(dom) // &
+        trim(balance_report))
     end if
     call log_info('mpmice: output in ' // trim(cfg%run%output_dir) // ', resolved input ' // &
       config_used_path(cfg))

@@ -14,12 +14,17 @@
 !! evenly, a = 1: the particles), the set of least F kept. Every block keeps at least
 !! `min_cells` slabs. Ties keep the first candidate (the lower cut, the smaller a). The arithmetic
 !! uses only the arguments, so every rank that passes the same counts gets the same blocks.
+!!
+!! Where the blocks per dimension are not fixed by the input, `block_layouts` lists every way to
+!! share the ranks among the active dimensions, and `block_particles` counts the particles each
+!! block of one layout holds, so that the caller can keep the layout of least F.
 module parallel_balance
   use mpmice_kinds, only: wp
   implicit none
   private
 
-  public :: balanced_blocks, modelled_cost, quantile_blocks
+  public :: balanced_blocks, modelled_cost, quantile_blocks, block_layouts, block_particles, &
+    add_to_slabs
 
   integer, parameter :: blend_steps = 64  !< blends a tried for more than two blocks
 
@@ -131,4 +136,107 @@ contains
       blocks(k) = cut(k) - cut(k - 1)
     end do
   end subroutine quantile_blocks
+
+  !> `layouts(:, 1:nlayouts)`: the blocks per dimension (x, y, z) whose product is `nranks`,
+  !! `first` first (the layout `MPI_Dims_create` gives), then the others in lexicographic order.
+  !! A layout keeps one block along an inactive dimension and `request(d)` along a dimension
+  !! where that is positive; along every other dimension it has at most `max_blocks` blocks of at
+  !! least `min_cells` cells. `first` is kept as given.
+  pure subroutine block_layouts(nranks, active, request, ncells, min_cells, max_blocks, first, &
+      layouts, nlayouts)
+    integer, intent(in) :: nranks                  !< number of ranks (>= 1)
+    logical, intent(in) :: active(3)               !< dimensions with more than one cell
+    integer, intent(in) :: request(3)              !< blocks fixed per dimension (0: free)
+    integer, intent(in) :: ncells(3)               !< cells per dimension
+    integer, intent(in) :: min_cells               !< fewest cells of a block (>= 1)
+    integer, intent(in) :: max_blocks              !< most blocks along one dimension
+    integer, intent(in) :: first(3)                !< the layout listed first
+    integer, allocatable, intent(out) :: layouts(:, :)  !< (3, nlayouts) blocks per dimension
+    integer, intent(out) :: nlayouts               !< layouts listed
+    integer :: a, b, dims(3), d, room
+    logical :: fits
+
+    room = 1
+    do a = 1, nranks
+      if (mod(nranks, a) == 0) room = room + nranks / a
+    end do
+    allocate(layouts(3, room))
+    layouts(:, 1) = first
+    nlayouts = 1
+    do a = 1, nranks
+      if (mod(nranks, a) /= 0) cycle
+      do b = 1, nranks / a
+        if (mod(nranks / a, b) /= 0) cycle
+        dims = [a, b, nranks / (a * b)]
+        if (all(dims == first)) cycle
+        fits = .true.
+        do d = 1, 3
+          if (.not. active(d)) then
+            fits = fits .and. dims(d) == 1
+          else if (request(d) > 0) then
+            fits = fits .and. dims(d) == request(d)
+          else
+            fits = fits .and. dims(d) <= max_blocks .and. ncells(d) >= dims(d) * min_cells
+          end if
+        end do
+        if (.not. fits) cycle
+        nlayouts = nlayouts + 1
+        layouts(:, nlayouts) = dims
+      end do
+    end do
+  end subroutine block_layouts
+
+  !> `counts(b)`: the particles in block b of the layout `dims` (blocks numbered x fastest, then
+  !! y, then z), whose blocks along dimension d hold `blocks(1:dims(d), d)` cells, for `hits(p)`
+  !! particles in the cell of global indices `cell(:, p)`.
+  pure subroutine block_particles(cell, hits, dims, blocks, counts)
+    integer, intent(in) :: cell(:, :)          !< (3, n) global cell indices
+    integer, intent(in) :: hits(:)             !< particles in each listed cell
+    integer, intent(in) :: dims(3)             !< blocks per dimension
+    integer, intent(in) :: blocks(:, :)        !< (:, 3) cells of each block per dimension
+    real(wp), intent(out) :: counts(:)         !< particles per block (size product(dims))
+    integer, allocatable :: owner_x(:), owner_y(:), owner_z(:)
+    integer :: p
+
+    call block_owner(blocks(1:dims(1), 1), owner_x)
+    call block_owner(blocks(1:dims(2), 2), owner_y)
+    call block_owner(blocks(1:dims(3), 3), owner_z)
+    counts = 0.0_wp
+    do p = 1, size(hits)
+      associate (b => 1 + owner_x(cell(1, p)) + dims(1) * (owner_y(cell(2, p)) + &
+          dims(2) * owner_z(cell(3, p))))
+        counts(b) = counts(b) + real(hits(p), wp)
+      end associate
+    end do
+  end subroutine block_particles
+
+  !> `owner(i)`: the 0-based block holding cell i of a dimension cut into blocks of
+  !! `blocks(:)` cells.
+  pure subroutine block_owner(blocks, owner)
+    integer, intent(in) :: blocks(:)                 !< cells of each block, low block first
+    integer, allocatable, intent(out) :: owner(:)    !< block of each cell
+    integer :: b, last
+    allocate(owner(sum(blocks)))
+    last = 0
+    do b = 1, size(blocks)
+      owner(last + 1:last + blocks(b)) = b - 1
+      last = last + blocks(b)
+    end do
+  end subroutine block_owner
+
+  !> Add `hits(p)` particles in the cells `cell(:, p)` to the slab counts `counts` (x, then y,
+  !! then z slabs of a grid of `ncells` cells).
+  pure subroutine add_to_slabs(cell, hits, ncells, counts)
+    integer, intent(in) :: cell(:, :)          !< (3, n) global cell indices
+    integer, intent(in) :: hits(:)             !< particles in each listed cell
+    integer, intent(in) :: ncells(3)           !< cells per dimension
+    real(wp), intent(inout) :: counts(:)       !< particles per slab, x then y then z
+    integer :: p
+    do p = 1, size(hits)
+      counts(cell(1, p)) = counts(cell(1, p)) + real(hits(p), wp)
+      counts(ncells(1) + cell(2, p)) = counts(ncells(1) + cell(2, p)) + real(hits(p), wp)
+      counts(ncells(1) + ncells(2) + cell(3, p)) = counts(ncells(1) + ncells(2) + cell(3, p)) &
+        + real(hits(p), wp)
+    end do
+  end subroutine add_to_slabs
 end module parallel_balance

@@ -1,6 +1,7 @@
 """Blocks cut by the modelled cost (`&grid balance = 'cost'`): the submerged sand block, whose
-particles sit in the left fifth of the tank, on 2 ranks with the cut moved into the sand equals
-the 1-rank run to the rank-invariance tolerances; a restart counts the particles in its
+particles sit in the lower left corner of the tank, on 2 ranks with the cut moved into the sand
+(in x where `dims = 2, 1, 1` fixes the layout, in y where the model chooses it) equals the
+1-rank run to the rank-invariance tolerances; a restart counts the particles in its
 checkpoint: the same blocks while they have not moved (bitwise continuation), new blocks after
 the sliding block moved right (the uninterrupted run's end to the rank-invariance tolerances);
 an unknown value is one input-error line."""
@@ -18,11 +19,17 @@ from postproc.run_case import ROOT, run_mpmice
 
 BLOCK = os.path.join(ROOT, "namelists", "mpmice_submerged_block_2d.nml")
 #: 40 x 20 cells; the block (x < 0.2 m, 2 x 2 particles per cell) fills 8 columns of 8 cells,
-#: 32 particles per column. A cut at column c costs F = 20 (40 - c) + 4 x 32 max(c, 8 - c) for
-#: c <= 8 (least, 1232, at c = 4: the particles halved) and 20 max(c, 40 - c) + 4 x 256 beyond
-#: (least, 1424, at the even cut): with weight 4 the cut goes through the sand, at column 4
+#: 32 particles per column and per row. A cut at column c costs F = 20 (40 - c) + 4 x 32
+#: max(c, 8 - c) for c <= 8 (least, 1232, at c = 4: the particles halved) and 20 max(c, 40 - c) +
+#: 4 x 256 beyond (least, 1424, at the even cut): with weight 4 the cut goes through the sand, at
+#: column 4. A cut at row r costs 40 (20 - r) + 4 x 32 max(r, 8 - r) for r <= 8 (least, 1152, at
+#: r = 4): with the layout free the model takes the y cut at row 4
 COST = "&grid balance = 'cost', particle_weight = 4.0 /"
-BLOCKS = (4, 36)
+BLOCKS = ("y", 4, 16)
+CASES = {"x": ("&grid balance = 'cost', particle_weight = 4.0, dims = 2, 1, 1 /", ("x", 4, 36),
+               "modelled cost 1232 cells per step"),
+         "free": (COST, BLOCKS, "modelled cost 1152 cells per step, the least of 2 layouts "
+                               "(2 x 1 x 1: 1232)")}
 SETS = ("&run end_time = 0.02, output_interval = 0.01 /",)
 
 
@@ -39,11 +46,14 @@ def _run(tmp_path, label, nranks, *sets):
     return out, run_mpmice(command, nranks=nranks, cwd=str(tmp_path))
 
 
-def _blocks(stdout, restart=False):
-    m = re.search(r"blocks balanced by cost: x (\d+),(\d+)(.*)", stdout)
+def _blocks(stdout, restart=False, report=None):
+    """(axis, cells of block 1, cells of block 2) from the log line of a 2-block run."""
+    m = re.search(r"blocks balanced by cost: ([xyz]) (\d+),(\d+)(.*)", stdout)
     assert m, stdout
-    assert ("particles counted in the checkpoint" in m.group(3)) == restart, m.group(0)
-    return int(m.group(1)), int(m.group(2))
+    assert ("particles counted in the checkpoint" in m.group(4)) == restart, m.group(0)
+    if report is not None:
+        assert m.group(4).endswith("; " + report), m.group(0)
+    return m.group(1), int(m.group(2)), int(m.group(3))
 
 
 def _fields(path):
@@ -57,14 +67,17 @@ def _fields(path):
 
 
 @pytest.mark.mpi
-def test_cost_blocks_equal_one_rank(tmp_path):
-    """2 ranks cut at column 4 of 40 (through the sand: particles cross the boundary all the
-    time) equal 1 rank: pressure to 1e-9 of its range, water velocity to 1e-9 of its
-    largest value, particle positions to 1e-12 m, stress to 1e-9 of its largest value (the
-    tolerances of test_mpmice_parallel's submerged block)."""
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_cost_blocks_equal_one_rank(tmp_path, case):
+    """2 ranks cut through the sand (at column 4 of 40 with the x layout fixed, at row 4 of 20
+    where the model compares the layouts), each with the modelled cost the log line reports,
+    equal 1 rank: pressure to 1e-9 of its range, water velocity to 1e-9 of its largest value,
+    particle positions to 1e-12 m, stress to 1e-9 of its largest value (the tolerances of
+    test_mpmice_parallel's submerged block)."""
+    cost, blocks, report = CASES[case]
     one = list_dumps(_run(tmp_path, "r1", 1, *SETS)[0], "block2d")
-    out, result = _run(tmp_path, "cost2", 2, *SETS, COST)
-    assert _blocks(result.stdout) == BLOCKS
+    out, result = _run(tmp_path, "cost2", 2, *SETS, cost)
+    assert _blocks(result.stdout, report=report) == blocks
     two = list_dumps(out, "block2d")
     assert [os.path.basename(p) for p in one] == [os.path.basename(p) for p in two]
     c1, p1 = _fields(one[-1])
@@ -109,23 +122,23 @@ SLIDE = os.path.join(ROOT, "namelists", "mpm_slide_2d.nml")
 @pytest.mark.mpi
 def test_restart_follows_moved_particles(tmp_path):
     """The sliding block (mpm_slide_2d: 20 x 20 cells, 4 m/s to the right; solids alone, w =
-    20) on 2 ranks: the seeding gives the cut at column 10; after 60 steps (t = 0.025 s) the
+    20) on 2 ranks cut in x (`dims = 2, 1, 1`): the seeding gives the cut at column 10; after 60 steps (t = 0.025 s) the
     block has moved 0.1 m, and the restart from that checkpoint cuts at column 11. The
     continuation ends where the uninterrupted run on the seeding's blocks ends, to the MPM
     rank-invariance tolerances (test_mpm_parallel: positions 1e-14 m, velocities 3e-13 m/s,
     stresses 3e-13 of the largest)."""
-    cost = "&grid balance = 'cost', particle_weight = 20.0 /"
+    cost = "&grid balance = 'cost', particle_weight = 20.0, dims = 2, 1, 1 /"
     out_full = str(tmp_path / "full")
     first = run_mpmice([SLIDE, "--set", f"&run output_dir = '{out_full}' /", "--set", cost],
                        nranks=2, cwd=str(tmp_path))
-    assert _blocks(first.stdout) == (10, 10)
+    assert _blocks(first.stdout) == ("x", 10, 10)
     out_half = str(tmp_path / "half")
     run_mpmice([SLIDE, "--set", f"&run output_dir = '{out_half}', max_steps = 60 /",
                 "--set", cost], nranks=2, cwd=str(tmp_path))
     checkpoint = os.path.join(out_half, "slide2d_checkpoint_000060.h5")
     cont = run_mpmice(["--restart", checkpoint, "--set", "&run max_steps = 0 /"], nranks=2,
                       cwd=str(tmp_path))
-    assert _blocks(cont.stdout, restart=True) == (11, 9)
+    assert _blocks(cont.stdout, restart=True) == ("x", 11, 9)
     a = list_dumps(out_full, "slide2d")[-1]
     b = list_dumps(out_half, "slide2d")[-1]
     assert os.path.basename(a) == os.path.basename(b)
