@@ -430,7 +430,7 @@ def main(argv=None) -> int:
                         choices=list(RU_MONITORS), help="monitors of mpmice_earthquake_slope")
     args = parser.parse_args(argv)
     rows = analyse(args.dir, args.monitors)
-    print(f"sigma'_v(t_s) [kPa]: " + ", ".join(
+    print("sigma'_v(t_s) [kPa]: " + ", ".join(
         f"{r['monitor']} {r['sv_s'] / 1000.0:.1f}" for r in rows if r["cycle"] == 1))
     print("(sigma'_v + p_ex) / buoyant overburden at t_s: " + ", ".join(
         f"{r['monitor']} {r['carried_s']:.2f} (shed by shear on the sides {r['shed_s']:+.2f})"

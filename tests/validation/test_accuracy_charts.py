@@ -11,7 +11,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import pytest
 
 from bench import accuracy_charts as ac
 from bench import accuracy_runs as runs

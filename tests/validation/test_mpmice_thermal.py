@@ -1,8 +1,6 @@
 """Heat in the coupled MPMICE scene: conduction in both phases of a rigid porous medium, the
 implicit fluid-solid exchange, a porous medium at rest under gravity, and the thermally driven
 cavity flow (postproc/mpmice_porous_heat.py, postproc/mpmice_thermal_cavity.py)."""
-import os
-
 import numpy as np
 import pytest
 

@@ -1,4 +1,4 @@
-"""bench.debris_projection: the checkpoints it samples, the steps each sample stands for, the
+"""bench.run_projection: the checkpoints it samples, the steps each sample stands for, the
 seconds per step it reads from the progress lines, and a projection of a short run whose
 checkpoints it restarts (the sum of the samples' steps x seconds per step)."""
 import os
@@ -6,7 +6,7 @@ import re
 
 import pytest
 
-from bench import debris_projection as dp
+from bench import run_projection as dp
 from postproc.run_case import ROOT, run_mpmice
 
 

@@ -2,7 +2,7 @@
 configuration: what a change of the decomposition or of the solver settings would make of a
 run that took hours, measured in minutes.
 
-Usage:  python -m bench.debris_projection RUN_DIR [--samples 5] [--steps 200] [--ranks 2]
+Usage:  python -m bench.run_projection RUN_DIR [--samples 5] [--steps 200] [--ranks 2]
                                           [--config LABEL [SET ...]] ... [--csv FILE]
 
 RUN_DIR holds a finished run (its `<name>_checkpoint_<step>.h5` files; the last one gives the
