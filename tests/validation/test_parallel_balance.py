@@ -26,10 +26,14 @@ BLOCK = os.path.join(ROOT, "namelists", "mpmice_submerged_block_2d.nml")
 #: r = 4): with the layout free the model takes the y cut at row 4
 COST = "&grid balance = 'cost', particle_weight = 4.0 /"
 BLOCKS = ("y", 4, 16)
-CASES = {"x": ("&grid balance = 'cost', particle_weight = 4.0, dims = 2, 1, 1 /", ("x", 4, 36),
-               "modelled cost 1232 cells per step"),
-         "free": (COST, BLOCKS, "modelled cost 1152 cells per step, the least of 2 layouts "
-                               "(2 x 1 x 1: 1232)")}
+#: 4 ranks: 2 x 2 (MPI_Dims_create), 1 x 4 and 4 x 1 compared; the y strips 3, 3, 6, 8 put 8 x 3
+#: x 4 = 96 particles and at most 40 x 8 = 320 cells in a block: F = 320 + 4 x 96 = 704
+CASES = {"x": (2, "&grid balance = 'cost', particle_weight = 4.0, dims = 2, 1, 1 /",
+               ("x", 4, 36), "modelled cost 1232 cells per step"),
+         "free": (2, COST, BLOCKS, "modelled cost 1152 cells per step, the least of 2 layouts "
+                                  "(2 x 1 x 1: 1232)"),
+         "free4": (4, COST, ("y", 3, 3, 6, 8), "modelled cost 704 cells per step, the least of "
+                                              "3 layouts (2 x 2 x 1: 832)")}
 SETS = ("&run end_time = 0.02, output_interval = 0.01 /",)
 
 
@@ -47,13 +51,13 @@ def _run(tmp_path, label, nranks, *sets):
 
 
 def _blocks(stdout, restart=False, report=None):
-    """(axis, cells of block 1, cells of block 2) from the log line of a 2-block run."""
-    m = re.search(r"blocks balanced by cost: ([xyz]) (\d+),(\d+)(.*)", stdout)
+    """(axis, cells of each block) from the log line of a run cut along one axis."""
+    m = re.search(r"blocks balanced by cost: ([xyz]) ([\d,]+)(.*)", stdout)
     assert m, stdout
-    assert ("particles counted in the checkpoint" in m.group(4)) == restart, m.group(0)
+    assert ("particles counted in the checkpoint" in m.group(3)) == restart, m.group(0)
     if report is not None:
-        assert m.group(4).endswith("; " + report), m.group(0)
-    return m.group(1), int(m.group(2)), int(m.group(3))
+        assert m.group(3).endswith("; " + report), m.group(0)
+    return (m.group(1),) + tuple(int(c) for c in m.group(2).split(","))
 
 
 def _fields(path):
@@ -70,13 +74,13 @@ def _fields(path):
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_cost_blocks_equal_one_rank(tmp_path, case):
     """2 ranks cut through the sand (at column 4 of 40 with the x layout fixed, at row 4 of 20
-    where the model compares the layouts), each with the modelled cost the log line reports,
-    equal 1 rank: pressure to 1e-9 of its range, water velocity to 1e-9 of its largest value,
-    particle positions to 1e-12 m, stress to 1e-9 of its largest value (the tolerances of
-    test_mpmice_parallel's submerged block)."""
-    cost, blocks, report = CASES[case]
+    where the model compares the layouts) and 4 ranks in y strips through it, each with the
+    modelled cost the log line reports, equal 1 rank: pressure to 1e-9 of its range, water
+    velocity to 1e-9 of its largest value, particle positions to 1e-12 m, stress to 1e-9 of its
+    largest value (the tolerances of test_mpmice_parallel's submerged block)."""
+    nranks, cost, blocks, report = CASES[case]
     one = list_dumps(_run(tmp_path, "r1", 1, *SETS)[0], "block2d")
-    out, result = _run(tmp_path, "cost2", 2, *SETS, cost)
+    out, result = _run(tmp_path, "cost", nranks, *SETS, cost)
     assert _blocks(result.stdout, report=report) == blocks
     two = list_dumps(out, "block2d")
     assert [os.path.basename(p) for p in one] == [os.path.basename(p) for p in two]
