@@ -20,7 +20,8 @@ module driver_balance
   use mpmice_kinds, only: wp, i8
   use parallel_comm, only: MPI_Comm, comm_rank, comm_size, sum_in_place
   use parallel_domain, only: choose_dims, blocks_given
-  use parallel_balance, only: balanced_blocks, block_layouts, block_particles, add_to_slabs
+  use parallel_balance, only: balanced_blocks, block_layouts, particle_tally_t, tally_init, &
+    tally_add
   use config_types, only: config_t, solid_params_t, particles_per_cell_used, max_blocks_per_dim
   use particles_seeding, only: inside_shape, seed_point
   use mpm_rigid, only: rigid_motion_t, rigid_is_static
@@ -29,7 +30,7 @@ module driver_balance
   implicit none
   private
 
-  public :: run_block_cells, point_cells
+  public :: run_block_cells, point_cell
 
 contains
 
@@ -44,12 +45,12 @@ contains
     character(len=*), intent(in), optional :: restart_file  !< checkpoint continued, '' if none
     character(len=*), intent(out), optional :: report  !< what was compared
     integer :: block_cells(max_blocks_per_dim, 3)
-    integer :: d, request(3), first(3), nlayouts, k, trial(max_blocks_per_dim, 3)
-    integer, allocatable :: layouts(:, :), cell(:, :), hits(:)
+    integer :: d, request(3), first(3), nlayouts, k
+    integer, allocatable :: layouts(:, :), blocks(:, :, :)
     logical :: active(3), given(3)
-    real(wp), allocatable :: slabs(:)
-    real(wp) :: cost, best, first_cost
+    real(wp) :: cost, best, first_cost, most_cells
     character(len=:), allocatable :: checkpoint
+    type(particle_tally_t) :: per_slab, per_block
 
     block_cells = cfg%grid%block_cells
     if (present(report)) report = ''
@@ -67,24 +68,30 @@ contains
 
     checkpoint = ''
     if (present(restart_file)) checkpoint = trim(restart_file)
-    if (len(checkpoint) > 0) then
-      call checkpoint_particles(cfg, comm, checkpoint, cell, hits)
-    else
-      call seeded_particles(cfg, comm, cell, hits)
-    end if
-    allocate(slabs(sum(cfg%grid%ncells)), source=0.0_wp)
-    call add_to_slabs(cell, hits, cfg%grid%ncells, slabs)
-    call sum_in_place(comm, slabs)
+    ! the cuts of every layout from the particles per slab, then the particles of its blocks
+    call tally_init(per_slab, cfg%grid%ncells)
+    call count_particles(cfg, comm, checkpoint, per_slab)
+    call sum_in_place(comm, per_slab%slabs)
+    allocate(blocks(max_blocks_per_dim, 3, nlayouts))
+    do k = 1, nlayouts
+      call cut_layout(cfg, layouts(:, k), per_slab%slabs, blocks(:, :, k))
+    end do
+    call tally_init(per_block, cfg%grid%ncells, layouts(:, 1:nlayouts), blocks)
+    call count_particles(cfg, comm, checkpoint, per_block)
 
     best = huge(1.0_wp)
     first_cost = 0.0_wp
     do k = 1, nlayouts
-      call cut_layout(cfg, layouts(:, k), slabs, trial)
-      cost = layout_cost(cfg, comm, layouts(:, k), trial, cell, hits)
+      call sum_in_place(comm, per_block%per_block(:, k))
+      most_cells = 1.0_wp
+      do d = 1, 3
+        most_cells = most_cells * real(maxval(blocks(1:layouts(d, k), d, k)), wp)
+      end do
+      cost = most_cells + cfg%grid%particle_weight * maxval(per_block%per_block(:, k))
       if (k == 1) first_cost = cost
       if (cost < best) then
         best = cost
-        block_cells = trial
+        block_cells = blocks(:, :, k)
       end if
     end do
     if (present(report)) then
@@ -122,151 +129,101 @@ contains
     end do
   end subroutine cut_layout
 
-  !> Collective over `comm`: the modelled step cost of the blocks `blocks` of the layout `dims`,
-  !! the most cells of a block + `particle_weight` x the most particles of a block, for this
-  !! rank's share `hits(p)` of the particles in the cells `cell(:, p)`.
-  function layout_cost(cfg, comm, dims, blocks, cell, hits) result(cost)
-    type(config_t), intent(in) :: cfg          !< validated configuration
-    type(MPI_Comm), intent(in) :: comm         !< communicator of the run
-    integer, intent(in) :: dims(3)             !< blocks per dimension
-    integer, intent(in) :: blocks(:, :)        !< (:, 3) cells of each block per dimension
-    integer, intent(in) :: cell(:, :)          !< (3, n) global cell indices
-    integer, intent(in) :: hits(:)             !< particles in each listed cell
-    real(wp) :: cost
-    real(wp) :: counts(product(dims)), most_cells
-    integer :: d
-    call block_particles(cell, hits, dims, blocks, counts)
-    call sum_in_place(comm, counts)
-    most_cells = 1.0_wp
-    do d = 1, 3
-      most_cells = most_cells * real(maxval(blocks(1:dims(d), d)), wp)
-    end do
-    cost = most_cells + cfg%grid%particle_weight * maxval(counts)
-  end function layout_cost
-
-  !> This rank's share of the particles the solids of `cfg` seed: `hits(p)` particles in the
-  !! cell of global indices `cell(:, p)`, for every `nranks`-th cell of the grid; rigid solids
-  !! kept on the grid (`&mpm cache_static_rigid`) are left out, and scenes without particles give
-  !! none.
-  subroutine seeded_particles(cfg, comm, cell, hits)
+  !> Collective over `comm`: add this rank's share of the particles to `tally`: with
+  !! `checkpoint` ('' for none) a chunk of the positions stored there
+  !! (`checkpoint/particles/<solid>/x`), one particle in the cell that holds it (`point_cell`);
+  !! otherwise the particles the solids of `cfg` seed into every `nranks`-th cell of the grid.
+  !! Rigid solids kept on the grid (`&mpm cache_static_rigid`) are left out, and scenes without
+  !! particles add none.
+  subroutine count_particles(cfg, comm, checkpoint, tally)
     type(config_t), intent(in) :: cfg                  !< validated configuration
     type(MPI_Comm), intent(in) :: comm                 !< communicator of the run
-    integer, allocatable, intent(out) :: cell(:, :)    !< (3, n) global cell indices
-    integer, allocatable, intent(out) :: hits(:)       !< particles in each listed cell
-    integer :: s, rank, nranks, i, j, k, n(3), a, b, c, ppc(3), count, listed
+    character(len=*), intent(in) :: checkpoint         !< checkpoint file, '' for the seeding
+    type(particle_tally_t), intent(inout) :: tally     !< counts to add to
+    type(h5_file_t) :: file
+    real(wp), allocatable :: x(:, :)
+    integer :: s, p
+
+    if (trim(cfg%run%scene) /= 'mpm' .and. trim(cfg%run%scene) /= 'mpmice') return
+    if (len(checkpoint) == 0) then
+      do s = 1, cfg%nsolids
+        if (.not. kept_on_grid(cfg, cfg%solids(s))) call count_seeded(cfg, comm, &
+          cfg%solids(s), tally)
+      end do
+      return
+    end if
+    call h5_open(file, checkpoint, comm)
+    do s = 1, cfg%nsolids
+      if (kept_on_grid(cfg, cfg%solids(s))) cycle
+      call h5_read_particles(file, 'checkpoint/particles/' // trim(cfg%solids(s)%name) // &
+        '/x', x)
+      do p = 1, size(x, 2)
+        call tally_add(tally, point_cell(x(:, p), cfg%grid%ncells, cfg%grid%lower, &
+          cfg%grid%upper), 1)
+      end do
+    end do
+    call h5_close(file)
+  end subroutine count_particles
+
+  !> Add to `tally` the particles the solid `sp` seeds into every `nranks`-th cell of the grid
+  !! of `cfg` (this rank's share): the centres of the equal sub-cells that lie inside its shape,
+  !! the arithmetic and the shape test of `particles_seeding%seed_solid`.
+  subroutine count_seeded(cfg, comm, sp, tally)
+    type(config_t), intent(in) :: cfg                  !< validated configuration
+    type(MPI_Comm), intent(in) :: comm                 !< communicator of the run
+    type(solid_params_t), intent(in) :: sp             !< the solid
+    type(particle_tally_t), intent(inout) :: tally     !< counts to add to
+    integer :: rank, nranks, i, j, k, n(3), a, b, c, ppc(3), hits
     integer(i8) :: index
     logical :: active(3)
     real(wp) :: lower(3), dx(3), xp(3)
 
     n = cfg%grid%ncells
-    allocate(cell(3, 64), hits(64))
-    listed = 0
     rank = comm_rank(comm)
     nranks = comm_size(comm)
     active = n > 1
     lower = cfg%grid%lower
     dx = (cfg%grid%upper - cfg%grid%lower) / real(n, wp)
-    if (trim(cfg%run%scene) == 'mpm' .or. trim(cfg%run%scene) == 'mpmice') then
-      do s = 1, cfg%nsolids
-        associate (sp => cfg%solids(s))
-          if (kept_on_grid(cfg, sp)) cycle
-          ppc = particles_per_cell_used(sp, n)
-          index = 0
-          do k = 1, n(3)
-            do j = 1, n(2)
-              do i = 1, n(1)
-                index = index + 1
-                if (mod(index, int(nranks, i8)) /= rank) cycle
-                count = 0
-                do c = 1, ppc(3)
-                  do b = 1, ppc(2)
-                    do a = 1, ppc(1)
-                      xp = seed_point(lower, dx, [i, j, k], [a, b, c], ppc)
-                      if (inside_shape(sp, active, xp)) count = count + 1
-                    end do
-                  end do
-                end do
-                if (count > 0) call append(cell, hits, listed, [i, j, k], count)
+    ppc = particles_per_cell_used(sp, n)
+    index = 0
+    do k = 1, n(3)
+      do j = 1, n(2)
+        do i = 1, n(1)
+          index = index + 1
+          if (mod(index, int(nranks, i8)) /= rank) cycle
+          hits = 0
+          do c = 1, ppc(3)
+            do b = 1, ppc(2)
+              do a = 1, ppc(1)
+                xp = seed_point(lower, dx, [i, j, k], [a, b, c], ppc)
+                if (inside_shape(sp, active, xp)) hits = hits + 1
               end do
             end do
           end do
-        end associate
+          if (hits > 0) call tally_add(tally, [i, j, k], hits)
+        end do
       end do
-    end if
-    cell = cell(:, 1:listed)
-    hits = hits(1:listed)
-  end subroutine seeded_particles
+    end do
+  end subroutine count_seeded
 
-  !> Append `hits_here` particles in cell `ijk` to the first `listed` entries of `cell` and
-  !! `hits`, doubling their room when full.
-  pure subroutine append(cell, hits, listed, ijk, hits_here)
-    integer, allocatable, intent(inout) :: cell(:, :)  !< (3, room) global cell indices
-    integer, allocatable, intent(inout) :: hits(:)     !< particles in each listed cell
-    integer, intent(inout) :: listed                   !< entries in use
-    integer, intent(in) :: ijk(3)                      !< the cell
-    integer, intent(in) :: hits_here                   !< its particles
-    integer, allocatable :: more_cell(:, :), more_hits(:)
-    if (listed == size(hits)) then
-      allocate(more_cell(3, 2 * listed), more_hits(2 * listed))
-      more_cell(:, 1:listed) = cell(:, 1:listed)
-      more_hits(1:listed) = hits(1:listed)
-      call move_alloc(more_cell, cell)
-      call move_alloc(more_hits, hits)
-    end if
-    listed = listed + 1
-    cell(:, listed) = ijk
-    hits(listed) = hits_here
-  end subroutine append
-
-  !> Collective over `comm`: this rank's chunk of the particles stored in the checkpoint `path`
-  !! (`checkpoint/particles/<solid>/x`), one entry per particle (`hits` = 1) in the cell that
-  !! holds it (`point_cells`).
-  subroutine checkpoint_particles(cfg, comm, path, cell, hits)
-    type(config_t), intent(in) :: cfg                  !< configuration of the restart
-    type(MPI_Comm), intent(in) :: comm                 !< communicator of the run
-    character(len=*), intent(in) :: path               !< checkpoint file
-    integer, allocatable, intent(out) :: cell(:, :)    !< (3, n) global cell indices
-    integer, allocatable, intent(out) :: hits(:)       !< 1 for each particle
-    type(h5_file_t) :: file
-    real(wp), allocatable :: x(:, :)
-    integer, allocatable :: more(:, :)
-    integer :: s
-
-    allocate(cell(3, 0))
-    if (trim(cfg%run%scene) == 'mpm' .or. trim(cfg%run%scene) == 'mpmice') then
-      call h5_open(file, path, comm)
-      do s = 1, cfg%nsolids
-        if (kept_on_grid(cfg, cfg%solids(s))) cycle
-        call h5_read_particles(file, 'checkpoint/particles/' // trim(cfg%solids(s)%name) // &
-          '/x', x)
-        call point_cells(x, cfg%grid%ncells, cfg%grid%lower, cfg%grid%upper, more)
-        cell = reshape([cell, more], [3, size(cell, 2) + size(more, 2)])
-      end do
-      call h5_close(file)
-    end if
-    allocate(hits(size(cell, 2)), source=1)
-  end subroutine checkpoint_particles
-
-  !> `cell(:, p)`: the global indices of the cell of a grid of `ncells` cells from `lower` to
-  !! `upper` that holds the point `x(:, p)`; a point on a cell boundary is in the upper cell, one
-  !! outside the grid in the nearest cell, an inactive dimension has one cell.
-  pure subroutine point_cells(x, ncells, lower, upper, cell)
-    real(wp), intent(in) :: x(:, :)                    !< points (3, n) [m]
+  !> The global indices of the cell of a grid of `ncells` cells from `lower` to `upper` that
+  !! holds the point `x`; a point on a cell boundary is in the upper cell, one outside the grid
+  !! in the nearest cell, an inactive dimension has one cell.
+  pure function point_cell(x, ncells, lower, upper) result(cell)
+    real(wp), intent(in) :: x(3)                       !< point [m]
     integer, intent(in) :: ncells(3)                   !< cells per dimension
     real(wp), intent(in) :: lower(3)                   !< low corner [m]
     real(wp), intent(in) :: upper(3)                   !< high corner [m]
-    integer, allocatable, intent(out) :: cell(:, :)    !< (3, n) global cell indices
-    integer :: p, d
-    real(wp) :: dx(3)
-    dx = (upper - lower) / real(ncells, wp)
-    allocate(cell(3, size(x, 2)), source=1)
-    do p = 1, size(x, 2)
-      do d = 1, 3
-        if (ncells(d) > 1) cell(d, p) = min(max(floor((x(d, p) - lower(d)) / dx(d)) + 1, 1), &
-          ncells(d))
-      end do
+    integer :: cell(3)
+    integer :: d
+    real(wp) :: dx
+    cell = 1
+    do d = 1, 3
+      if (ncells(d) < 2) cycle
+      dx = (upper(d) - lower(d)) / real(ncells(d), wp)
+      cell(d) = min(max(floor((x(d) - lower(d)) / dx) + 1, 1), ncells(d))
     end do
-  end subroutine point_cells
+  end function point_cell
 
   !> True for a rigid solid that `&mpm cache_static_rigid` keeps on the grid (no prescribed
   !! velocity, no shaking): the same test as `mpm_scene`.

@@ -16,17 +16,30 @@
 !! uses only the arguments, so every rank that passes the same counts gets the same blocks.
 !!
 !! Where the blocks per dimension are not fixed by the input, `block_layouts` lists every way to
-!! share the ranks among the active dimensions, and `block_particles` counts the particles each
-!! block of one layout holds, so that the caller can keep the layout of least F.
+!! share the ranks among the active dimensions, and a `particle_tally_t` counts the particles
+!! each block of every layout holds, so that the caller can keep the layout of least F; the
+!! tally holds counts per slab and per block only, not the particles, so it fits any scene.
 module parallel_balance
   use mpmice_kinds, only: wp
   implicit none
   private
 
-  public :: balanced_blocks, modelled_cost, quantile_blocks, block_layouts, block_particles, &
-    add_to_slabs
+  public :: balanced_blocks, modelled_cost, quantile_blocks, block_layouts
+  public :: particle_tally_t, tally_init, tally_add
 
   integer, parameter :: blend_steps = 64  !< blends a tried for more than two blocks
+
+  !> Particles counted per slab (the cells with one index along a dimension: x slabs, then y,
+  !! then z) and, where layouts are given, per block of each layout.
+  type :: particle_tally_t
+    integer :: ncells(3) = 1                   !< cells per dimension
+    real(wp), allocatable :: slabs(:)          !< particles per slab, x then y then z
+    integer, allocatable :: dims(:, :)         !< (3, nlayouts) blocks per dimension
+    !> (slab, layout): the 0-based block coordinate of each slab along its dimension
+    integer, allocatable :: owner(:, :)
+    !> (block, layout): particles per block, blocks numbered x fastest, then y, then z
+    real(wp), allocatable :: per_block(:, :)
+  end type particle_tally_t
 
 contains
 
@@ -186,57 +199,45 @@ contains
     end do
   end subroutine block_layouts
 
-  !> `counts(b)`: the particles in block b of the layout `dims` (blocks numbered x fastest, then
-  !! y, then z), whose blocks along dimension d hold `blocks(1:dims(d), d)` cells, for `hits(p)`
-  !! particles in the cell of global indices `cell(:, p)`.
-  pure subroutine block_particles(cell, hits, dims, blocks, counts)
-    integer, intent(in) :: cell(:, :)          !< (3, n) global cell indices
-    integer, intent(in) :: hits(:)             !< particles in each listed cell
-    integer, intent(in) :: dims(3)             !< blocks per dimension
-    integer, intent(in) :: blocks(:, :)        !< (:, 3) cells of each block per dimension
-    real(wp), intent(out) :: counts(:)         !< particles per block (size product(dims))
-    integer, allocatable :: owner_x(:), owner_y(:), owner_z(:)
-    integer :: p
-
-    call block_owner(blocks(1:dims(1), 1), owner_x)
-    call block_owner(blocks(1:dims(2), 2), owner_y)
-    call block_owner(blocks(1:dims(3), 3), owner_z)
-    counts = 0.0_wp
-    do p = 1, size(hits)
-      associate (b => 1 + owner_x(cell(1, p)) + dims(1) * (owner_y(cell(2, p)) + &
-          dims(2) * owner_z(cell(3, p))))
-        counts(b) = counts(b) + real(hits(p), wp)
-      end associate
+  !> A tally ready for `tally_add`: per slab of a grid of `ncells` cells (`slabs`), and, with
+  !! `dims` and `blocks`, per block of each layout k, whose blocks along dimension d hold
+  !! `blocks(1:dims(d, k), d, k)` cells (`per_block`, blocks numbered x fastest, then y, then z).
+  pure subroutine tally_init(tally, ncells, dims, blocks)
+    type(particle_tally_t), intent(out) :: tally     !< tally to set up, all counts 0
+    integer, intent(in) :: ncells(3)                 !< cells per dimension
+    integer, intent(in), optional :: dims(:, :)      !< (3, nlayouts) blocks per dimension
+    integer, intent(in), optional :: blocks(:, :, :) !< (:, 3, nlayouts) cells of each block
+    integer :: k, d, b, first
+    tally%ncells = ncells
+    allocate(tally%slabs(sum(ncells)), source=0.0_wp)
+    if (.not. present(dims)) return
+    tally%dims = dims
+    allocate(tally%owner(sum(ncells), size(dims, 2)))
+    do k = 1, size(dims, 2)
+      first = 0
+      do d = 1, 3
+        do b = 1, dims(d, k)
+          tally%owner(first + 1:first + blocks(b, d, k), k) = b - 1
+          first = first + blocks(b, d, k)
+        end do
+      end do
     end do
-  end subroutine block_particles
+    allocate(tally%per_block(maxval(product(dims, dim=1)), size(dims, 2)), source=0.0_wp)
+  end subroutine tally_init
 
-  !> `owner(i)`: the 0-based block holding cell i of a dimension cut into blocks of
-  !! `blocks(:)` cells.
-  pure subroutine block_owner(blocks, owner)
-    integer, intent(in) :: blocks(:)                 !< cells of each block, low block first
-    integer, allocatable, intent(out) :: owner(:)    !< block of each cell
-    integer :: b, last
-    allocate(owner(sum(blocks)))
-    last = 0
-    do b = 1, size(blocks)
-      owner(last + 1:last + blocks(b)) = b - 1
-      last = last + blocks(b)
+  !> Add `hits` particles in the cell of global indices `cell` to `tally`.
+  pure subroutine tally_add(tally, cell, hits)
+    type(particle_tally_t), intent(inout) :: tally  !< tally (`tally_init`)
+    integer, intent(in) :: cell(3)                  !< global cell indices
+    integer, intent(in) :: hits                     !< particles in the cell
+    integer :: k, slab(3), b
+    slab = [cell(1), tally%ncells(1) + cell(2), tally%ncells(1) + tally%ncells(2) + cell(3)]
+    tally%slabs(slab) = tally%slabs(slab) + real(hits, wp)
+    if (.not. allocated(tally%dims)) return
+    do k = 1, size(tally%dims, 2)
+      b = 1 + tally%owner(slab(1), k) + tally%dims(1, k) * (tally%owner(slab(2), k) + &
+        tally%dims(2, k) * tally%owner(slab(3), k))
+      tally%per_block(b, k) = tally%per_block(b, k) + real(hits, wp)
     end do
-  end subroutine block_owner
-
-  !> Add `hits(p)` particles in the cells `cell(:, p)` to the slab counts `counts` (x, then y,
-  !! then z slabs of a grid of `ncells` cells).
-  pure subroutine add_to_slabs(cell, hits, ncells, counts)
-    integer, intent(in) :: cell(:, :)          !< (3, n) global cell indices
-    integer, intent(in) :: hits(:)             !< particles in each listed cell
-    integer, intent(in) :: ncells(3)           !< cells per dimension
-    real(wp), intent(inout) :: counts(:)       !< particles per slab, x then y then z
-    integer :: p
-    do p = 1, size(hits)
-      counts(cell(1, p)) = counts(cell(1, p)) + real(hits(p), wp)
-      counts(ncells(1) + cell(2, p)) = counts(ncells(1) + cell(2, p)) + real(hits(p), wp)
-      counts(ncells(1) + ncells(2) + cell(3, p)) = counts(ncells(1) + ncells(2) + cell(3, p)) &
-        + real(hits(p), wp)
-    end do
-  end subroutine add_to_slabs
+  end subroutine tally_add
 end module parallel_balance
