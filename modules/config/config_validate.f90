@@ -120,6 +120,17 @@ contains
           'each entry > lower (' // reals_repr(p%lower) // ') [m]')
         return
       end if
+      if (p%rebalance .and. trim(p%balance) /= 'cost') then
+        call set_error(err, 'grid', 'rebalance', '.true.', &
+          ".false., or balance = 'cost' (balance = " // quoted(p%balance) // ')')
+        return
+      end if
+      if (p%rebalance .and. .not. cfg%run%checkpoint_interval > 0.0_wp) then
+        call set_error(err, 'grid', 'rebalance', '.true.', &
+          '.false., or &run checkpoint_interval > 0 (the blocks move at checkpoints; ' // &
+          'checkpoint_interval = ' // real_repr(cfg%run%checkpoint_interval) // ')')
+        return
+      end if
       need = ghost_width_needed(cfg)
       if (p%ghost_width < need .or. p%ghost_width > 4) then
         call set_error(err, 'grid', 'ghost_width', ints_repr([p%ghost_width]), &

@@ -1,7 +1,10 @@
 !> The generic time loop: clock, retries of rejected steps, dumps, checkpoints, failure detection
 !! (NaN/Inf, and the optional stops of `driver_stops`: energy growth, particle loss, step
 !! collapse; each reports, dumps the state and stops), the wall-time stop, progress lines and the
-!! stage-timer summary. Every scene (`scene_interface`) runs through it.
+!! stage-timer summary. Every scene (`scene_interface`) runs through it. With `&grid rebalance`
+!! a run stops at a checkpoint whose particles call for other blocks (`rebalance_due`) and the
+!! caller continues it from there on those blocks: the `run_segment_t` carries the invocation's
+!! step count, wall clock and stage timers from one segment to the next.
 module driver_loop
   use parallel_comm, only: bcast
   use mpmice_kinds, only: wp, path_len
@@ -24,10 +27,12 @@ module driver_loop
   use driver_stops, only: stops_watch_state, stops_start, stops_check_dt, stops_check_state
   use io_files, only: io_join_path
   use io_write_failure, only: io_close_checked
+  use driver_balance, only: run_block_cells
+  use config_types, only: max_blocks_per_dim
   implicit none
   private
 
-  public :: run_scene, run_status_t
+  public :: run_scene, run_status_t, run_segment_t
 
   !> How a run ended.
   type :: run_status_t
@@ -38,11 +43,26 @@ module driver_loop
     character(len=path_len) :: checkpoint = '' !< checkpoint to continue from (stopped runs)
   end type run_status_t
 
+  !> What one invocation carries from one segment to the next when `&grid rebalance` moves the
+  !! blocks: its first step (for `&run max_steps`), its wall-clock and simulated start (for the
+  !! progress lines and `&run wall_time_limit`), its rejected steps and its stage timers; `rebalance_from` is
+  !! the checkpoint a segment stopped at to continue on other blocks ('' when it did not).
+  type :: run_segment_t
+    integer :: first_step = -1                     !< step at the invocation's start (-1: unset)
+    real(wp) :: start_s = -1.0_wp                  !< wall clock at its start [s] (-1: unset)
+    real(wp) :: start_time = 0.0_wp                !< simulated time at its start [s]
+    integer :: rejected = 0                        !< steps rejected in earlier segments
+    type(timer_set_t) :: timers                    !< stage timers of the invocation
+    character(len=path_len) :: rebalance_from = '' !< checkpoint to continue from on new blocks
+    character(len=path_len) :: blocks_report = ''  !< the new blocks' modelled cost
+    integer :: block_cells(max_blocks_per_dim, 3) = 0  !< the new blocks (`domain_init` layout)
+  end type run_segment_t
+
 contains
 
   !> Run the scene of the parameters `params` from its initial state, or continue it from
   !! `restart_file` (not '').
-  subroutine run_scene(params, cfg, namelist_text, dom, grid, restart_file, status)
+  subroutine run_scene(params, cfg, namelist_text, dom, grid, restart_file, status, segment)
     class(scene_params_t), intent(in) :: params      !< the scene's groups (from `cfg`)
     type(config_t), intent(in) :: cfg                !< validated configuration
     character(len=*), intent(in) :: namelist_text    !< resolved input (stored in every file)
@@ -50,24 +70,30 @@ contains
     type(grid_t), intent(in), target :: grid         !< block geometry (kept by the scene)
     character(len=*), intent(in) :: restart_file     !< checkpoint to continue, '' if none
     type(run_status_t), intent(out) :: status        !< how the run ended
+    type(run_segment_t), intent(inout), target :: segment  !< carried between segments
     class(scene_t), allocatable :: scene
     type(clock_t) :: clock
-    type(timer_set_t), target :: timers
     type(progress_t) :: progress
     real(wp) :: dt, dt_limit, slowest_step_s, step_start_s, load_power, energy_peak
     integer :: t_output, signum
     logical :: accepted, stop_for_wall_time, stopped_early, watch_state
-    character(len=path_len) :: stop_reason
+    character(len=path_len) :: stop_reason, checkpoint_path
 
-    t_output = timer_register(timers, 'output and checkpoint')
+    segment%rebalance_from = ''
+    t_output = timer_register(segment%timers, 'output and checkpoint')
     call signals_install()
-    call scene_create(params, scene_context_t(dom=dom, grid=grid, timers=timers), scene)
+    call scene_create(params, scene_context_t(dom=dom, grid=grid, timers=segment%timers), scene)
     call clock_from_config(clock, cfg%run, cfg%time)
     call progress_init(progress, cfg%run%progress_interval, 0.0_wp, cfg%run%end_time)
+    if (segment%start_s >= 0.0_wp) then
+      progress%start_s = segment%start_s
+    else
+      segment%start_s = progress%start_s
+    end if
 
     ! until the run ends, its status file says 'running': a run that dies on the way (killed, or
     ! an output file that cannot be written) leaves no stale 'stopped' for job scripts to continue
-    if (dom%rank == 0) then
+    if (dom%rank == 0 .and. segment%first_step < 0) then
       status%state = 'running'
       status%reason = 'running, or ended without a final state (killed, or an output file ' // &
         'could not be written)'
@@ -75,18 +101,24 @@ contains
       status%state = 'finished'
       status%reason = ''
     end if
-    call timer_start(timers, t_output)
+    call timer_start(segment%timers, t_output)
     if (len_trim(restart_file) > 0) then
       call read_checkpoint(scene, dom, grid, restart_file, clock)
       call clock_resume(clock)
+      if (segment%first_step >= 0) clock%first_step = segment%first_step
       call log_info('restarted from ' // trim(restart_file) // ' at step ' // int_text(clock%step) &
         // ', t = ' // real_short_text(clock%time) // ' s')
     else
       call write_state_file(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
         namelist_text, cfg%output%xdmf, 'dump')
     end if
-    call timer_stop(timers, t_output)
-    progress%start_time = clock%time
+    call timer_stop(segment%timers, t_output)
+    if (segment%first_step < 0) then
+      segment%first_step = clock%first_step
+      segment%start_time = clock%time
+    end if
+    clock%rejected = segment%rejected
+    progress%start_time = segment%start_time
     watch_state = stops_watch_state(cfg)
     load_power = 0.0_wp
     energy_peak = 0.0_wp
@@ -141,16 +173,23 @@ contains
         end if
       end if
 
-      call timer_start(timers, t_output)
+      call timer_start(segment%timers, t_output)
       if (clock%output_due .or. clock_finished(clock)) then
         call write_state_file(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
           namelist_text, cfg%output%xdmf, 'dump')
       end if
       if (clock%checkpoint_due) then
         call write_state_file(scene, dom, grid, clock, cfg%run%output_dir, cfg%run%name, &
-          namelist_text, .false., 'checkpoint')
+          namelist_text, .false., 'checkpoint', checkpoint_path)
+        if (cfg%grid%rebalance .and. .not. clock_finished(clock)) then
+          if (rebalance_due(cfg, dom, checkpoint_path, segment%block_cells, &
+              segment%blocks_report)) then
+            segment%rebalance_from = checkpoint_path
+          end if
+        end if
       end if
-      call timer_stop(timers, t_output)
+      call timer_stop(segment%timers, t_output)
+      if (len_trim(segment%rebalance_from) > 0) exit
 
       slowest_step_s = max(slowest_step_s, progress_elapsed(progress) - step_start_s)
       stop_for_wall_time = .false.
@@ -174,6 +213,12 @@ contains
       call progress_update(progress, clock%step, clock%time, clock%dt)
     end do
 
+    segment%rejected = clock%rejected
+    if (len_trim(segment%rebalance_from) > 0) then
+      ! the caller continues the run from that checkpoint on the new blocks
+      call scene%free()
+      return
+    end if
     if (status%exit_code == 0) then
       if (clock%time < cfg%run%end_time .and. .not. stopped_early) then
         stopped_early = .true.
@@ -201,9 +246,32 @@ contains
       real_short_text(cfg%run%max_energy_growth) // ')')
     call scene%summary()
     call log_warning_summary()
-    call timer_summary(timers, dom%comm, progress_elapsed(progress))
+    call timer_summary(segment%timers, dom%comm, progress_elapsed(progress))
     call scene%free()
   end subroutine run_scene
+
+  !> Collective: true when the blocks of least modelled cost for the particles in the
+  !! checkpoint `path` (`driver_balance%run_block_cells`), returned in `blocks`, differ from
+  !! those of `dom`; `report` gives their modelled cost.
+  logical function rebalance_due(cfg, dom, path, blocks, report)
+    type(config_t), intent(in) :: cfg                !< validated configuration
+    type(domain_t), intent(in) :: dom                !< the run's decomposition
+    character(len=*), intent(in) :: path             !< checkpoint just written
+    integer, intent(out) :: blocks(:, :)             !< (max_blocks_per_dim, 3) the new blocks
+    character(len=*), intent(out) :: report          !< the new blocks' modelled cost
+    integer :: d, n
+    blocks = run_block_cells(cfg, dom%comm, path, report)
+    rebalance_due = .false.
+    if (len_trim(report) == 0) return   ! nothing to choose: the blocks cannot move
+    do d = 1, 3
+      n = dom%dims(d)
+      if (count(blocks(:, d) > 0) /= n) then
+        rebalance_due = .true.
+      else if (any(blocks(1:n, d) /= dom%first_cell(1:n, d) - dom%first_cell(0:n - 1, d))) then
+        rebalance_due = .true.
+      end if
+    end do
+  end function rebalance_due
 
   !> A failed run: dump the state to `<name>_failed_<step>.h5`, exit status 3, the reason with
   !! the dump's path.

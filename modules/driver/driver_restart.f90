@@ -40,7 +40,8 @@ module driver_restart
     'run max_steps', 'run wall_time_limit', 'run max_energy_growth', &
     'run max_particle_loss_fraction', 'run min_dt_ratio', 'run progress_interval', &
     'run verbosity', 'run overwrite', 'grid dims', 'grid block_cells_x', 'grid block_cells_y', &
-    'grid block_cells_z', 'grid balance', 'grid particle_weight', 'time cfl', 'time dt_init', &
+    'grid block_cells_z', 'grid balance', 'grid particle_weight', 'grid rebalance', &
+    'time cfl', 'time dt_init', &
     'time dt_max', 'time dt_min', 'time dt_growth', 'solver tolerance', 'solver max_iterations', &
     'solver print_level', 'output xdmf', 'output fields']
 
@@ -163,7 +164,7 @@ contains
       'end_time, output_interval, checkpoint_interval, max_steps, wall_time_limit, ' // &
       'max_energy_growth, max_particle_loss_fraction, min_dt_ratio, progress_interval, ' // &
       'verbosity, overwrite, output_dir; &grid dims, block_cells_x/y/z, balance, ' // &
-      'particle_weight; &time; &solver; ' // &
+      'particle_weight, rebalance; &time; &solver; ' // &
       '&output (docs/batch.md)'
 
     stat = 0

@@ -1,4 +1,6 @@
-!> Run driver: decomposition, output directory and input echo, scene dispatch, final status.
+!> Run driver: decomposition, output directory and input echo, scene dispatch, final status;
+!! with `&grid rebalance`, the run's continuation on new blocks from the checkpoint where the
+!! time loop found them (`driver_loop%run_segment_t`).
 module driver_run_mod
   use, intrinsic :: iso_fortran_env, only: error_unit
   use parallel_comm, only: MPI_Comm, bcast
@@ -12,7 +14,7 @@ module driver_run_mod
   use grid_layout, only: grid_t
   use driver_preflight, only: preflight_output_dir
   use driver_balance, only: run_block_cells
-  use driver_loop, only: run_scene, run_status_t
+  use driver_loop, only: run_scene, run_status_t, run_segment_t
   use scene_params, only: scene_params_t
   use driver_scene_params, only: scene_params_from_config
   implicit none
@@ -33,6 +35,7 @@ contains
     type(domain_t), target :: dom
     type(grid_t), target :: grid
     type(run_status_t) :: status
+    type(run_segment_t) :: segment
     class(scene_params_t), allocatable :: params
     character(len=:), allocatable :: text
     character(len=msg_len) :: errmsg
@@ -88,7 +91,17 @@ contains
     call log_info('mpmice: version ' // mpmice_version)
 
     call scene_params_from_config(cfg, params)
-    call run_scene(params, cfg, text, dom, grid, restart_file, status)
+    call run_scene(params, cfg, text, dom, grid, restart_file, status, segment)
+    do while (len_trim(segment%rebalance_from) > 0)
+      call domain_free(dom)
+      call domain_init(dom, comm, cfg%grid%ncells, cfg%grid%periodic, cfg%grid%ghost_width, &
+        cfg%grid%dims, segment%block_cells)
+      call grid_init(grid, dom, cfg%grid%lower, cfg%grid%upper)
+      call log_info('mpmice: blocks rebalanced at ' // trim(segment%rebalance_from) // ': ' // &
+        block_text(dom) // '; ' // trim(segment%blocks_report))
+      call run_scene(params, cfg, text, dom, grid, trim(segment%rebalance_from), status, &
+        segment)
+    end do
 
     call domain_free(dom)
     if (status%exit_code /= 0) then

@@ -4,7 +4,9 @@ particles sit in the lower left corner of the tank, on 2 ranks with the cut move
 1-rank run to the rank-invariance tolerances; a restart counts the particles in its
 checkpoint: the same blocks while they have not moved (bitwise continuation), new blocks after
 the sliding block moved right (the uninterrupted run's end to the rank-invariance tolerances);
-an unknown value is one input-error line."""
+with `&grid rebalance` the blocks follow the particles within one run (the run ends where the
+run on fixed blocks does); an unknown value, or rebalance without its prerequisites, is one
+input-error line."""
 import os
 import re
 
@@ -156,6 +158,79 @@ def test_restart_follows_moved_particles(tmp_path):
         assert np.max(np.abs(other[f"velocity_{c}"] - ref[f"velocity_{c}"])) < 3e-13, c
     for c in ("xx", "yy", "zz", "xy"):
         assert np.max(np.abs(other[f"stress_{c}"] - ref[f"stress_{c}"])) < 3e-13 * scale, c
+
+
+@pytest.mark.mpi
+def test_rebalance_within_the_run(tmp_path):
+    """`&grid rebalance = .true.` on the sliding block (2 ranks cut in x, a checkpoint every 5
+    ms): the blocks follow the block to the right within one run (x 10,10 at the start, 11,9
+    at the first move, ending further right), and the run ends where the run on the seeding's
+    blocks ends, to the MPM rank-invariance tolerances; the history CSV has the same rows, the
+    status file says finished. With `&run max_steps = 100` the steps count over the segments:
+    the run stops at step 100."""
+    cost = ("&grid balance = 'cost', particle_weight = 20.0, dims = 2, 1, 1 /",
+            "&run checkpoint_interval = 0.005 /")
+    runs = {}
+    for label, extra in (("fixed", ()), ("moving", ("&grid rebalance = .true. /",))):
+        out = str(tmp_path / label)
+        command = [SLIDE, "--set", f"&run output_dir = '{out}' /"]
+        for text in cost + extra:
+            command += ["--set", text]
+        runs[label] = (out, run_mpmice(command, nranks=2, cwd=str(tmp_path)))
+    moves = re.findall(r"blocks rebalanced at \S+_checkpoint_(\d+)\.h5: x (\d+),(\d+)",
+                       runs["moving"][1].stdout)
+    assert len(moves) >= 2, runs["moving"][1].stdout
+    assert (int(moves[0][1]), int(moves[0][2])) == (11, 9)
+    assert int(moves[-1][1]) > 11
+    assert "blocks rebalanced" not in runs["fixed"][1].stdout
+    a = list_dumps(runs["fixed"][0], "slide2d")[-1]
+    b = list_dumps(runs["moving"][0], "slide2d")[-1]
+    assert os.path.basename(a) == os.path.basename(b)
+    _, ref = particles(a, "block")
+    _, other = particles(b, "block")
+    assert np.array_equal(ref["id"], other["id"])
+    scale = max(np.max(np.abs(ref[f"stress_{c}"])) for c in ("xx", "yy", "xy"))
+    for c in ("x", "y"):
+        assert np.max(np.abs(other[c] - ref[c])) < 1e-14, c
+        assert np.max(np.abs(other[f"velocity_{c}"] - ref[f"velocity_{c}"])) < 3e-13, c
+    for c in ("xx", "yy", "zz", "xy"):
+        assert np.max(np.abs(other[f"stress_{c}"] - ref[f"stress_{c}"])) < 3e-13 * scale, c
+    rows = [np.loadtxt(os.path.join(out, "slide2d_mpm_series.csv"), delimiter=",", skiprows=1)
+            for out, _ in runs.values()]
+    assert rows[0].shape == rows[1].shape
+    assert np.max(np.abs(rows[0] - rows[1])) < 1e-9 * np.max(np.abs(rows[0]))
+    with open(os.path.join(runs["moving"][0], "slide2d.status"), encoding="utf-8") as f:
+        assert "state = finished" in f.read()
+
+    out = str(tmp_path / "limited")
+    command = [SLIDE, "--set", f"&run output_dir = '{out}', max_steps = 100 /"]
+    for text in cost + ("&grid rebalance = .true. /",):
+        command += ["--set", text]
+    result = run_mpmice(command, nranks=2, cwd=str(tmp_path))
+    assert "blocks rebalanced" in result.stdout
+    with open(os.path.join(out, "slide2d.status"), encoding="utf-8") as f:
+        status = f.read()
+    assert "state = stopped" in status and "step = 100" in status, status
+
+
+@pytest.mark.parametrize("sets, rule", [
+    (("&grid rebalance = .true. /",), "balance = 'cost'"),
+    (("&grid balance = 'cost', rebalance = .true. /", "&run checkpoint_interval = 0.0 /"),
+     "checkpoint_interval > 0")])
+def test_rebalance_needs_cost_and_checkpoints(tmp_path, monkeypatch, sets, rule):
+    """`&grid rebalance` without `balance = 'cost'` or without checkpoints: one error line
+    naming the variable and what it needs; exit status 1, nothing written."""
+    monkeypatch.setenv("OMPI_MCA_orte_execute_quiet", "1")
+    out = tmp_path / "bad"
+    command = [SLIDE, "--set", f"&run output_dir = '{out}' /"]
+    for text in sets:
+        command += ["--set", text]
+    result = run_mpmice(command, cwd=str(tmp_path), check=False)
+    lines = [line for line in result.stderr.splitlines() if line.strip()]
+    assert result.returncode == 1
+    assert len(lines) == 1, result.stderr
+    assert "&grid rebalance = .true." in lines[0] and rule in lines[0], lines[0]
+    assert not out.exists()
 
 
 def test_unknown_balance_is_an_input_error(tmp_path, monkeypatch):
