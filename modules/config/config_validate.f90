@@ -11,7 +11,8 @@ module config_validate
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use mpmice_kinds, only: wp, i8
   use parallel_domain, only: choose_dims, blocks_given
-  use config_types, only: config_t
+  use parallel_balance, only: block_layouts
+  use config_types, only: config_t, max_blocks_per_dim
   use config_text, only: real_repr, reals_repr, ints_repr, quoted
   use config_check_tools, only: config_error_t, set_error
   use config_validate_ranges, only: check_run_ranges, check_grid_ranges, check_time_ranges, &
@@ -96,7 +97,8 @@ contains
     integer, intent(in) :: nranks               !< number of ranks
     type(config_error_t), intent(inout) :: err  !< problem record
     logical :: active(3)
-    integer :: dims(3), d, requested, need, request(3), given(3)
+    integer :: dims(3), d, requested, need, request(3), given(3), nlayouts
+    integer, allocatable :: layouts(:, :)
     logical :: ok
     character(len=:), allocatable :: ranks_text, rank_variable, rank_value, rank_rule
 
@@ -185,6 +187,13 @@ contains
       end if
       dims = 1
       if (nranks > 1) dims = choose_dims(nranks, active, request)
+      nlayouts = 0
+      if (nranks > 1) then
+        ! 'cost' takes the layout from those that fit (`block_layouts`), not only this one
+        call block_layouts(nranks, active, request, p%ncells, max(p%ghost_width, 1), &
+          max_blocks_per_dim, dims, layouts, nlayouts)
+        if (nlayouts > 0 .and. trim(p%balance) == 'cost') dims = layouts(:, 1)
+      end if
       do d = 1, 3
         ! given blocks were checked against the ghost width by check_block_cells
         if (.not. active(d) .or. given(d) > 0) cycle
@@ -193,12 +202,25 @@ contains
             'at least ghost_width (' // ints_repr([p%ghost_width]) // &
             ') cells per block along each active dimension (' // ranks_text // ' split ' // &
             ints_repr(dims(1:1)) // ' x ' // ints_repr(dims(2:2)) // ' x ' // &
-            ints_repr(dims(3:3)) // '; use fewer ranks or set &grid dims)')
+            ints_repr(dims(3:3)) // '; ' // fitting_layout(layouts, nlayouts) // ')')
           return
         end if
       end do
     end associate
   end subroutine check_grid
+
+  !> The advice of the ghost-width error: a layout that fits (`block_layouts`), or fewer ranks.
+  function fitting_layout(layouts, nlayouts) result(text)
+    integer, intent(in) :: layouts(:, :)   !< (3, nlayouts) layouts that fit
+    integer, intent(in) :: nlayouts        !< their number
+    character(len=:), allocatable :: text
+    if (nlayouts > 0) then
+      text = 'the layout ' // ints_repr(layouts(:, 1)) // ' fits: set &grid dims = ' // &
+        ints_repr(layouts(:, 1)) // ", or balance = 'cost'"
+    else
+      text = 'use fewer ranks'
+    end if
+  end function fitting_layout
 
   !> `&grid block_cells_x/y/z`: each given list (up to its last non-zero entry) only along an
   !! active dimension, every entry >= ghost_width, the sum = ncells, its length = dims where

@@ -64,7 +64,8 @@ contains
     first = choose_dims(comm_size(comm), active, request)
     call block_layouts(comm_size(comm), active, request, cfg%grid%ncells, &
       max(cfg%grid%ghost_width, 1), max_blocks_per_dim, first, layouts, nlayouts)
-    if (nlayouts == 1 .and. all(first == 1 .or. given)) return
+    if (nlayouts == 0) return   ! input validation refuses such a run
+    if (nlayouts == 1 .and. all(layouts(:, 1) == 1 .or. given)) return
 
     checkpoint = ''
     if (present(restart_file)) checkpoint = trim(restart_file)
@@ -97,8 +98,8 @@ contains
     if (present(report)) then
       report = 'modelled cost ' // int_text(nint(best, i8)) // ' cells per step'
       if (nlayouts > 1) report = trim(report) // ', the least of ' // int_text(nlayouts) // &
-        ' layouts (' // int_text(first(1)) // ' x ' // int_text(first(2)) // ' x ' // &
-        int_text(first(3)) // ': ' // int_text(nint(first_cost, i8)) // ')'
+        ' layouts (' // int_text(layouts(1, 1)) // ' x ' // int_text(layouts(2, 1)) // ' x ' // &
+        int_text(layouts(3, 1)) // ': ' // int_text(nint(first_cost, i8)) // ')'
     end if
   end function run_block_cells
 

@@ -151,10 +151,10 @@ contains
   end subroutine quantile_blocks
 
   !> `layouts(:, 1:nlayouts)`: the blocks per dimension (x, y, z) whose product is `nranks`,
-  !! `first` first (the layout `MPI_Dims_create` gives), then the others in lexicographic order.
-  !! A layout keeps one block along an inactive dimension and `request(d)` along a dimension
-  !! where that is positive; along every other dimension it has at most `max_blocks` blocks of at
-  !! least `min_cells` cells. `first` is kept as given.
+  !! `first` first (the layout `MPI_Dims_create` gives) where it fits, then the others in
+  !! lexicographic order. A layout fits when it keeps one block along an inactive dimension and
+  !! `request(d)` along a dimension where that is positive, and along every other dimension at
+  !! most `max_blocks` blocks of at least `min_cells` cells. None fits: `nlayouts` = 0.
   pure subroutine block_layouts(nranks, active, request, ncells, min_cells, max_blocks, first, &
       layouts, nlayouts)
     integer, intent(in) :: nranks                  !< number of ranks (>= 1)
@@ -166,37 +166,45 @@ contains
     integer, intent(in) :: first(3)                !< the layout listed first
     integer, allocatable, intent(out) :: layouts(:, :)  !< (3, nlayouts) blocks per dimension
     integer, intent(out) :: nlayouts               !< layouts listed
-    integer :: a, b, dims(3), d, room
-    logical :: fits
+    integer :: a, b, dims(3), room
 
     room = 1
     do a = 1, nranks
       if (mod(nranks, a) == 0) room = room + nranks / a
     end do
     allocate(layouts(3, room))
-    layouts(:, 1) = first
-    nlayouts = 1
+    nlayouts = 0
+    if (fits(first)) then
+      nlayouts = 1
+      layouts(:, 1) = first
+    end if
     do a = 1, nranks
       if (mod(nranks, a) /= 0) cycle
       do b = 1, nranks / a
         if (mod(nranks / a, b) /= 0) cycle
         dims = [a, b, nranks / (a * b)]
-        if (all(dims == first)) cycle
-        fits = .true.
-        do d = 1, 3
-          if (.not. active(d)) then
-            fits = fits .and. dims(d) == 1
-          else if (request(d) > 0) then
-            fits = fits .and. dims(d) == request(d)
-          else
-            fits = fits .and. dims(d) <= max_blocks .and. ncells(d) >= dims(d) * min_cells
-          end if
-        end do
-        if (.not. fits) cycle
+        if (all(dims == first) .or. .not. fits(dims)) cycle
         nlayouts = nlayouts + 1
         layouts(:, nlayouts) = dims
       end do
     end do
+
+  contains
+
+    pure logical function fits(blocks)
+      integer, intent(in) :: blocks(3)   !< blocks per dimension
+      integer :: d
+      fits = product(blocks) == nranks
+      do d = 1, 3
+        if (.not. active(d)) then
+          fits = fits .and. blocks(d) == 1
+        else if (request(d) > 0) then
+          fits = fits .and. blocks(d) == request(d)
+        else
+          fits = fits .and. blocks(d) <= max_blocks .and. ncells(d) >= blocks(d) * min_cells
+        end if
+      end do
+    end function fits
   end subroutine block_layouts
 
   !> A tally ready for `tally_add`: per slab of a grid of `ncells` cells (`slabs`), and, with

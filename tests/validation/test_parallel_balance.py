@@ -233,6 +233,32 @@ def test_rebalance_needs_cost_and_checkpoints(tmp_path, monkeypatch, sets, rule)
     assert not out.exists()
 
 
+COLUMN = os.path.join(ROOT, "namelists", "mpm_column_2d.nml")
+
+
+@pytest.mark.mpi
+def test_cost_takes_a_layout_that_fits(tmp_path, monkeypatch):
+    """3 ranks on the 4 x 50 cells of mpm_column_2d: MPI_Dims_create's 3 x 1 leaves blocks of 1
+    cell, below the ghost width 2. With the even split that is one input-error line that names
+    the layout that fits (1, 3, 1), exit status 1, nothing written; `balance = 'cost'` runs on
+    that layout (y strips)."""
+    monkeypatch.setenv("OMPI_MCA_orte_execute_quiet", "1")
+    bad = tmp_path / "cells"
+    result = run_mpmice([COLUMN, "--set", f"&run output_dir = '{bad}', max_steps = 2 /"],
+                        nranks=3, cwd=str(tmp_path), check=False)
+    lines = [line for line in result.stderr.splitlines() if line.strip()]
+    assert result.returncode == 1
+    assert len(lines) == 1, result.stderr
+    assert "3 ranks split 3 x 1 x 1" in lines[0], lines[0]
+    assert "set &grid dims = 1, 3, 1, or balance = 'cost'" in lines[0], lines[0]
+    assert not bad.exists()
+    good = tmp_path / "cost"
+    result = run_mpmice([COLUMN, "--set", f"&run output_dir = '{good}', max_steps = 2 /",
+                         "--set", "&grid balance = 'cost' /"], nranks=3, cwd=str(tmp_path))
+    axis, *cells = _blocks(result.stdout)
+    assert axis == "y" and len(cells) == 3 and sum(cells) == 50 and min(cells) >= 2, cells
+
+
 def test_unknown_balance_is_an_input_error(tmp_path, monkeypatch):
     """`&grid balance = 'particles'`: one error line naming the group, variable, value and the
     allowed values; exit status 1, nothing written."""
