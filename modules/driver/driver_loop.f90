@@ -45,8 +45,9 @@ module driver_loop
 
   !> What one invocation carries from one segment to the next when `&grid rebalance` moves the
   !! blocks: its first step (for `&run max_steps`), its wall-clock and simulated start (for the
-  !! progress lines and `&run wall_time_limit`), its rejected steps and its stage timers; `rebalance_from` is
-  !! the checkpoint a segment stopped at to continue on other blocks ('' when it did not).
+  !! progress lines and `&run wall_time_limit`), its rejected steps and its stage timers;
+  !! `rebalance_from` is the checkpoint a segment stopped at to continue on other blocks (''
+  !! when it did not).
   type :: run_segment_t
     integer :: first_step = -1                     !< step at the invocation's start (-1: unset)
     real(wp) :: start_s = -1.0_wp                  !< wall clock at its start [s] (-1: unset)
