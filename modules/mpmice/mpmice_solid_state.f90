@@ -8,7 +8,7 @@ module mpmice_solid_state
   use parallel_halo, only: halo_t, halo_exchange_cell, halo_exchange_node
   use grid_layout, only: grid_t
   use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field, h5_write_node_field, &
-    h5_read_node_field
+    h5_read_node_field, h5_exists
   use ice_state, only: ice_state_t
   use exchange_solid_phase, only: solid_phase_t
   use ice_bc, only: ice_bc_fill, bc_scalar
@@ -57,7 +57,9 @@ contains
 
   !> A dump: `cell/solid_volume_fraction` (the tracked phi_s) and `cell/porosity`; a
   !! checkpoint: the tracked fraction, the solid cell velocity and the fluids' final face
-  !! velocities (what the next step reads).
+  !! velocities (what the next step reads), and with sliding rigid contact the deformable
+  !! solids' fraction and specific volume of the step (the next step's contact reads them
+  !! before it deposits the particles again).
   subroutine solid_state_write(file, grid, state, solid, nbuf, work, checkpoint)
     type(h5_file_t), intent(in) :: file           !< open file
     type(grid_t), intent(in) :: grid              !< block geometry
@@ -84,6 +86,12 @@ contains
               trim(state%fluid(m)%name) // '/velocity_' // comp(d), grid, nbuf)
           end do
         end do
+        if (sp%sliding) then
+          call h5_write_cell_field(file, 'checkpoint/cell/solid_deformable_fraction', grid, &
+            sp%frac_def)
+          call h5_write_cell_field(file, 'checkpoint/cell/solid_specific_volume', grid, &
+            sp%spvol)
+        end if
       else
         call h5_write_cell_field(file, 'cell/solid_volume_fraction', grid, sp%vfrac)
         work = 1.0_wp - sp%vfrac
@@ -112,6 +120,17 @@ contains
         call h5_read_cell_field(file, 'checkpoint/cell/solid_velocity_' // comp(d), grid, &
           sp%vel(:, :, :, d))
       end do
+      ! the sliding contact's fields of the step before (checkpoints written before they were
+      ! stored: those of the set-up, as such a restart always had)
+      if (sp%sliding .and. h5_exists(file, 'checkpoint/cell/solid_deformable_fraction')) then
+        call h5_read_cell_field(file, 'checkpoint/cell/solid_deformable_fraction', grid, &
+          sp%frac_def)
+        call h5_read_cell_field(file, 'checkpoint/cell/solid_specific_volume', grid, sp%spvol)
+        call halo_exchange_cell(fl%halo, dom, grid, sp%frac_def)
+        call halo_exchange_cell(fl%halo, dom, grid, sp%spvol)
+        call ice_bc_fill(grid, fl%bc, sp%frac_def, bc_scalar)
+        call ice_bc_fill(grid, fl%bc, sp%spvol, bc_scalar)
+      end if
       do m = 1, fl%state%nfluids
         do d = 1, 3
           call h5_read_node_field(file, 'checkpoint/face/' // &
