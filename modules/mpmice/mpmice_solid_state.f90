@@ -112,9 +112,7 @@ contains
     real(wp), intent(inout) :: nbuf(grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< node scratch
     integer :: d, m
     associate (sp => solid)
-      call h5_read_cell_field(file, 'checkpoint/cell/solid_volume_fraction', grid, sp%vfrac)
-      call halo_exchange_cell(fl%halo, dom, grid, sp%vfrac)
-      call ice_bc_fill(grid, fl%bc, sp%vfrac, bc_scalar)
+      call read_filled('checkpoint/cell/solid_volume_fraction', sp%vfrac)
       call open_face_reservoirs(fl%state, solid, grid)
       do d = 1, 3
         call h5_read_cell_field(file, 'checkpoint/cell/solid_velocity_' // comp(d), grid, &
@@ -122,14 +120,11 @@ contains
       end do
       ! the sliding contact's fields of the step before (checkpoints written before they were
       ! stored: those of the set-up, as such a restart always had)
-      if (sp%sliding .and. h5_exists(file, 'checkpoint/cell/solid_deformable_fraction')) then
-        call h5_read_cell_field(file, 'checkpoint/cell/solid_deformable_fraction', grid, &
-          sp%frac_def)
-        call h5_read_cell_field(file, 'checkpoint/cell/solid_specific_volume', grid, sp%spvol)
-        call halo_exchange_cell(fl%halo, dom, grid, sp%frac_def)
-        call halo_exchange_cell(fl%halo, dom, grid, sp%spvol)
-        call ice_bc_fill(grid, fl%bc, sp%frac_def, bc_scalar)
-        call ice_bc_fill(grid, fl%bc, sp%spvol, bc_scalar)
+      if (sp%sliding) then
+        if (h5_exists(file, 'checkpoint/cell/solid_deformable_fraction')) then
+          call read_filled('checkpoint/cell/solid_deformable_fraction', sp%frac_def)
+          call read_filled('checkpoint/cell/solid_specific_volume', sp%spvol)
+        end if
       end if
       do m = 1, fl%state%nfluids
         do d = 1, 3
@@ -141,5 +136,17 @@ contains
         end do
       end do
     end associate
+
+  contains
+
+    !> The owned cells of the cell field `field` from the checkpoint's dataset `path`, the
+    !! ghosts from the neighbours and the face conditions (a scalar).
+    subroutine read_filled(path, field)
+      character(len=*), intent(in) :: path                 !< dataset in the checkpoint
+      real(wp), intent(inout) :: field(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell field
+      call h5_read_cell_field(file, path, grid, field)
+      call halo_exchange_cell(fl%halo, dom, grid, field)
+      call ice_bc_fill(grid, fl%bc, field, bc_scalar)
+    end subroutine read_filled
   end subroutine solid_state_restore
 end module mpmice_solid_state
