@@ -41,6 +41,8 @@ module mpm_nodal
     'velocity', 'traction']
 
   integer, parameter :: max_points = 64  !< most points of a velocity history
+  !> A rigid mass gradient below this times m / dx is round-off, not a surface (`contact_normal`)
+  real(wp), parameter :: normal_floor = 1.0e-10_wp
 
   !> Solid boundary conditions on the six faces (x-, x+, y-, y+, z-, z+).
   type :: nodal_bc_t
@@ -323,6 +325,11 @@ contains
   !! ~2 deg (docs/validation/mpm_friction.md, postproc/mpm_slope_contact.py). On a surface along
   !! the grid the neighbours' gradients are parallel and the direction is the node's own. Every
   !! node a particle reads has its neighbours within the ghost layers (ng >= 1 linear, 2 GIMP).
+  !! Inside a rigid body the particles' gradients cancel: grad m is zero but for round-off
+  !! (~1e-15 m / dx), whose direction depends on the order of the sum (on the ranks' cut). A
+  !! gradient below `normal_floor` m / dx (m the rigid mass summed with the same weights, dx the
+  !! smallest active cell size) is taken as no normal, so that such a node is not judged against
+  !! a random direction; a surface node's |grad m| is of order m / dx.
   pure function contact_normal(q, grid, idx, smoothed) result(n)
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: q(:, grid%lbn(1):, grid%lbn(2):, grid%lbn(3):) !< node fields
@@ -331,8 +338,11 @@ contains
     real(wp) :: n(3)
     real(wp), parameter :: weight(-1:1) = [1.0_wp, 2.0_wp, 1.0_wp]
     integer :: lo(3), hi(3), d, i, j, k
+    real(wp) :: m, w
     if (.not. smoothed) then
       n = q(node_rigid_gradient:node_rigid_gradient + 2, idx(1), idx(2), idx(3))
+      m = q(node_rigid_mass, idx(1), idx(2), idx(3))
+      if (norm2(n) <= normal_floor * m / minval(grid%dx, mask=grid%active)) n = 0.0_wp
       return
     end if
     do d = 1, 3
@@ -346,14 +356,17 @@ contains
       hi(d) = min(hi(d), grid%ncells(d) + 1)
     end do
     n = 0.0_wp
+    m = 0.0_wp
     do k = lo(3), hi(3)
       do j = lo(2), hi(2)
         do i = lo(1), hi(1)
-          n = n + weight(i - idx(1)) * weight(j - idx(2)) * weight(k - idx(3)) * &
-            q(node_rigid_gradient:node_rigid_gradient + 2, i, j, k)
+          w = weight(i - idx(1)) * weight(j - idx(2)) * weight(k - idx(3))
+          n = n + w * q(node_rigid_gradient:node_rigid_gradient + 2, i, j, k)
+          m = m + w * q(node_rigid_mass, i, j, k)
         end do
       end do
     end do
+    if (norm2(n) <= normal_floor * m / minval(grid%dx, mask=grid%active)) n = 0.0_wp
   end function contact_normal
 
   !> Velocity [m/s] of a deformable node in frictional contact with a rigid body: trial velocity
