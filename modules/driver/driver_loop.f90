@@ -216,7 +216,11 @@ contains
 
     segment%rejected = clock%rejected
     if (len_trim(segment%rebalance_from) > 0) then
-      ! the caller continues the run from that checkpoint on the new blocks
+      ! the scene's summary of this segment's steps (its counters start again on the new
+      ! blocks); the caller continues the run from that checkpoint
+      call log_info('mpmice: the steps on these blocks, to ' // trim(segment%rebalance_from) // &
+        ':')
+      call scene%summary()
       call scene%free()
       return
     end if

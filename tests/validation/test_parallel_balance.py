@@ -166,8 +166,8 @@ def test_rebalance_within_the_run(tmp_path):
     ms): the blocks follow the block to the right within one run (x 10,10 at the start, 11,9
     at the first move, ending further right), and the run ends where the run on the seeding's
     blocks ends, to the MPM rank-invariance tolerances; the history CSV has the same rows, the
-    status file says finished. With `&run max_steps = 100` the steps count over the segments:
-    the run stops at step 100."""
+    status file says finished; the log has the scene's summary of each segment before a move.
+    With `&run max_steps = 100` the steps count over the segments: the run stops at step 100."""
     cost = ("&grid balance = 'cost', particle_weight = 20.0, dims = 2, 1, 1 /",
             "&run checkpoint_interval = 0.005 /")
     runs = {}
@@ -182,6 +182,7 @@ def test_rebalance_within_the_run(tmp_path):
     assert len(moves) >= 2, runs["moving"][1].stdout
     assert (int(moves[0][1]), int(moves[0][2])) == (11, 9)
     assert int(moves[-1][1]) > 11
+    assert runs["moving"][1].stdout.count("mpmice: the steps on these blocks, to ") == len(moves)
     assert "blocks rebalanced" not in runs["fixed"][1].stdout
     a = list_dumps(runs["fixed"][0], "slide2d")[-1]
     b = list_dumps(runs["moving"][0], "slide2d")[-1]
@@ -221,9 +222,9 @@ def test_rebalance_within_a_coupled_run(tmp_path):
     """The coupled sliding block (water, a porous block sliding on the rigid bed; 2 ranks cut
     in x, w = 5, a checkpoint every 20 ms): the cut moves with the block (x 12,28 -> 13,27) and
     the run continues in the same process exactly as `mpmice --restart` of that checkpoint
-    does (bitwise). (Against the run on the first blocks this scene is not compared: its
-    results on different blocks differ by up to 5e-4 of the pressure, from a jump at the
-    slip's onset; docs/parallel.md.)"""
+    does (bitwise), and it ends where the run on the first blocks ends: pressure to 1e-9 of its
+    largest value, block particle positions to 1e-12 m, velocities to 1e-10 m/s, stresses to
+    1e-9 of the largest (measured 8e-13, 3e-16 m, 7e-14 m/s, 3e-12)."""
     sets = ("&grid dims = 2, 1, 1, balance = 'cost', particle_weight = 5.0, rebalance = .true. /",
             "&run checkpoint_interval = 0.02 /")
     out = str(tmp_path / "moving")
@@ -244,6 +245,25 @@ def test_rebalance_within_a_coupled_run(tmp_path):
     again = list_dumps(restarted, "slide")[-1]
     assert os.path.basename(moving) == os.path.basename(again)
     assert_dumps_identical(moving, again)
+    fixed_out = str(tmp_path / "fixed")
+    command = [SLIDE_BLOCK, "--set", f"&run output_dir = '{fixed_out}' /", "--set",
+               "&grid dims = 2, 1, 1, balance = 'cost', particle_weight = 5.0 /",
+               "--set", "&run checkpoint_interval = 0.02 /"]
+    run_mpmice(command, nranks=2, cwd=str(tmp_path))
+    fixed = list_dumps(fixed_out, "slide")[-1]
+    assert os.path.basename(fixed) == os.path.basename(moving)
+    with h5py.File(fixed) as f, h5py.File(moving) as g:
+        pf, pm = f["cell/pressure"][...], g["cell/pressure"][...]
+        assert np.max(np.abs(pf - pm)) < 1e-9 * np.max(np.abs(pf))
+    _, ref = particles(fixed, "block")
+    _, other = particles(moving, "block")
+    assert np.array_equal(ref["id"], other["id"])
+    scale = max(np.max(np.abs(ref[f"stress_{c}"])) for c in ("xx", "yy", "xy"))
+    for c in ("x", "y"):
+        assert np.max(np.abs(other[c] - ref[c])) < 1e-12, c
+        assert np.max(np.abs(other[f"velocity_{c}"] - ref[f"velocity_{c}"])) < 1e-10, c
+    for c in ("xx", "yy", "xy"):
+        assert np.max(np.abs(other[f"stress_{c}"] - ref[f"stress_{c}"])) < 1e-9 * scale, c
 
 
 @pytest.mark.parametrize("sets, rule", [
