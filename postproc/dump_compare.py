@@ -20,6 +20,8 @@ import sys
 import h5py
 import numpy as np
 
+from postproc.mpm_common import particles
+
 #: Root attributes that a bitwise-identical continuation must reproduce.
 STATE_ATTRIBUTES = ("time", "step")
 
@@ -80,6 +82,23 @@ def assert_dumps_identical(path_a, path_b, select=None, by_id: bool = False) -> 
     (`dump_differences`)."""
     diffs = dump_differences(path_a, path_b, select=select, by_id=by_id)
     assert not diffs, f"{path_a} and {path_b} differ:\n  " + "\n  ".join(diffs)
+
+
+def assert_particles_close(path_a, path_b, solid: str, position: float, velocity: float,
+                           stress: float, stresses=("xx", "yy", "xy")) -> None:
+    """The particles of ``solid`` in two dumps agree to round-off: the same ids, positions
+    within ``position`` [m], velocities within ``velocity`` [m/s] (x and y) and the stress
+    components ``stresses`` within ``stress`` times the largest |stress| of ``path_a``
+    (xx, yy, xy) - the rank-count and rebalancing comparisons."""
+    _, ref = particles(path_a, solid)
+    _, other = particles(path_b, solid)
+    assert np.array_equal(ref["id"], other["id"])
+    scale = max(np.max(np.abs(ref[f"stress_{c}"])) for c in ("xx", "yy", "xy"))
+    for c in ("x", "y"):
+        assert np.max(np.abs(other[c] - ref[c])) < position, c
+        assert np.max(np.abs(other[f"velocity_{c}"] - ref[f"velocity_{c}"])) < velocity, c
+    for c in stresses:
+        assert np.max(np.abs(other[f"stress_{c}"] - ref[f"stress_{c}"])) < stress * scale, c
 
 
 def compare_folders(dir_a, dir_b, by_id: bool = False) -> tuple[int, list[str]]:

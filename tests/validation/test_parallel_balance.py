@@ -14,7 +14,7 @@ import h5py
 import numpy as np
 import pytest
 
-from postproc.dump_compare import assert_dumps_identical
+from postproc.dump_compare import assert_dumps_identical, assert_particles_close
 from postproc.mpm_common import particles
 from postproc.mpmice_io import list_dumps
 from postproc.run_case import ROOT, run_mpmice
@@ -187,15 +187,7 @@ def test_rebalance_within_the_run(tmp_path):
     a = list_dumps(runs["fixed"][0], "slide2d")[-1]
     b = list_dumps(runs["moving"][0], "slide2d")[-1]
     assert os.path.basename(a) == os.path.basename(b)
-    _, ref = particles(a, "block")
-    _, other = particles(b, "block")
-    assert np.array_equal(ref["id"], other["id"])
-    scale = max(np.max(np.abs(ref[f"stress_{c}"])) for c in ("xx", "yy", "xy"))
-    for c in ("x", "y"):
-        assert np.max(np.abs(other[c] - ref[c])) < 1e-14, c
-        assert np.max(np.abs(other[f"velocity_{c}"] - ref[f"velocity_{c}"])) < 3e-13, c
-    for c in ("xx", "yy", "zz", "xy"):
-        assert np.max(np.abs(other[f"stress_{c}"] - ref[f"stress_{c}"])) < 3e-13 * scale, c
+    assert_particles_close(a, b, "block", 1e-14, 3e-13, 3e-13, ("xx", "yy", "zz", "xy"))
     rows = [np.loadtxt(os.path.join(out, "slide2d_mpm_series.csv"), delimiter=",", skiprows=1)
             for out, _ in runs.values()]
     assert rows[0].shape == rows[1].shape
@@ -255,15 +247,7 @@ def test_rebalance_within_a_coupled_run(tmp_path):
     with h5py.File(fixed) as f, h5py.File(moving) as g:
         pf, pm = f["cell/pressure"][...], g["cell/pressure"][...]
         assert np.max(np.abs(pf - pm)) < 1e-9 * np.max(np.abs(pf))
-    _, ref = particles(fixed, "block")
-    _, other = particles(moving, "block")
-    assert np.array_equal(ref["id"], other["id"])
-    scale = max(np.max(np.abs(ref[f"stress_{c}"])) for c in ("xx", "yy", "xy"))
-    for c in ("x", "y"):
-        assert np.max(np.abs(other[c] - ref[c])) < 1e-12, c
-        assert np.max(np.abs(other[f"velocity_{c}"] - ref[f"velocity_{c}"])) < 1e-10, c
-    for c in ("xx", "yy", "xy"):
-        assert np.max(np.abs(other[f"stress_{c}"] - ref[f"stress_{c}"])) < 1e-9 * scale, c
+    assert_particles_close(fixed, moving, "block", 1e-12, 1e-10, 1e-9)
 
 
 @pytest.mark.parametrize("sets, rule", [
