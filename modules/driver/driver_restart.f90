@@ -7,7 +7,7 @@
 !!   (`io_hdf5_probe` opens it with HDF5's error printing off);
 !! * a `--set` changes a variable that the checkpoint cannot honour: anything except the
 !!   variables of `restart_changeable` (run control, decomposition, time-step limits, solver
-!!   tolerances, output selection). The grid, the scene, the materials, the boundaries and the
+!!   and outer-iteration tolerances, output selection). The grid, the scene, the materials, the boundaries and the
 !!   initial conditions are those of the stored state;
 !! * a solid needs per-particle state that the checkpoint lacks (`model_state`: Cam-Clay's
 !!   `hardening`, the densifying sand's `cyclic` and `cyclic_half_time`; a deformable solid's
@@ -43,7 +43,8 @@ module driver_restart
     'grid block_cells_z', 'grid balance', 'grid particle_weight', 'grid rebalance', &
     'time cfl', 'time dt_init', &
     'time dt_max', 'time dt_min', 'time dt_growth', 'solver tolerance', 'solver max_iterations', &
-    'solver print_level', 'output xdmf', 'output fields']
+    'solver print_level', 'ice outer_tolerance', 'ice max_outer_iterations', 'output xdmf', &
+    'output fields']
 
   character(len=*), parameter :: nl = achar(10)  !< line end
 
@@ -164,8 +165,8 @@ contains
       'end_time, output_interval, checkpoint_interval, max_steps, wall_time_limit, ' // &
       'max_energy_growth, max_particle_loss_fraction, min_dt_ratio, progress_interval, ' // &
       'verbosity, overwrite, output_dir; &grid dims, block_cells_x/y/z, balance, ' // &
-      'particle_weight, rebalance; &time; &solver; ' // &
-      '&output (docs/batch.md)'
+      'particle_weight, rebalance; &time; &solver; &ice outer_tolerance, ' // &
+      'max_outer_iterations; &output (docs/batch.md)'
 
     stat = 0
     old_pos = 1

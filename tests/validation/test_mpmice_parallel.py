@@ -212,6 +212,20 @@ def test_sliding_contact_rank_invariance(tmp_path):
     assert_particles_close(one[-1], two[-1], "block", 1e-11, 1e-9, 1e-9)
 
 
+def test_restart_may_change_the_outer_iteration(tmp_path):
+    """`&ice outer_tolerance` and `max_outer_iterations` set the pressure's outer iteration and
+    hold no state: a restart accepts them (docs/batch.md) and runs with them (the resolved
+    input it writes names the new values)."""
+    half = _run(tmp_path, SLIDE_BLOCK, "half", 1, "&run max_steps = 20 /")
+    checkpoint = os.path.join(half, "slide_checkpoint_000020.h5")
+    assert os.path.isfile(checkpoint)
+    run_mpmice(["--restart", checkpoint, "--set", "&run max_steps = 5 /", "--set",
+                "&ice outer_tolerance = 2.5e-6, max_outer_iterations = 7 /"], cwd=str(tmp_path))
+    with open(os.path.join(half, "slide.used.nml"), encoding="utf-8") as f:
+        used = f.read()
+    assert "outer_tolerance = 2.5" in used and "max_outer_iterations = 7" in used, used
+
+
 BLOCK = os.path.join(ROOT, "namelists", "mpmice_submerged_block_2d.nml")
 
 
