@@ -311,7 +311,7 @@ contains
     real(wp), intent(in) :: time                  !< time at the start of the step [s]
     real(wp), intent(in) :: dt                    !< step [s]
     logical, intent(out) :: accepted              !< the step was taken
-    integer :: s, m
+    integer :: s, m, d
     real(wp) :: g(3), alpha
 
     accepted = .false.
@@ -411,6 +411,11 @@ contains
       ! the fluids' drag toward the solid's final velocity (eqs. 50-51)
       call timer_start(timers, fl%t_lagrange)
       call solid_cell_velocity(self%solid, grid, so%nodes, so%min_mass)
+      ! the ghosts too: the next step's drag in the ghost cells takes its slip from them
+      ! (`solid_cell_fields`), and the faces of the block's edge take that drag
+      do d = 1, 3
+        call halo_exchange_cell(self%halo, dom, grid, self%solid%vel(:, :, :, d))
+      end do
       ! the solid's heat: conduction (38-39), then the exchange with the fluids (52-55) in
       ! the cell exchange, the increments back to the particles (68, 73)
       self%temp_old = self%solid%temp

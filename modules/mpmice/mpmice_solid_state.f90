@@ -117,6 +117,7 @@ contains
       do d = 1, 3
         call h5_read_cell_field(file, 'checkpoint/cell/solid_velocity_' // comp(d), grid, &
           sp%vel(:, :, :, d))
+        call halo_exchange_cell(fl%halo, dom, grid, sp%vel(:, :, :, d))
       end do
       ! the sliding contact's fields of the step before (checkpoints written before they were
       ! stored: those of the set-up, as such a restart always had)
