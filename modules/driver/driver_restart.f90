@@ -7,8 +7,8 @@
 !!   (`io_hdf5_probe` opens it with HDF5's error printing off);
 !! * a `--set` changes a variable that the checkpoint cannot honour: anything except the
 !!   variables of `restart_changeable` (run control, decomposition, time-step limits, solver
-!!   and outer-iteration tolerances, output selection). The grid, the scene, the materials, the boundaries and the
-!!   initial conditions are those of the stored state;
+!!   and outer-iteration tolerances, output selection). The grid, the scene, the materials,
+!!   the boundaries and the initial conditions are those of the stored state;
 !! * a solid needs per-particle state that the checkpoint lacks (`model_state`: Cam-Clay's
 !!   `hardening`, the densifying sand's `cyclic` and `cyclic_half_time`; a deformable solid's
 !!   `affine` with `&mpm velocity_transfer = 'apic'`).
