@@ -279,7 +279,10 @@ contains
       call solid_deposit(self%so%parts(s), s, ns, self%coupling(s), grid, self%dep, &
         self%solid%sliding, self%solid%frac_rigid, dt, self%solid%plane_drag)
     end do
-    call halo_reverse_cell_vec(self%halo, dom, grid, self%dep)
+    ! a particle's domain reaches one cell beyond its own; with sliding rigid bodies its
+    ! deposit over a wall cell goes on to that cell's neighbours (`wall_neighbours`), one more
+    call halo_reverse_cell_vec(self%halo, dom, grid, self%dep, width=merge(2, 1, &
+      self%solid%sliding))
     call solid_cell_fields(self%fl%state, self%solid, grid, self%dep, self%coupling, &
       self%max_fraction, self%phi_p)
     ! the solid's conduction sees the fluid's thermal conditions at the domain faces
