@@ -226,6 +226,20 @@ def test_restart_may_change_the_outer_iteration(tmp_path):
     assert "outer_tolerance = 2.5" in used and "max_outer_iterations = 7" in used, used
 
 
+def _one_and_two_ranks(tmp_path, namelist, stem, dims, steps=20):
+    """The last dumps of `namelist` after `steps` steps on 1 rank and on 2 ranks with `&grid
+    dims`; their pressures agree to 1e-11 of the largest value."""
+    path = os.path.join(ROOT, "namelists", namelist)
+    sets = (f"&run max_steps = {steps} /",)
+    one = list_dumps(_run(tmp_path, path, "r1", 1, *sets), stem)[-1]
+    two = list_dumps(_run(tmp_path, path, "r2", 2, *sets, f"&grid dims = {dims} /"), stem)[-1]
+    assert os.path.basename(one) == os.path.basename(two) == f"{stem}_{steps:06d}.h5"
+    with h5py.File(one) as a, h5py.File(two) as b:
+        pa, pb = a["cell/pressure"][...], b["cell/pressure"][...]
+        assert np.max(np.abs(pa - pb)) < 1e-11 * np.max(np.abs(pa))
+    return one, two
+
+
 def test_forchheimer_drag_rank_invariance(tmp_path):
     """The Grilli slide (Forchheimer drag, whose coefficient depends on the slip of solid and
     water) on 2 ranks cut in y through the bead wedge equals 1 rank after 20 steps: pressure to
@@ -233,15 +247,8 @@ def test_forchheimer_drag_rank_invariance(tmp_path):
     the ghost cells takes its slip from the solid's cell velocity there, which was not
     exchanged: the cut's faces saw another drag than 1 rank's (2.3e-9 of the pressure at step
     20, 1.7e-5 at step 300)."""
-    grilli = os.path.join(ROOT, "namelists", "mpmice_grilli2017_2d.nml")
-    sets = ("&run max_steps = 20 /",)
-    one = list_dumps(_run(tmp_path, grilli, "r1", 1, *sets), "grilli")
-    two = list_dumps(_run(tmp_path, grilli, "r2", 2, *sets, "&grid dims = 1, 2, 1 /"), "grilli")
-    assert os.path.basename(one[-1]) == os.path.basename(two[-1]) == "grilli_000020.h5"
-    with h5py.File(one[-1]) as a, h5py.File(two[-1]) as b:
-        pa, pb = a["cell/pressure"][...], b["cell/pressure"][...]
-        assert np.max(np.abs(pa - pb)) < 1e-11 * np.max(np.abs(pa))
-    assert_particles_close(one[-1], two[-1], "beads", 1e-14, 1e-12, 1e-9)
+    one, two = _one_and_two_ranks(tmp_path, "mpmice_grilli2017_2d.nml", "grilli", "1, 2, 1")
+    assert_particles_close(one, two, "beads", 1e-14, 1e-12, 1e-9)
 
 
 def test_sliding_deposit_rank_invariance(tmp_path):
@@ -251,14 +258,8 @@ def test_sliding_deposit_rank_invariance(tmp_path):
     deposit over a wall cell goes on to that cell's neighbours, two cells from the particle's
     own; the reverse halo summed one ghost layer only, so what went to the second was lost on
     2 ranks (1.4e-5 of the pressure at step 10, 6e-4 at step 50)."""
-    bathy = os.path.join(ROOT, "namelists", "mpmice_bathymetry_2d.nml")
-    sets = ("&run max_steps = 20 /",)
-    one = list_dumps(_run(tmp_path, bathy, "r1", 1, *sets), "bathy")
-    two = list_dumps(_run(tmp_path, bathy, "r2", 2, *sets, "&grid dims = 2, 1, 1 /"), "bathy")
-    assert os.path.basename(one[-1]) == os.path.basename(two[-1]) == "bathy_000020.h5"
-    with h5py.File(one[-1]) as a, h5py.File(two[-1]) as b:
-        pa, pb = a["cell/pressure"][...], b["cell/pressure"][...]
-        assert np.max(np.abs(pa - pb)) < 1e-11 * np.max(np.abs(pa))
+    one, two = _one_and_two_ranks(tmp_path, "mpmice_bathymetry_2d.nml", "bathy", "2, 1, 1")
+    with h5py.File(one) as a, h5py.File(two) as b:
         for c in ("x", "y"):
             ua, ub = a[f"cell/water/velocity_{c}"][...], b[f"cell/water/velocity_{c}"][...]
             assert np.max(np.abs(ua - ub)) < 1e-9 * np.max(np.abs(ua)), c
