@@ -342,30 +342,29 @@ contains
     if (.not. smoothed) then
       n = q(node_rigid_gradient:node_rigid_gradient + 2, idx(1), idx(2), idx(3))
       m = q(node_rigid_mass, idx(1), idx(2), idx(3))
-      if (norm2(n) <= normal_floor * m / minval(grid%dx, mask=grid%active)) n = 0.0_wp
-      return
-    end if
-    do d = 1, 3
-      lo(d) = idx(d)
-      hi(d) = idx(d)
-      if (.not. grid%active(d)) cycle
-      lo(d) = max(idx(d) - 1, grid%lbn(d))
-      hi(d) = min(idx(d) + 1, grid%ubn(d))
-      if (grid%periodic(d)) cycle
-      lo(d) = max(lo(d), 1)
-      hi(d) = min(hi(d), grid%ncells(d) + 1)
-    end do
-    n = 0.0_wp
-    m = 0.0_wp
-    do k = lo(3), hi(3)
-      do j = lo(2), hi(2)
-        do i = lo(1), hi(1)
-          w = weight(i - idx(1)) * weight(j - idx(2)) * weight(k - idx(3))
-          n = n + w * q(node_rigid_gradient:node_rigid_gradient + 2, i, j, k)
-          m = m + w * q(node_rigid_mass, i, j, k)
+    else
+      do d = 1, 3
+        lo(d) = idx(d)
+        hi(d) = idx(d)
+        if (.not. grid%active(d)) cycle
+        lo(d) = max(idx(d) - 1, grid%lbn(d))
+        hi(d) = min(idx(d) + 1, grid%ubn(d))
+        if (grid%periodic(d)) cycle
+        lo(d) = max(lo(d), 1)
+        hi(d) = min(hi(d), grid%ncells(d) + 1)
+      end do
+      n = 0.0_wp
+      m = 0.0_wp
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            w = weight(i - idx(1)) * weight(j - idx(2)) * weight(k - idx(3))
+            n = n + w * q(node_rigid_gradient:node_rigid_gradient + 2, i, j, k)
+            m = m + w * q(node_rigid_mass, i, j, k)
+          end do
         end do
       end do
-    end do
+    end if
     if (norm2(n) <= normal_floor * m / minval(grid%dx, mask=grid%active)) n = 0.0_wp
   end function contact_normal
 
