@@ -84,6 +84,14 @@ def assert_dumps_identical(path_a, path_b, select=None, by_id: bool = False) -> 
     assert not diffs, f"{path_a} and {path_b} differ:\n  " + "\n  ".join(diffs)
 
 
+def assert_field_close(path_a, path_b, key: str, relative: float) -> None:
+    """Dataset ``key`` (e.g. ``cell/pressure``) of two dumps agrees to ``relative`` times its
+    largest |value| in ``path_a`` - the rank-count and rebalancing comparisons."""
+    with h5py.File(path_a) as fa, h5py.File(path_b) as fb:
+        a, b = fa[key][...], fb[key][...]
+    assert np.max(np.abs(a - b)) < relative * np.max(np.abs(a)), key
+
+
 def assert_particles_close(path_a, path_b, solid: str, position: float, velocity: float,
                            stress: float, stresses=("xx", "yy", "xy")) -> None:
     """The particles of ``solid`` in two dumps agree to round-off: the same ids, positions

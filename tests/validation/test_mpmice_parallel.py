@@ -7,7 +7,8 @@ import h5py
 import numpy as np
 import pytest
 
-from postproc.dump_compare import assert_dumps_identical, assert_particles_close
+from postproc.dump_compare import (assert_dumps_identical, assert_field_close,
+                                   assert_particles_close)
 from postproc.mpm_common import particles
 from postproc.mpmice_io import list_dumps
 from postproc.run_case import ROOT, run_mpmice
@@ -206,9 +207,7 @@ def test_sliding_contact_rank_invariance(tmp_path):
     two = list_dumps(_run(tmp_path, SLIDE_BLOCK, "r2", 2, *sets,
                           "&grid dims = 1, 2, 1, block_cells_y = 18, 17 /"), "slide")
     assert os.path.basename(one[-1]) == os.path.basename(two[-1])
-    with h5py.File(one[-1]) as a, h5py.File(two[-1]) as b:
-        pa, pb = a["cell/pressure"][...], b["cell/pressure"][...]
-        assert np.max(np.abs(pa - pb)) < 1e-9 * np.max(np.abs(pa))
+    assert_field_close(one[-1], two[-1], "cell/pressure", 1e-9)
     assert_particles_close(one[-1], two[-1], "block", 1e-11, 1e-9, 1e-9)
 
 
@@ -234,9 +233,7 @@ def _one_and_two_ranks(tmp_path, namelist, stem, dims, steps=20):
     one = list_dumps(_run(tmp_path, path, "r1", 1, *sets), stem)[-1]
     two = list_dumps(_run(tmp_path, path, "r2", 2, *sets, f"&grid dims = {dims} /"), stem)[-1]
     assert os.path.basename(one) == os.path.basename(two) == f"{stem}_{steps:06d}.h5"
-    with h5py.File(one) as a, h5py.File(two) as b:
-        pa, pb = a["cell/pressure"][...], b["cell/pressure"][...]
-        assert np.max(np.abs(pa - pb)) < 1e-11 * np.max(np.abs(pa))
+    assert_field_close(one, two, "cell/pressure", 1e-11)
     return one, two
 
 
@@ -259,10 +256,8 @@ def test_sliding_deposit_rank_invariance(tmp_path):
     own; the reverse halo summed one ghost layer only, so what went to the second was lost on
     2 ranks (1.4e-5 of the pressure at step 10, 6e-4 at step 50)."""
     one, two = _one_and_two_ranks(tmp_path, "mpmice_bathymetry_2d.nml", "bathy", "2, 1, 1")
-    with h5py.File(one) as a, h5py.File(two) as b:
-        for c in ("x", "y"):
-            ua, ub = a[f"cell/water/velocity_{c}"][...], b[f"cell/water/velocity_{c}"][...]
-            assert np.max(np.abs(ua - ub)) < 1e-9 * np.max(np.abs(ua)), c
+    for c in ("x", "y"):
+        assert_field_close(one, two, f"cell/water/velocity_{c}", 1e-9)
 
 
 BLOCK = os.path.join(ROOT, "namelists", "mpmice_submerged_block_2d.nml")
