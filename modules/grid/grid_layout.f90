@@ -16,7 +16,7 @@ module grid_layout
   implicit none
   private
 
-  public :: grid_t, cell_centre, node_position
+  public :: grid_t, cell_centre, node_position, clamped_cell
 
   !> Geometry and index ranges of one block.
   type :: grid_t
@@ -60,4 +60,21 @@ contains
     real(wp) :: x
     x = grid%lower(d) + real(i - 1, wp) * grid%dx(d)
   end function node_position
+
+  !> Global indices of the cell that holds the point `x` (a point on a cell boundary is in the
+  !! upper cell), each clamped to `first(d)..last(d)` (e.g. the owned cells `lo..hi`, or
+  !! `lbc..ubc` with the ghosts); 1 along an inactive dimension.
+  pure function clamped_cell(grid, x, first, last) result(c)
+    type(grid_t), intent(in) :: grid  !< block geometry
+    real(wp), intent(in) :: x(3)      !< point [m]
+    integer, intent(in) :: first(3)   !< lowest index returned per dimension
+    integer, intent(in) :: last(3)    !< highest index returned per dimension
+    integer :: c(3)
+    integer :: d
+    c = 1
+    do d = 1, 3
+      if (grid%active(d)) c(d) = min(max(floor((x(d) - grid%lower(d)) / grid%dx(d)) + 1, &
+        first(d)), last(d))
+    end do
+  end function clamped_cell
 end module grid_layout

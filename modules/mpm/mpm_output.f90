@@ -10,7 +10,7 @@ module mpm_output
   use mpmice_kinds, only: wp, i8, name_len
   use io_hdf5, only: h5_file_t, h5_write_particles, h5_read_particles, h5_write_cell_field, &
     h5_exists
-  use grid_layout, only: grid_t
+  use grid_layout, only: grid_t, clamped_cell
   use io_xdmf, only: xdmf_particles_t
   use particles_store, only: particles_t, particles_resize, n_cyclic_state
   use mpmice_errors, only: fatal
@@ -227,10 +227,7 @@ contains
     allocate(field(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), grid%lbc(3):grid%ubc(3)), &
       source=0.0_wp)
     do ip = 1, p%np
-      do d = 1, 3
-        c(d) = min(max(floor((p%x(d, ip) - grid%lower(d)) / grid%dx(d)) + 1, grid%lo(d)), &
-          grid%hi(d))
-      end do
+      c = clamped_cell(grid, p%x(:, ip), grid%lo, grid%hi)
       acc(1, c(1), c(2), c(3)) = acc(1, c(1), c(2), c(3)) + p%volume(ip)
       acc(2, c(1), c(2), c(3)) = acc(2, c(1), c(2), c(3)) + p%mass(ip)
       acc(3:5, c(1), c(2), c(3)) = acc(3:5, c(1), c(2), c(3)) + p%mass(ip) * p%v(:, ip)

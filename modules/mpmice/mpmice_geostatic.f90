@@ -10,7 +10,7 @@
 !! water below and air above a level inside it is not resolved).
 module mpmice_geostatic
   use mpmice_kinds, only: wp
-  use grid_layout, only: grid_t
+  use grid_layout, only: grid_t, clamped_cell
   use ice_state, only: ice_state_t
   use particles_store, only: particles_t
   implicit none
@@ -32,8 +32,7 @@ contains
     integer :: n, m, c(3)
     real(wp) :: mass, volume, factor
     do n = 1, p%np
-      c = floor((p%x(:, n) - grid%lower) / grid%dx) + 1
-      c = min(max(c, grid%lo), grid%hi)
+      c = clamped_cell(grid, p%x(:, n), grid%lo, grid%hi)
       mass = 0.0_wp
       volume = 0.0_wp
       do m = 1, state%nfluids

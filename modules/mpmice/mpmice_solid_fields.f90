@@ -10,7 +10,7 @@
 !! * The particles' pore pressure: the pressure of the cell holding each particle.
 module mpmice_solid_fields
   use mpmice_kinds, only: wp
-  use grid_layout, only: grid_t
+  use grid_layout, only: grid_t, clamped_cell
   use particles_store, only: particles_t
   use mpm_nodes, only: mpm_nodes_t, node_mass, node_rigid_mass, node_rigid_momentum
   use ice_state, only: ice_state_t
@@ -276,13 +276,9 @@ contains
     type(particles_t), intent(inout) :: p       !< particles (pore_pressure written)
     type(grid_t), intent(in) :: grid            !< block geometry
     real(wp), intent(in) :: pressure(grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< cell pressure
-    integer :: ip, d, c(3)
+    integer :: ip, c(3)
     do ip = 1, p%np
-      c = 1
-      do d = 1, 3
-        if (grid%active(d)) c(d) = min(max(floor((p%x(d, ip) - grid%lower(d)) / grid%dx(d)) + 1, &
-          grid%lbc(d)), grid%ubc(d))
-      end do
+      c = clamped_cell(grid, p%x(:, ip), grid%lbc, grid%ubc)
       p%pore_pressure(ip) = pressure(c(1), c(2), c(3))
     end do
   end subroutine solid_pore_pressure
