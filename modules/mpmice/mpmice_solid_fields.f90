@@ -136,8 +136,7 @@ contains
                 vol_perm = vol_perm + dep(deposit_solid_volume(s), i, j, k)
               end if
             end do
-            mixed = vol_imp > 0.0_wp .and. vol_imp < vol .and. &
-              vol_perm > min_permeable_share * grid%cell_volume
+            mixed = vol_imp > 0.0_wp .and. vol_perm > min_permeable_share * grid%cell_volume
             if (mixed) then
               phi_imp = min(vol_imp / grid%cell_volume, max_fraction)
               phi_body = min((vol - vol_imp) / grid%cell_volume / (1.0_wp - phi_imp), &
