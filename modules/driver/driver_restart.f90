@@ -161,12 +161,6 @@ contains
     character(len=:), allocatable, intent(inout) :: errmsg !< error line
     character(len=:), allocatable :: old_line, new_line, group, variable
     integer :: old_pos, new_pos, eq
-    character(len=*), parameter :: accepted = 'a restart accepts changes only to &run ' // &
-      'end_time, output_interval, checkpoint_interval, max_steps, wall_time_limit, ' // &
-      'max_energy_growth, max_particle_loss_fraction, min_dt_ratio, progress_interval, ' // &
-      'verbosity, overwrite, output_dir; &grid dims, block_cells_x/y/z, balance, ' // &
-      'particle_weight, rebalance; &time; &solver; &ice outer_tolerance, ' // &
-      'max_outer_iterations; &output (docs/batch.md)'
 
     stat = 0
     old_pos = 1
@@ -192,7 +186,7 @@ contains
       stat = 1
       errmsg = input_error_text('--set', group, trim(variable), new_line(eq + 3:), &
         'a restart cannot change it (the checkpoint was written with ' // old_line(eq + 3:) &
-        // '); ' // accepted)
+        // '); a restart accepts changes only to ' // changeable_text() // ' (docs/batch.md)')
       return
     end do
     if (old_pos <= len(old_text) .or. new_pos <= len(new_text)) then
@@ -202,6 +196,27 @@ contains
         // 'and boundaries)')
     end if
   end subroutine refuse_changes
+
+  !> `restart_changeable` as one text, grouped: `&run end_time, ...; &grid dims, ...`.
+  function changeable_text() result(text)
+    character(len=:), allocatable :: text
+    character(len=:), allocatable :: group, last
+    integer :: n, sp
+    text = ''
+    last = ''
+    do n = 1, size(restart_changeable)
+      sp = index(restart_changeable(n), ' ')
+      group = restart_changeable(n)(1:sp - 1)
+      if (group /= last) then
+        if (n > 1) text = text // '; '
+        text = text // '&' // group // ' '
+        last = group
+      else
+        text = text // ', '
+      end if
+      text = text // trim(restart_changeable(n)(sp + 1:))
+    end do
+  end function changeable_text
 
   !> The line of `text` that starts at `pos` (without its line feed); `pos` moves past it.
   function next_line(text, pos) result(line)
