@@ -20,7 +20,9 @@ Per run and per dump (or at the dumps nearest to ``--times``) it prints:
   at the previous dump (``dV susp.``); a positive total draws liquid into the mass (suction), a
   negative one expels it; ``near probe``: the same total and its suspended part for the
   particles within ``NEAR`` of the wall at the previous dump (the mass over the probe);
-* ``base p``: the base excess pore pressure at the probe (as postproc.mpmice_rondon).
+* ``base p``: the base excess pore pressure at the probe (as postproc.mpmice_rondon);
+* ``overlap``: the largest summed volume of the particles of one cell over the cell's volume
+  (``overlap``; 1 for particles that tile the cells).
 
 ``--plot PNG`` draws the beads of each run (one row per run) at ``--plot-times`` (one column
 each, the nearest dump), coloured by their solid fraction, the suspended ones (no effective
@@ -61,6 +63,22 @@ def state(dump: dict) -> dict:
             "p": -(p["stress_xx"] + p["stress_yy"] + p["stress_zz"]) / 3.0, "parts": p}
 
 
+def overlap(dump: dict) -> float:
+    """The largest summed volume of the beads whose centres lie in one cell, over the cell's
+    volume: 1 for particles that tile the cells; well above 1 where particles report volumes
+    (J = det F) that overlap, i.e. packings looser than the space their grains occupy."""
+    attrs = dump["attrs"]
+    lower = np.asarray(attrs["lower"], dtype=float).reshape(3)
+    dx = np.asarray(attrs["dx"], dtype=float).reshape(3)
+    n = np.asarray(attrs["ncells"], dtype=int).reshape(3)
+    parts = dump["particles"][rondon.SOLID]
+    idx = [np.clip(((np.asarray(parts[a]) - lower[k]) / dx[k]).astype(int), 0, n[k] - 1)
+           for k, a in enumerate(("x", "y"))]
+    cover = np.zeros(n[:2])
+    np.add.at(cover, tuple(idx), np.asarray(parts["volume"]) / float(np.prod(dx)))
+    return float(cover.max())
+
+
 def report(folder: str, times=None) -> list[dict]:
     """Print the diagnostics of one run; return one dict per printed dump."""
     dumps = read_run_dumps(folder, rondon.NAME)
@@ -80,7 +98,7 @@ def report(folder: str, times=None) -> list[dict]:
                "contact_front": float(np.max(s["x"][contact])) + half if contact.any()
                else np.nan,
                "x99": mass_front(s["parts"], 0.99), "x95": mass_front(s["parts"], 0.95),
-               "base_p": rondon.base_pressure(d, dumps[0])}
+               "base_p": rondon.base_pressure(d, dumps[0]), "overlap": overlap(d)}
         ahead = s["x"] > BEYOND
         row["beyond_mass"] = float(np.sum(s["mass"][ahead]) / np.sum(s["mass"]))
         row["beyond_suspended"] = float(np.mean(s["suspended"][ahead])) if ahead.any() else 0.0
@@ -106,7 +124,7 @@ def report(folder: str, times=None) -> list[dict]:
               f"{row['beyond_height'] * 100:5.2f} cm | dV contact {row['dv_contact']:+7.3f}, to susp. "
               f"{row['dv_to_suspended']:+7.3f}, susp. {row['dv_suspended']:+7.3f} cm^3/cm; near probe "
               f"{row['dv_near']:+7.3f} (susp. {row['dv_near_suspended']:+7.3f}) | "
-              f"base p {row['base_p']:7.1f} Pa")
+              f"base p {row['base_p']:7.1f} Pa | overlap {row['overlap']:5.2f}")
         rows.append(row)
         prev = s
     return rows

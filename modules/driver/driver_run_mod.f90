@@ -41,6 +41,7 @@ contains
     character(len=msg_len) :: errmsg
     character(len=:), allocatable :: log_msg, dir_errmsg
     character(len=msg_len) :: balance_report
+    character(len=:), allocatable :: report_text
     integer :: stat, block_cells(max_blocks_per_dim, 3)
 
     block_cells = run_block_cells(cfg, comm, restart_file, balance_report)
@@ -80,11 +81,11 @@ contains
       int_text(grid%ncells(1)) // ' x ' // int_text(grid%ncells(2)) // ' x ' // &
       int_text(grid%ncells(3)))
     if (trim(cfg%grid%balance) == 'cost') then
-      if (len_trim(balance_report) > 0) balance_report = '; ' // balance_report
-      if (len(restart_file) > 0) balance_report = ' (particles counted in the checkpoint)' // &
-        balance_report
-      call log_info('mpmice: blocks balanced by cost: ' // block_text(dom) // &
-        trim(balance_report))
+      report_text = trim(balance_report)
+      if (len(report_text) > 0) report_text = '; ' // report_text
+      if (len(restart_file) > 0) report_text = ' (particles counted in the checkpoint)' // &
+        report_text
+      call log_info('mpmice: blocks balanced by cost: ' // block_text(dom) // report_text)
     end if
     call log_info('mpmice: output in ' // trim(cfg%run%output_dir) // ', resolved input ' // &
       config_used_path(cfg))

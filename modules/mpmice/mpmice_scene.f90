@@ -67,6 +67,7 @@ module mpmice_scene
   use mpmice_contact_force, only: contact_force_t, contact_force_init, contact_force_write, &
     contact_force_free
   use mpmice_solid_heat, only: solid_conduction, solid_conduction_dt, solid_heat_to_particles
+  use mpmice_suspension, only: suspension_packing
   implicit none
   private
 
@@ -158,6 +159,7 @@ contains
           self%coupling(s)%forchheimer_a = c%forchheimer_a
           self%coupling(s)%forchheimer_b = c%forchheimer_b
           self%coupling(s)%surface_drag_parallel = c%surface_drag_parallel
+          self%coupling(s)%suspension_cell_bound = c%suspension_cell_bound
           if (c%grain_bulk_modulus > 0.0_wp) self%coupling(s)%grain_kappa = 1.0_wp / &
             c%grain_bulk_modulus
           self%coupling(s)%grain_density = c%density
@@ -348,6 +350,11 @@ contains
       ! solid phase on the grid; the particles' fraction beyond the tracked one is a source
       call timer_start(timers, self%t_cells)
       call deposit_solids(self, dom, grid, dt)
+      do s = 1, so%nsolids
+        if (self%coupling(s)%suspension_cell_bound) then
+          call suspension_packing(so%parts(s), so%mats(s), s, grid, self%dep)
+        end if
+      end do
       self%solid%source = self%relaxation * (self%phi_p - self%solid%vfrac)
       ! a residual where the particles have left goes at once (docs/mpmice.md departure 18)
       where (self%phi_p <= 0.0_wp .and. self%solid%vfrac < residual_fraction) &

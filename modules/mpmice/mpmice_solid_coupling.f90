@@ -25,6 +25,8 @@ module mpmice_solid_coupling
     logical :: rigid = .false.              !< a rigid (prescribed-motion) body
     logical :: surface_drag_parallel = .false.  !< surface cells: the body's drag in parallel
                                             !! (flow along the surface), not in series
+    !> a suspended particle is no looser than its cell's grain fraction (`mpmice_suspension`)
+    logical :: suspension_cell_bound = .false.
   end type solid_coupling_t
 
 contains
