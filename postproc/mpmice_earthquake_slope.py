@@ -179,20 +179,23 @@ def excess_pore_pressure(dump: dict, parts: dict) -> np.ndarray:
     return parts["pore_pressure"] - hydro
 
 
-def cell_excess_pressure(dump: dict, level: float = STILL_LEVEL) -> np.ndarray:
-    """The cells' pressure minus the hydrostatic p_atm + rho_w g (level - y) at their centres
-    [Pa], indexed [i, j] (the first z layer)."""
+def cell_excess_pressure(dump: dict, level: float = STILL_LEVEL,
+                         field: str = "pressure") -> np.ndarray:
+    """The cells' pressure (the dump's `cell/<field>`: `pressure`, or `pressure_average`, the
+    running mean of `&ice pressure_average_time`) minus the hydrostatic p_atm + rho_w g
+    (level - y) at their centres [Pa], indexed [i, j] (the first z layer)."""
     _, y, _ = cell_centres(dump)
-    return dump["cell"]["pressure"][:, :, 0] - hydrostatic_pressure(y, level)[None, :]
+    return dump["cell"][field][:, :, 0] - hydrostatic_pressure(y, level)[None, :]
 
 
-def pore_pressure_roughness(dump: dict, min_fraction: float = 0.3) -> tuple[float, float]:
+def pore_pressure_roughness(dump: dict, min_fraction: float = 0.3,
+                            field: str = "pressure") -> tuple[float, float]:
     """(99th percentile, largest) of |a sediment cell's excess pore pressure minus the mean of
     its two x neighbours| [Pa] (periodic in x): the cell-to-cell noise of the pore pressure in a
     layer that is uniform along x (docs/mpmice.md, known problems). Sediment cells: sediment
     volume fraction above `min_fraction`, no base, both x neighbours sediment cells too; (0, 0)
-    when there are none."""
-    ex = cell_excess_pressure(dump)
+    when there are none. `field`: as :func:`cell_excess_pressure`."""
+    ex = cell_excess_pressure(dump, field=field)
     sed = dump["cell"][f"{SEDIMENT}/volume_fraction"][:, :, 0]
     base = dump["cell"][f"{BASE}/volume_fraction"][:, :, 0]
     cells = (sed > min_fraction) & (base < 1e-3)
@@ -279,6 +282,8 @@ def analyse(dumps: list[dict], shaking: tuple[float, float, float] | None = None
         _, eta = free_surface(d, level)
         m = masses(d)
         rough = pore_pressure_roughness(d)
+        rough_avg = pore_pressure_roughness(d, field="pressure_average") \
+            if "pressure_average" in d["cell"] else None
         rows.append({
             "time": float(d["time"]), "base_dx": base_dx, "shaking": (a_base, f_base, d_base, s_base),
             "base_dx_prescribed": prescribed_displacement(float(d["time"]), a_base, f_base, d_base,
@@ -296,7 +301,7 @@ def analyse(dumps: list[dict], shaking: tuple[float, float, float] | None = None
                           for k, i in ru_monitors.items()},
             "tau_over_p": {k: float(np.mean(shear_ratio(s, i))) for k, i in ru_monitors.items()},
             "crest_ux": float(np.mean(ux[crest])), "crest_uy": float(np.mean(uy[crest])),
-            "roughness_p99": rough[0], "roughness_max": rough[1],
+            "roughness_p99": rough[0], "roughness_max": rough[1], "roughness_average": rough_avg,
             "eta": eta, "level": level, "eta_max": float(np.nanmax(eta)), "eta_min": float(np.nanmin(eta)),
             "mass_change": {k: abs(m[k] / m0[k] - 1.0) for k in m0 if m0[k] > 0.0},
             "x": s["x"], "y": s["y"], "y0": s0["y"],
@@ -382,6 +387,11 @@ def print_table(rows: list[dict]) -> None:
     if shaking:
         print(f"noise {start + 0.2:.2f}-{start + 0.85:.2f} s: p99 mean {np.mean([r['roughness_p99'] for r in shaking]) / 1e3:.1f} kPa,"
               f" largest {max(r['roughness_max'] for r in shaking) / 1e3:.1f} kPa")
+        if shaking[0]["roughness_average"] is not None:
+            avg = [r["roughness_average"] for r in shaking]
+            print(f"noise of the running mean (cell/pressure_average) {start + 0.2:.2f}-"
+                  f"{start + 0.85:.2f} s: p99 mean {np.mean([a[0] for a in avg]) / 1e3:.1f} kPa,"
+                  f" largest {max(a[1] for a in avg) / 1e3:.1f} kPa")
 
 
 def compare(runs: dict[str, list[dict]], out: str) -> str:

@@ -111,6 +111,16 @@ def run_mpmice(args, nranks: int = 1, cwd: str | None = None, timeout: float = R
     return result
 
 
+def run_into(folder: str, namelist: str, *sets: str, nranks: int = 1,
+             cwd: str | None = None) -> subprocess.CompletedProcess:
+    """:func:`run_mpmice` of ``namelist`` with its output in ``folder`` (``&run output_dir``)
+    and each text of ``sets`` as one ``--set``: the form most scene tests run."""
+    args = [namelist, "--set", f"&run output_dir = '{folder}' /"]
+    for text in sets:
+        args += ["--set", text]
+    return run_mpmice(args, nranks=nranks, cwd=cwd)
+
+
 #: The warning that the event library inside Open MPI's launcher sometimes prints while a job's
 #: processes exit (a race in its shutdown, open-mpi/ompi issues 2004 and 5520): not the
 #: program's output.

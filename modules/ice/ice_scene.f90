@@ -20,7 +20,7 @@ module ice_scene
   use grid_layout, only: grid_t
   use scene_interface, only: scene_context_t
   use solver_pressure, only: struct_solver_init, struct_solver_free, struct_solver_set_reuse
-  use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field
+  use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field, h5_exists
   use io_xdmf, only: xdmf_particles_t
   use ice_eos, only: eos_t, eos_kind_from_name, eos_sound_speed2
   use ice_state, only: ice_state_alloc, ice_state_free, ice_fluid_t
@@ -35,7 +35,7 @@ module ice_scene
   implicit none
   private
 
-  public :: ice_scene_t, ice_scene_setup, ice_fluids_stable_dt
+  public :: ice_scene_t, ice_scene_setup, ice_fluids_stable_dt, ice_pressure_average_step
 
   !> Multi-fluid ICE with implicit pressure: the fluids of `ice_fluids_t` and the scene
   !! interface; its step is the sequence of `ice_stages`.
@@ -113,6 +113,8 @@ contains
       allocate(self%sources(grid%lbc(1):grid%ubc(1), grid%lbc(2):grid%ubc(2), &
         grid%lbc(3):grid%ubc(3), 4, par%nfluids), source=0.0_wp)
       allocate(self%p_start, mold=self%state%pressure)
+      self%p_average_time = par%ice%pressure_average_time
+      if (self%p_average_time > 0.0_wp) allocate(self%p_average, source=self%state%pressure)
 
       call halo_init(self%halo, dom, grid, 1)
       call struct_solver_init(self%solver, dom, grid, par%solver%tolerance, &
@@ -217,12 +219,37 @@ contains
     call ice_stage_lagrangian(self, dt)
     call ice_stage_cell_exchange(self, dt)
     call ice_stage_advect(self, time, dt)
+    call ice_pressure_average_step(self, dt)
     self%steps = self%steps + 1
     accepted = .true.
   end subroutine ice_scene_step
 
+  !> The running mean of the cell pressure after an accepted step of length `dt` (`&ice
+  !! pressure_average_time` tau > 0): p_avg = w p_avg + (1 - w) p, w = exp(-dt / tau), over
+  !! the owned cells; a step's weight depends on its length only, so the mean is that of the
+  !! pressure over the last ~tau of time, whatever the steps.
+  subroutine ice_pressure_average_step(self, dt)
+    class(ice_fluids_t), intent(inout) :: self  !< fluids
+    real(wp), intent(in) :: dt                  !< step [s]
+    real(wp) :: w
+    integer :: i, j, k
+    if (.not. allocated(self%p_average)) return
+    w = exp(-dt / self%p_average_time)
+    associate (lo => self%ctx%grid%lo, hi => self%ctx%grid%hi)
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            self%p_average(i, j, k) = w * self%p_average(i, j, k) + (1.0_wp - w) * &
+              self%state%pressure(i, j, k)
+          end do
+        end do
+      end do
+    end associate
+  end subroutine ice_pressure_average_step
+
   !> Writes to a dump `cell/pressure` and `cell/<fluid>/<field>`; checkpoint: the primitive fields and the
-  !! pressure under `checkpoint/` (everything the next step reads).
+  !! pressure under `checkpoint/` (everything the next step reads). With `&ice
+  !! pressure_average_time` > 0 both carry `cell/pressure_average` too.
   subroutine ice_scene_write_state(self, file, checkpoint)
     class(ice_scene_t), intent(inout) :: self  !< scene
     type(h5_file_t), intent(in) :: file        !< open file
@@ -233,6 +260,8 @@ contains
     if (checkpoint) prefix = 'checkpoint/'
     associate (grid => self%ctx%grid)
       call h5_write_cell_field(file, prefix // 'cell/pressure', grid, self%state%pressure)
+      if (allocated(self%p_average)) call h5_write_cell_field(file, prefix // &
+        'cell/pressure_average', grid, self%p_average)
       do m = 1, self%state%nfluids
         associate (f => self%state%fluid(m))
           g = prefix // 'cell/' // trim(f%name) // '/'
@@ -251,7 +280,9 @@ contains
     end associate
   end subroutine ice_scene_write_state
 
-  !> Read the primitive fields and the pressure of a checkpoint, then fill the ghosts.
+  !> Read the primitive fields and the pressure of a checkpoint, then fill the ghosts; the
+  !! running pressure mean where the run keeps one (from the pressure when the checkpoint has
+  !! none).
   subroutine ice_scene_restore(self, file)
     class(ice_scene_t), intent(inout) :: self  !< scene
     type(h5_file_t), intent(in) :: file        !< open checkpoint
@@ -259,6 +290,13 @@ contains
     integer :: m, d
     associate (grid => self%ctx%grid)
       call h5_read_cell_field(file, 'checkpoint/cell/pressure', grid, self%state%pressure)
+      if (allocated(self%p_average)) then
+        if (h5_exists(file, 'checkpoint/cell/pressure_average')) then
+          call h5_read_cell_field(file, 'checkpoint/cell/pressure_average', grid, self%p_average)
+        else
+          self%p_average = self%state%pressure
+        end if
+      end if
       do m = 1, self%state%nfluids
         associate (f => self%state%fluid(m))
           g = 'checkpoint/cell/' // trim(f%name) // '/'
@@ -279,12 +317,14 @@ contains
     class(ice_scene_t), intent(in) :: self                              !< scene
     character(len=name_len), allocatable, intent(out) :: cell_paths(:)   !< cell dataset paths
     type(xdmf_particles_t), allocatable, intent(out) :: particle_sets(:) !< particle sets
-    integer :: m, n
-    allocate(cell_paths(1 + size(fluid_fields) * self%state%nfluids))
+    integer :: m, n, first
+    first = merge(2, 1, allocated(self%p_average))
+    allocate(cell_paths(first + size(fluid_fields) * self%state%nfluids))
     cell_paths(1) = 'cell/pressure'
+    if (first == 2) cell_paths(2) = 'cell/pressure_average'
     do m = 1, self%state%nfluids
       do n = 1, size(fluid_fields)
-        cell_paths(1 + (m - 1) * size(fluid_fields) + n) = 'cell/' // &
+        cell_paths(first + (m - 1) * size(fluid_fields) + n) = 'cell/' // &
           trim(self%state%fluid(m)%name) // '/' // trim(fluid_fields(n))
       end do
     end do
@@ -334,5 +374,6 @@ contains
     call ice_state_free(self%state)
     if (allocated(self%sources)) deallocate(self%sources)
     if (allocated(self%p_start)) deallocate(self%p_start)
+    if (allocated(self%p_average)) deallocate(self%p_average)
   end subroutine ice_scene_free
 end module ice_scene

@@ -60,6 +60,9 @@ module ice_stages
     real(wp), allocatable :: sources(:, :, :, :, :) !< viscous momentum and heat (i,j,k,4,fluid)
     !> cell pressure at the start of the step [Pa], put back when the step is rejected
     real(wp), allocatable :: p_start(:, :, :)
+    !> running mean of the cell pressure [Pa] (`&ice pressure_average_time` > 0 only)
+    real(wp), allocatable :: p_average(:, :, :)
+    real(wp) :: p_average_time = 0.0_wp       !< its time constant tau [s] (0: none)
     character(len=8) :: label = 'ICE'         !< scene name in warnings
     real(wp) :: gravity(3) = 0.0_wp           !< [m/s^2]
     real(wp) :: k_exchange = 0.0_wp           !< momentum exchange coefficient [kg/m^3/s]

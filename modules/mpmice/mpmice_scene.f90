@@ -43,7 +43,8 @@ module mpmice_scene
   use io_files, only: io_join_path
   use scene_interface, only: scene_t, scene_health_t, scene_context_t
   use exchange_solid_phase, only: solid_phase_t, solid_phase_alloc, solid_phase_free
-  use ice_scene, only: ice_scene_t, ice_scene_setup, ice_fluids_stable_dt
+  use ice_scene, only: ice_scene_t, ice_scene_setup, ice_fluids_stable_dt, &
+    ice_pressure_average_step
   use ice_stages, only: exchange_primitives, ice_step_begin, ice_step_reject, &
     ice_stage_equilibrate, ice_stage_face_velocities, ice_stage_face_exchange, &
     ice_stage_pressure, ice_stage_lagrangian, ice_stage_cell_exchange, ice_stage_advect
@@ -462,6 +463,7 @@ contains
       end do
       call timer_stop(timers, so%t_g2p)
       call mpm_migrate_all(so, time + dt)
+      call ice_pressure_average_step(fl, dt)
       fl%steps = fl%steps + 1
       if (self%solid%sliding) call contact_force_write(self%forces, so, st, self%solid, fl%halo, &
         dom, grid, time + dt, self%dep, self%contact_f, fl%gravity)

@@ -11,7 +11,7 @@ from postproc.dump_compare import (assert_dumps_identical, assert_field_close,
                                    assert_particles_close)
 from postproc.mpm_common import particles
 from postproc.mpmice_io import list_dumps
-from postproc.run_case import ROOT, run_mpmice
+from postproc.run_case import ROOT, run_into, run_mpmice
 
 TERZAGHI = os.path.join(ROOT, "namelists", "mpmice_terzaghi_1d.nml")
 DARCY = os.path.join(ROOT, "namelists", "mpmice_darcy_1d.nml")
@@ -40,10 +40,7 @@ def _executable(mpmice_exe, monkeypatch):
 
 def _run(tmp_path, namelist, label, nranks, *sets):
     out = str(tmp_path / label)
-    args = [namelist, "--set", f"&run output_dir = '{out}' /"]
-    for text in sets:
-        args += ["--set", text]
-    run_mpmice(args, nranks=nranks, cwd=str(tmp_path))
+    run_into(out, namelist, *sets, nranks=nranks, cwd=str(tmp_path))
     return out
 
 

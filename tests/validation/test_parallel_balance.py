@@ -18,7 +18,7 @@ from postproc.dump_compare import (assert_dumps_identical, assert_field_close,
                                    assert_particles_close)
 from postproc.mpm_common import particles
 from postproc.mpmice_io import list_dumps
-from postproc.run_case import ROOT, run_mpmice
+from postproc.run_case import ROOT, run_into, run_mpmice
 
 BLOCK = os.path.join(ROOT, "namelists", "mpmice_submerged_block_2d.nml")
 #: 40 x 20 cells; the block (x < 0.2 m, 2 x 2 particles per cell) fills 8 columns of 8 cells,
@@ -47,10 +47,7 @@ def _executable(mpmice_exe, monkeypatch):
 
 def _run(tmp_path, label, nranks, *sets):
     out = str(tmp_path / label)
-    command = [BLOCK, "--set", f"&run output_dir = '{out}' /"]
-    for text in sets:
-        command += ["--set", text]
-    return out, run_mpmice(command, nranks=nranks, cwd=str(tmp_path))
+    return out, run_into(out, BLOCK, *sets, nranks=nranks, cwd=str(tmp_path))
 
 
 def _blocks(stdout, restart=False, report=None):
