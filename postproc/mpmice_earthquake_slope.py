@@ -3,6 +3,7 @@ excess pore pressure, plastic strain and the surface wave (namelists/mpmice_eart
 docs/applications.md).
 
 Usage:  python -m postproc.mpmice_earthquake_slope --dir output/mpmice_earthquake_slope_2d [--out DIR]
+            [--average]
         python -m postproc.mpmice_earthquake_slope --compare loose=DIR1 dense=DIR2 [--out DIR]
 
 Per dump it prints: the base's displacement (mean over its particles, unwrapped across the
@@ -22,7 +23,10 @@ above y = 2.3 m) and the pore-pressure ratio r_u = excess pore pressure / initia
 effective stress (means over the particles within 0.25 m of four points: the bank's core and
 the basal layer under the crest and both flanks), with 1 - sigma'_v / sigma'_v0 of the same
 particles beside it; then the noise's p99 averaged over the dumps 0.2-0.85 s and its largest
-value there. A third table gives r_u per shaking cycle (at the cycle's end and its largest value
+value there (and that of the running mean `cell/pressure_average` when the run kept one,
+`&ice pressure_average_time`). With --average the excess pore pressures and r_u are those of
+the running mean at the particles' cells instead of the instantaneous cell pressure. A third
+table gives r_u per shaking cycle (at the cycle's end and its largest value
 within it); a fourth the monitors' initial tau/p' and tau_xy/sigma'_v0, and per cycle their
 cyclic stress ratio (half the range of the mean tau_xy over the cycle's dumps / sigma'_v0) and
 the spread (standard deviation) of their particles' volumetric strain V/V0 - 1. The base's shaking (amplitude, frequency, duration, start) is read from the run's echo
@@ -168,14 +172,20 @@ def hydrostatic_pressure(y: np.ndarray, level: float = STILL_LEVEL) -> np.ndarra
     return P_ATM + RHO_W * G * np.maximum(level - y, 0.0)
 
 
-def excess_pore_pressure(dump: dict, parts: dict) -> np.ndarray:
-    """Pore pressure minus the hydrostatic value at the centre of the particle's cell [Pa]."""
-    _, y, _ = cell_centres(dump)
+def excess_pore_pressure(dump: dict, parts: dict, field: str | None = None) -> np.ndarray:
+    """Pore pressure minus the hydrostatic value at the centre of the particle's cell [Pa]: the
+    particle's `pore_pressure` (its cell's pressure), or with `field` (e.g. `pressure_average`,
+    the running mean of `&ice pressure_average_time`) that cell field at the particle's cell."""
+    x, y, _ = cell_centres(dump)
     dy = y[1] - y[0]
     j = np.clip(np.floor((parts["y"] - (y[0] - 0.5 * dy)) / dy).astype(int), 0, len(y) - 1)
     hydro = hydrostatic_pressure(y[j])
     if not np.any(parts["pore_pressure"]):        # the initial dump: not computed yet
         return np.zeros_like(hydro)
+    if field is not None:
+        dx = x[1] - x[0]
+        i = np.clip(np.floor((parts["x"] - (x[0] - 0.5 * dx)) / dx).astype(int), 0, len(x) - 1)
+        return dump["cell"][field][i, j, 0] - hydro
     return parts["pore_pressure"] - hydro
 
 
@@ -256,9 +266,12 @@ def print_cycle_diagnostics(rows: list[dict], table: list[dict]) -> None:
         print(f"{c['cycle']:5d}  {cells}")
 
 
-def analyse(dumps: list[dict], shaking: tuple[float, float, float] | None = None) -> list[dict]:
+def analyse(dumps: list[dict], shaking: tuple[float, float, float] | None = None,
+            field: str | None = None) -> list[dict]:
     """One row of measured quantities per dump (see the module header); `shaking` (a, f,
-    duration: :func:`base_shaking`) sets the prescribed base motion (default: the shipped 1 g)."""
+    duration: :func:`base_shaking`) sets the prescribed base motion (default: the shipped 1 g);
+    `field`: the cell field the excess pore pressures and r_u are taken from
+    (:func:`excess_pore_pressure`; default the particles' pore pressure)."""
     a_base, f_base, d_base, s_base = shaking_parts(shaking or (AMPLITUDE, FREQUENCY, DURATION))
     length = domain_length(dumps[0])
     s0, b0 = by_id(dumps[0]["particles"][SEDIMENT]), by_id(dumps[0]["particles"][BASE])
@@ -278,7 +291,7 @@ def analyse(dumps: list[dict], shaking: tuple[float, float, float] | None = None
         ux = unwrapped(s["x"] - s0["x"], length) - base_dx
         uy = s["y"] - s0["y"]
         rel = np.hypot(ux, uy)
-        pex = excess_pore_pressure(d, s)
+        pex = excess_pore_pressure(d, s, field)
         _, eta = free_surface(d, level)
         m = masses(d)
         rough = pore_pressure_roughness(d)
@@ -499,8 +512,11 @@ def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if "--compare" in argv:
         return compare_main(argv)
-    args, dumps = parse_run_dir(__doc__.splitlines()[0], NAME, argv)
-    rows = analyse(dumps, base_shaking(args.dir))
+    # --average: r_u and the excess pore pressures from the running mean cell/pressure_average
+    field = "pressure_average" if "--average" in argv else None
+    args, dumps = parse_run_dir(__doc__.splitlines()[0], NAME,
+                                [a for a in argv if a != "--average"])
+    rows = analyse(dumps, base_shaking(args.dir), field)
     print_table(rows)
     print_cycle_table(cycle_table(rows, rows[0]["shaking"]))
     print_cycle_diagnostics(rows, cycle_diagnostics(rows, rows[0]["shaking"]))
