@@ -111,14 +111,14 @@ def run_mpmice(args, nranks: int = 1, cwd: str | None = None, timeout: float = R
     return result
 
 
-def run_into(folder: str, namelist: str, *sets: str, nranks: int = 1,
-             cwd: str | None = None) -> subprocess.CompletedProcess:
+def run_into(folder: str, namelist: str, *sets: str, **options) -> subprocess.CompletedProcess:
     """:func:`run_mpmice` of ``namelist`` with its output in ``folder`` (``&run output_dir``)
-    and each text of ``sets`` as one ``--set``: the form most scene tests run."""
+    and each text of ``sets`` as one ``--set``: the form most scene tests run; ``options``
+    (``nranks``, ``cwd``, ``timeout``, ``exe``, ...) go to :func:`run_mpmice`."""
     args = [namelist, "--set", f"&run output_dir = '{folder}' /"]
     for text in sets:
         args += ["--set", text]
-    return run_mpmice(args, nranks=nranks, cwd=cwd)
+    return run_mpmice(args, **options)
 
 
 #: The warning that the event library inside Open MPI's launcher sometimes prints while a job's

@@ -20,7 +20,7 @@ module ice_scene
   use grid_layout, only: grid_t
   use scene_interface, only: scene_context_t
   use solver_pressure, only: struct_solver_init, struct_solver_free, struct_solver_set_reuse
-  use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field, h5_exists
+  use io_hdf5, only: h5_file_t, h5_write_cell_field, h5_read_cell_field
   use io_xdmf, only: xdmf_particles_t
   use ice_eos, only: eos_t, eos_kind_from_name, eos_sound_speed2
   use ice_state, only: ice_state_alloc, ice_state_free, ice_fluid_t
@@ -281,8 +281,8 @@ contains
   end subroutine ice_scene_write_state
 
   !> Read the primitive fields and the pressure of a checkpoint, then fill the ghosts; the
-  !! running pressure mean where the run keeps one (from the pressure when the checkpoint has
-  !! none).
+  !! running pressure mean where the run keeps one (a restart cannot change `&ice
+  !! pressure_average_time`, so the checkpoint holds it).
   subroutine ice_scene_restore(self, file)
     class(ice_scene_t), intent(inout) :: self  !< scene
     type(h5_file_t), intent(in) :: file        !< open checkpoint
@@ -290,13 +290,8 @@ contains
     integer :: m, d
     associate (grid => self%ctx%grid)
       call h5_read_cell_field(file, 'checkpoint/cell/pressure', grid, self%state%pressure)
-      if (allocated(self%p_average)) then
-        if (h5_exists(file, 'checkpoint/cell/pressure_average')) then
-          call h5_read_cell_field(file, 'checkpoint/cell/pressure_average', grid, self%p_average)
-        else
-          self%p_average = self%state%pressure
-        end if
-      end if
+      if (allocated(self%p_average)) call h5_read_cell_field(file, &
+        'checkpoint/cell/pressure_average', grid, self%p_average)
       do m = 1, self%state%nfluids
         associate (f => self%state%fluid(m))
           g = 'checkpoint/cell/' // trim(f%name) // '/'

@@ -33,7 +33,7 @@ contains
     type(grid_t), intent(in) :: grid           !< block geometry
     real(wp), intent(in) :: dep(:, grid%lbc(1):, grid%lbc(2):, grid%lbc(3):) !< deposits
     integer :: ip, c(3), idx, a, nact
-    real(wp) :: jac, phi_c, j_bound
+    real(wp) :: jac, phi_c, j_bound, scale
     if (mat%j_loose >= huge(1.0_wp)) return
     idx = deposit_solid_volume(s)
     nact = count(grid%active)
@@ -47,9 +47,9 @@ contains
       if (j_bound >= jac) cycle
       ! row a of F (column-major: f(a), f(a + 3), f(a + 6)) scaled in the active directions:
       ! det(S F) = det(S) det(F); an isotropic S keeps the polar frame's rotation
+      scale = (j_bound / jac)**(1.0_wp / real(nact, wp))
       do a = 1, 3
-        if (grid%active(a)) p%f(a:9:3, ip) = (j_bound / jac)**(1.0_wp / real(nact, wp)) * &
-          p%f(a:9:3, ip)
+        if (grid%active(a)) p%f(a:9:3, ip) = scale * p%f(a:9:3, ip)
       end do
       p%volume(ip) = j_bound * p%volume0(ip)
     end do

@@ -13,7 +13,7 @@ import pytest
 from postproc import mpmice_rondon as rondon
 from postproc.mpmice_io import read_run_dumps
 from postproc.mpmice_rondon_diagnose import overlap
-from postproc.run_case import ROOT, run_mpmice
+from postproc.run_case import ROOT, run_into
 
 END_TIME = 2.0       # s
 OVERLAP_MAX = 2.5    # cell volumes of particles in one cell, with the bound
@@ -26,11 +26,10 @@ def runs(mpmice_exe, tmp_path_factory):
     out = {}
     for bound in (False, True):
         run_dir = str(base / f"bound_{bound}")
-        run_mpmice([f"{ROOT}/namelists/mpmice_rondon_dense_2d.nml", "--set",
-                    f"&run output_dir = '{run_dir}', end_time = {END_TIME}, "
-                    "output_interval = 0.5 /", "--set",
-                    f"&solid name = 'beads', suspension_cell_bound = {'.true.' if bound else '.false.'} /"],
-                    cwd=str(base), timeout=600, exe=str(mpmice_exe))
+        run_into(run_dir, f"{ROOT}/namelists/mpmice_rondon_dense_2d.nml",
+                 f"&run end_time = {END_TIME}, output_interval = 0.5 /",
+                 f"&solid name = 'beads', suspension_cell_bound = {'.true.' if bound else '.false.'} /",
+                 cwd=str(base), timeout=600, exe=str(mpmice_exe))
         out[bound] = read_run_dumps(run_dir, rondon.NAME)
     return out
 
