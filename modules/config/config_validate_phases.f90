@@ -148,6 +148,10 @@ contains
         call set_error(err, g, 'suspension_cell_bound', '.true.', '.false. unless ' // &
           'max_porosity < 1 (only a solid that loses its grain contacts is suspended)')
       end if
+      if (.not. err%found .and. p%suspension_settling .and. p%max_porosity >= 1.0_wp) then
+        call set_error(err, g, 'suspension_settling', '.true.', '.false. unless ' // &
+          'max_porosity < 1 (only a solid that loses its grain contacts is suspended)')
+      end if
       call check_min_porosity(p, g, err)
       if (.not. err%found .and. p%modulus_exponent /= 0.0_wp .and. &
         trim(p%model) /= 'mohr_coulomb' .and. trim(p%model) /= 'critical_state_sand') then

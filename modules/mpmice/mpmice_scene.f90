@@ -68,7 +68,7 @@ module mpmice_scene
   use mpmice_contact_force, only: contact_force_t, contact_force_init, contact_force_write, &
     contact_force_free
   use mpmice_solid_heat, only: solid_conduction, solid_conduction_dt, solid_heat_to_particles
-  use mpmice_suspension, only: suspension_packing
+  use mpmice_suspension, only: suspension_packing, suspension_settling
   implicit none
   private
 
@@ -161,6 +161,7 @@ contains
           self%coupling(s)%forchheimer_b = c%forchheimer_b
           self%coupling(s)%surface_drag_parallel = c%surface_drag_parallel
           self%coupling(s)%suspension_cell_bound = c%suspension_cell_bound
+          self%coupling(s)%suspension_settling = c%suspension_settling
           if (c%grain_bulk_modulus > 0.0_wp) self%coupling(s)%grain_kappa = 1.0_wp / &
             c%grain_bulk_modulus
           self%coupling(s)%grain_density = c%density
@@ -352,6 +353,10 @@ contains
       call timer_start(timers, self%t_cells)
       call deposit_solids(self, dom, grid, dt)
       do s = 1, so%nsolids
+        if (self%coupling(s)%suspension_settling) then
+          call suspension_settling(so%parts(s), so%mats(s), grid, self%solid, st, &
+            self%coupling(s)%grain_density, fl%gravity, dt)
+        end if
         if (self%coupling(s)%suspension_cell_bound) then
           call suspension_packing(so%parts(s), so%mats(s), s, grid, self%dep)
         end if

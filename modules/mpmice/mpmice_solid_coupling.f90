@@ -27,6 +27,8 @@ module mpmice_solid_coupling
                                             !! (flow along the surface), not in series
     !> a suspended particle is no looser than its cell's grain fraction (`mpmice_suspension`)
     logical :: suspension_cell_bound = .false.
+    !> the grains of a suspended particle settle inside it (`mpmice_suspension`)
+    logical :: suspension_settling = .false.
   end type solid_coupling_t
 
 contains
