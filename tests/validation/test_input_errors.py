@@ -188,6 +188,12 @@ BAD_MPMICE_INPUTS = [
       "densest packing"]),
     ("min_porosity_not_contractant", "", ["&solid name = 'soil', min_porosity = 0.2 /"],
      ["--set", "&solid(1) min_porosity = 0.2", "dilation_angle < 0"]),
+    ("suspension_bound_without_loosest_packing", "",
+     ["&solid name = 'soil', model = 'mohr_coulomb', suspension_cell_bound = .true. /"],
+     ["--set", "&solid(1) suspension_cell_bound = .true.", "max_porosity < 1"]),
+    ("suspension_settling_without_loosest_packing", "",
+     ["&solid name = 'soil', model = 'mohr_coulomb', suspension_settling = .true. /"],
+     ["--set", "&solid(1) suspension_settling = .true.", "max_porosity < 1"]),
     ("dilation_below_minus_friction", "", ["&solid name = 'soil', model = 'mohr_coulomb', "
                                             "friction_angle = 30, dilation_angle = -40 /"],
      ["--set", "&solid(1) dilation_angle = -40.0", "-friction_angle..friction_angle (30.0)"]),
