@@ -198,6 +198,68 @@ def summary(t: np.ndarray, front: np.ndarray, p_t: np.ndarray, p: np.ndarray) ->
             "t90_s": float(t[reached[0]]) if len(reached) else float("nan")}
 
 
+#: The issue's targets (docs/validation/rondon2011.md, "Targets"): the base pressure's peak
+#: within PEAK_TOLERANCE of the experiment's, the final run-out within RUNOUT_TOLERANCE, and
+#: the dense collapse at least SLOWER times slower than the loose one by t90.
+PEAK_TOLERANCE = 0.40
+RUNOUT_TOLERANCE = 0.15
+SLOWER = 3.0
+#: A front that moves more than this over the last ADVANCE_WINDOW of a run is still advancing:
+#: its last run-out is not a final one [m, s] (the experiment's fronts move 0.4 mm, dense, and
+#: -0.3 mm, loose, over their last 2 s).
+ADVANCE_LIMIT = 0.002
+ADVANCE_WINDOW = 2.0
+
+
+def targets(series: dict, refs: dict) -> list[tuple[str, str, bool]]:
+    """The targets of a run against the experiment: ``series`` {case: :func:`model_series`},
+    ``refs`` {case: :func:`read_reference`}. Per case: the base pressure's sign at the
+    experiment's pressure times within the run (share of the points with the experiment's
+    sign), the peak (largest |p| of the run, signed) of the experiment's sign and within
+    PEAK_TOLERANCE of its size,
+    the final run-out within RUNOUT_TOLERANCE of the experiment's (and whether the front still
+    moves); with both cases, the ratio of the t90s. Returns (target, measured, hit) rows."""
+    rows = []
+    t90 = {}
+    for case, ser in series.items():
+        ref = refs[case]
+        t_p, p_ref = ref["pressure"]
+        inside = t_p <= ser["t"][-1]
+        model_p = np.interp(t_p[inside], ser["t"], ser["pressure"])
+        same = np.sign(model_p) == np.sign(p_ref[inside])
+        share = float(np.mean(same)) if same.size else float("nan")
+        rows.append((f"{case}: base pressure has the experiment's sign at its "
+                     f"{int(np.sum(inside))} points to {ser['t'][-1]:g} s",
+                     f"{share:.0%} of them", bool(same.size) and bool(np.all(same))))
+        t_f, x_f = ref["front"]
+        exp = summary(t_f, x_f - ref["front_offset"], t_p, p_ref)
+        mod = summary(ser["t"], ser["front"], ser["t"], ser["pressure"])
+        err = abs(mod["peak_pressure_Pa"]) / abs(exp["peak_pressure_Pa"]) - 1.0
+        rows.append((f"{case}: peak base pressure within {PEAK_TOLERANCE:.0%}",
+                     f"{mod['peak_pressure_Pa']:+.0f} Pa at {mod['peak_time_s']:g} s against "
+                     f"{exp['peak_pressure_Pa']:+.0f} Pa ({err:+.0%})",
+                     np.sign(mod["peak_pressure_Pa"]) == np.sign(exp["peak_pressure_Pa"])
+                     and abs(err) <= PEAK_TOLERANCE))
+        late = ser["t"] >= ser["t"][-1] - ADVANCE_WINDOW
+        moved = float(ser["front"][-1] - np.min(ser["front"][late]))
+        err = (mod["final_runout_m"] - exp["final_runout_m"]) / exp["final_runout_m"]
+        still = moved > ADVANCE_LIMIT
+        rows.append((f"{case}: final run-out within {RUNOUT_TOLERANCE:.0%}",
+                     f"{mod['final_runout_m'] * 100:.2f} cm at {mod['final_time_s']:g} s against "
+                     f"{exp['final_runout_m'] * 100:.2f} cm ({err:+.0%}); the front moved "
+                     f"{moved * 100:.2f} cm over the last {ADVANCE_WINDOW:g} s"
+                     + (", still advancing" if still else ""),
+                     abs(err) <= RUNOUT_TOLERANCE and not still))
+        t90[case] = (mod["t90_s"], exp["t90_s"])
+    if "dense" in t90 and "loose" in t90:
+        ratio = t90["dense"][0] / t90["loose"][0]
+        exp_ratio = t90["dense"][1] / t90["loose"][1]
+        rows.append((f"dense at least {SLOWER:g} times slower than loose by t90",
+                     f"{t90['dense'][0]:g} / {t90['loose'][0]:g} s = {ratio:.1f} times "
+                     f"(experiment {exp_ratio:.1f})", ratio >= SLOWER))
+    return rows
+
+
 #: Window of the speed-against-accuracy chart (bench/accuracy_charts.py ``rondon``) [s]: it
 #: holds the first front point of each packing (0.55 s dense, 0.64 s loose) and the first base
 #: pressure point of each (1.13 s); the experiment has no pressure data before 1.1 s.
@@ -344,6 +406,12 @@ def main(argv=None) -> int:
     for row in rows:
         print(row)
     print(path)
+    if have_ref:
+        refs = {case: read_reference(args.reference, case) for case in runs}
+        series = {case: model_series(read_run_dumps(folder, NAME)) for case, folder in runs.items()}
+        print("targets (docs/validation/rondon2011.md):")
+        for target, measured, hit in targets(series, refs):
+            print(f"  {'hit   ' if hit else 'missed'}  {target}: {measured}")
     return 0
 
 

@@ -155,3 +155,24 @@ def test_postproc_definitions():
                        np.array([0.0, 5.0, -8.0, 3.0]))
     assert s["peak_pressure_Pa"] == -8.0 and s["peak_time_s"] == 2.0
     assert s["final_runout_m"] == pytest.approx(0.1) and s["t90_s"] == 2.0
+
+
+def test_target_report():
+    """The targets on hand-made series against a hand-made experiment: the sign at the
+    experiment's pressure points within the run, the peak's size, the final run-out and whether
+    the front still moves over the last 2 s, and the t90 ratio."""
+    t = np.array([0.0, 1.0, 2.0, 3.0, 4.0])
+    ref = {"front": (t, rondon.L0 + np.array([0.0, 0.05, 0.09, 0.1, 0.1])), "front_offset": 0.0,
+           "pressure": (np.array([1.0, 2.0, 9.0]), np.array([-100.0, -50.0, -10.0]))}
+    dense = {"t": t, "front": rondon.L0 + np.array([0.0, 0.02, 0.05, 0.09, 0.095]),
+             "pressure": np.array([0.0, -70.0, -40.0, -20.0, -10.0])}
+    loose = {"t": t, "front": rondon.L0 + np.array([0.0, 0.1, 0.15, 0.16, 0.2]),
+             "pressure": np.array([0.0, 20.0, -5.0, 1.0, 0.0])}
+    rows = rondon.targets({"dense": dense, "loose": loose}, {"dense": ref, "loose": ref})
+    hits = [hit for _, _, hit in rows]
+    # dense: sign at both points within the run, peak -70 against -100 (-30 %), run-out
+    # 9.5 against 10 cm (-5 %) moving 4.5 cm over the last 2 s; loose: positive where the
+    # experiment sucks, +20 against -100, 20 cm (+100 %); t90 3 / 4 s
+    assert hits == [True, True, False, False, False, False, False]
+    assert "100% of them" in rows[0][1] and "-30%" in rows[1][1]
+    assert "still advancing" in rows[2][1] and "0.8 times" in rows[6][1]
