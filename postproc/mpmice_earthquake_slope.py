@@ -512,11 +512,10 @@ def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if "--compare" in argv:
         return compare_main(argv)
-    # --average: r_u and the excess pore pressures from the running mean cell/pressure_average
-    field = "pressure_average" if "--average" in argv else None
-    args, dumps = parse_run_dir(__doc__.splitlines()[0], NAME,
-                                [a for a in argv if a != "--average"])
-    rows = analyse(dumps, base_shaking(args.dir), field)
+    args, dumps = parse_run_dir(__doc__.splitlines()[0], NAME, argv, flags={
+        "--average": "r_u and the excess pore pressures from the running mean "
+                     "cell/pressure_average (&ice pressure_average_time)"})
+    rows = analyse(dumps, base_shaking(args.dir), "pressure_average" if args.average else None)
     print_table(rows)
     print_cycle_table(cycle_table(rows, rows[0]["shaking"]))
     print_cycle_diagnostics(rows, cycle_diagnostics(rows, rows[0]["shaking"]))

@@ -135,14 +135,18 @@ def read_run_dumps(output_dir: str, name: str, last: int | None = None) -> list[
     return [read_dump(path) for path in (paths if last is None else paths[-last:])]
 
 
-def parse_run_dir(description: str, name: str, argv=None) -> tuple[argparse.Namespace, list[dict]]:
+def parse_run_dir(description: str, name: str, argv=None,
+                  flags: dict[str, str] | None = None) -> tuple[argparse.Namespace, list[dict]]:
     """Command line of a script that reports on one finished run: ``--dir DIR`` (the run's output
-    directory, required) and ``--out DIR`` (where the plots go, created when missing; None: DIR).
-    Returns the parsed arguments and every dump ``<name>_<step>.h5`` of DIR; exits with status 1
-    and "no dumps <name>_<step>.h5 in DIR" when there is none."""
+    directory, required), ``--out DIR`` (where the plots go, created when missing; None: DIR)
+    and the script's own on/off options ``flags`` {"--name": help}. Returns the parsed arguments
+    and every dump ``<name>_<step>.h5`` of DIR; exits with status 1 and "no dumps
+    <name>_<step>.h5 in DIR" when there is none."""
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--dir", required=True, help="output directory of a run")
     parser.add_argument("--out", default=None)
+    for flag, text in (flags or {}).items():
+        parser.add_argument(flag, action="store_true", help=text)
     args = parser.parse_args(argv)
     try:
         dumps = read_run_dumps(args.dir, name)

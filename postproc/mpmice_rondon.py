@@ -341,10 +341,12 @@ def main(argv=None) -> int:
     plt = pyplot()
     fig, axes = plt.subplots(3, 2, figsize=(11, 10))
     rows = []
+    refs, runs_series = {}, {}    # per case, for the targets
     for col, case in enumerate(CASES):
         ax_f, ax_p, ax_h = axes[0, col], axes[1, col], axes[2, col]
         ref = read_reference(args.reference, case) if have_ref else None
         if ref is not None:
+            refs[case] = ref
             t_f, x_f = ref["front"]
             off = ref["front_offset"]
             ax_f.plot(t_f, (x_f - off) * 100, "ko", ms=4,
@@ -365,6 +367,7 @@ def main(argv=None) -> int:
         if case in runs:
             dumps = read_run_dumps(runs[case], NAME)
             series = model_series(dumps)
+            runs_series[case] = series
             ax_f.plot(series["t"], series["front"] * 100, "b-", label="model")
             ax_p.plot(series["t"], series["pressure"], "b-",
                       label=f"model (x = {PROBE_X * 100:g} cm)")
@@ -407,10 +410,8 @@ def main(argv=None) -> int:
         print(row)
     print(path)
     if have_ref:
-        refs = {case: read_reference(args.reference, case) for case in runs}
-        series = {case: model_series(read_run_dumps(folder, NAME)) for case, folder in runs.items()}
         print("targets (docs/validation/rondon2011.md):")
-        for target, measured, hit in targets(series, refs):
+        for target, measured, hit in targets(runs_series, refs):
             print(f"  {'hit   ' if hit else 'missed'}  {target}: {measured}")
     return 0
 

@@ -79,7 +79,7 @@ contains
     real(wp), intent(in) :: gravity(3)         !< gravitational acceleration [m/s^2]
     real(wp), intent(in) :: dt                 !< step [s]
     integer :: ip, c(3), m, nact
-    real(wp) :: jac, j_new, vol, rho_vol, cw, cu(3), w, thickness, phi_c
+    real(wp) :: jac, j_new, vol, rho_vol, cw, cu(3), w, thickness, phi_m
     if (mat%j_loose >= huge(1.0_wp) .or. norm2(gravity) <= 0.0_wp) return
     nact = count(grid%active)
     ! the particle's extent along the inactive directions (its volume per active size)
@@ -94,11 +94,11 @@ contains
       cu = 0.0_wp
       do m = 1, state%nfluids
         associate (f => state%fluid(m))
-          phi_c = f%vfrac(c(1), c(2), c(3))
-          vol = vol + phi_c
-          rho_vol = rho_vol + phi_c / f%spvol(c(1), c(2), c(3))
-          cw = cw + phi_c * solid%drag(c(1), c(2), c(3), m)
-          cu = cu + phi_c * solid%drag(c(1), c(2), c(3), m) * f%vel(c(1), c(2), c(3), :)
+          phi_m = f%vfrac(c(1), c(2), c(3))
+          vol = vol + phi_m
+          rho_vol = rho_vol + phi_m / f%spvol(c(1), c(2), c(3))
+          cw = cw + phi_m * solid%drag(c(1), c(2), c(3), m)
+          cu = cu + phi_m * solid%drag(c(1), c(2), c(3), m) * f%vel(c(1), c(2), c(3), :)
         end associate
       end do
       w = settling_deficit(grain_density, gravity, vol, rho_vol, cw, cu, &
