@@ -132,7 +132,7 @@ contains
     do k = 1, stored%nsolids
       associate (sp => stored%solids(k))
         call model_state(model_from_name(sp%model), sp%densification_c1, &
-          stored%mpm%velocity_transfer, hardening, cyclic, affine)
+          sp%compaction_index, stored%mpm%velocity_transfer, hardening, cyclic, affine)
         g = 'checkpoint/particles/' // trim(sp%name) // '/'
         missing = ''
         if (cyclic) then

@@ -13,7 +13,7 @@ module mpm_constitutive
   use mpm_mohr_coulomb, only: mc_params_t, mc_params, mc_return
   use mpm_cam_clay, only: mcc_params_t, mcc_update, mcc_moduli, mcc_invariants
   use mpm_critical_state_sand, only: css_params_t, css_return, css_densify, css_n_cyclic, &
-    css_gamma, css_gamma_ext
+    css_gamma, css_gamma_ext, css_compaction
   implicit none
   private
 
@@ -75,20 +75,23 @@ contains
   end function model_from_name
 
   !> The per-particle state a solid carries beyond the common fields: the Cam-Clay
-  !! preconsolidation pressure (`hardening`, model `cam_clay`), the critical-state sand's
-  !! cyclic densification state (`cyclic`, model `critical_state_sand` with
-  !! `&solid densification_c1 > 0`; `constitutive_update` reads and writes nothing else), and
-  !! the APIC affine velocity of a deformable solid (`affine`, `&mpm velocity_transfer =
+  !! preconsolidation pressure or the critical-state sand's compaction pressure (`hardening`,
+  !! model `cam_clay`, or `critical_state_sand` with `&solid compaction_index > 0`), the
+  !! critical-state sand's cyclic densification state (`cyclic`, model `critical_state_sand`
+  !! with `&solid densification_c1 > 0`; `constitutive_update` reads and writes nothing else),
+  !! and the APIC affine velocity of a deformable solid (`affine`, `&mpm velocity_transfer =
   !! 'apic'`; `mpm_p2g`, `mpm_g2p`).
-  pure subroutine model_state(model, densification_c1, velocity_transfer, hardening, cyclic, &
-    affine)
+  pure subroutine model_state(model, densification_c1, compaction_index, velocity_transfer, &
+    hardening, cyclic, affine)
     integer, intent(in) :: model                       !< model id (`model_from_name`)
     real(wp), intent(in) :: densification_c1           !< `&solid densification_c1` [-]
+    real(wp), intent(in) :: compaction_index           !< `&solid compaction_index` [-]
     character(len=*), intent(in) :: velocity_transfer  !< `&mpm velocity_transfer`
     logical, intent(out) :: hardening                  !< carries p_c
     logical, intent(out) :: cyclic                     !< carries the cyclic state
     logical, intent(out) :: affine                     !< carries C_p
-    hardening = model == model_cam_clay
+    hardening = model == model_cam_clay .or. &
+      (model == model_critical_state_sand .and. compaction_index > 0.0_wp)
     cyclic = model == model_critical_state_sand .and. densification_c1 > 0.0_wp
     affine = trim(velocity_transfer) == 'apic' .and. model /= model_rigid
   end subroutine model_state
@@ -213,6 +216,10 @@ contains
   !! of a reversal is taken from the elastic volumetric strain, sigma_ii += K d eps_vd. With
   !! `mat%css%elastic_amp` the cycled strain is tau_xy / G of the trial stress (the state
   !! starts at the initial stress's value), otherwise the total gamma_xy = 2 eps_xy.
+  !! For the critical-state sand with `mat%css%lambda_c > 0`, `hardening` is the compaction
+  !! pressure p_c (`css_compaction`, applied to the trial stress before the return): raised to
+  !! the p' of the step's start before it and to the returned p' after it, 0 once the particle
+  !! has lost all its effective stress or is suspended; without it, no compaction.
   !! With `mat%elastic_only` (`material_at` before `&solid plastic_start`) the stress is the
   !! model's elastic trial stress: linear (lambda, mu) for Mohr-Coulomb and the sand, the
   !! pressure-dependent law of Cam-Clay (p_c set but not hardened), limited to the yield
@@ -229,9 +236,10 @@ contains
     real(wp), intent(inout) :: stress_unrot(6)       !< stress in the rotated frame [Pa]
     real(wp), intent(inout) :: stress(6)             !< Cauchy stress [Pa]
     real(wp), intent(inout) :: plastic_strain        !< equivalent plastic strain [-]
-    real(wp), intent(inout), optional :: hardening   !< Cam-Clay p_c [Pa]
+    !> Cam-Clay's preconsolidation or the sand's compaction pressure p_c [Pa]
+    real(wp), intent(inout), optional :: hardening
     real(wp), intent(inout), optional :: cyclic(css_n_cyclic)  !< sand's cyclic state
-    real(wp) :: r(3, 3), deps(6), dep, pc, devd, dgamma, lam, mu, psi
+    real(wp) :: r(3, 3), deps(6), dep, pc, devd, dgamma, lam, mu, psi, p_start, p_end
     select case (mat%model)
     case (model_neo_hookean)
       stress = neo_hookean_stress(mat%lambda, mat%mu, f)
@@ -240,9 +248,11 @@ contains
     case (model_linear_elastic, model_mohr_coulomb, model_critical_state_sand, model_cam_clay)
       if (det3(f) > mat%j_loose) then
         ! loose: the grains are out of contact (a suspension), no effective stress; the
-        ! stress grows again from zero once the particle compacts below j_loose
+        ! stress grows again from zero once the particle compacts below j_loose (the sand's
+        ! compaction along its line from p_c = 0)
         stress_unrot = 0.0_wp
         stress = 0.0_wp
+        if (mat%model == model_critical_state_sand .and. present(hardening)) hardening = 0.0_wp
         return
       end if
       r = polar_rotation(f)                                  ! eq. 12
@@ -258,6 +268,7 @@ contains
         return
       end if
       call current_moduli(mat, stress_unrot, lam, mu)       ! at the start of the step
+      p_start = -(stress_unrot(1) + stress_unrot(2) + stress_unrot(3)) / 3.0_wp
       dgamma = 2.0_wp * deps(4)                                           ! gamma_xy
       if (mat%model == model_critical_state_sand .and. mat%css%elastic_amp .and. &
         mat%css%c1 > 0.0_wp .and. present(cyclic)) then
@@ -275,8 +286,21 @@ contains
           call css_densify(mat%css, dgamma, dt, cyclic, devd)
           stress_unrot(1:3) = stress_unrot(1:3) + (lam + 2.0_wp * mu / 3.0_wp) * devd
         end if
+        if (mat%css%lambda_c > 0.0_wp .and. present(hardening)) then
+          ! p_c at least the p' of the step's start, then the compaction of the trial stress
+          hardening = max(hardening, p_start)
+          call css_compaction(mat%css, lam + 2.0_wp * mu / 3.0_wp, &
+            mat%solid_fraction0 / det3(f), stress_unrot, hardening)
+        end if
         call css_return(mat%css, lam, mu, mat%solid_fraction0 / det3(f), dt, stress_unrot, dep)
         plastic_strain = plastic_strain + dep
+        if (mat%css%lambda_c > 0.0_wp .and. present(hardening)) then
+          ! p_c follows p' up; a packing that flows in shear keeps no memory of its past
+          ! consolidation (p_c = p'), nor one that lost all its effective stress (0)
+          p_end = max(-(stress_unrot(1) + stress_unrot(2) + stress_unrot(3)) / 3.0_wp, 0.0_wp)
+          hardening = merge(p_end, max(hardening, p_end), dep > 0.0_wp)
+          if (p_end <= 0.0_wp) hardening = 0.0_wp
+        end if
       else if (mat%model == model_mohr_coulomb .and. .not. mat%elastic_only) then
         ! contractant sand at its densest packing: plastic flow without volume change
         psi = mat%mc%psi

@@ -25,6 +25,17 @@
 !! phi_eq in tan(psi) taken at J(gamma_dot, p_tr). No tension: a trial p <= 0 returns to zero
 !! stress (the apex).
 !!
+!! Optional compaction at low effective stress (`css_compaction`, off with lambda_c = 0): a
+!! packing looser than the critical one (phi < phi_m) compacts plastically once p' reaches its
+!! compaction pressure p_c, along the line
+!!   p' + p_a = (p_c + p_a) exp(eps_v^p / lambda_c)      (eps_v^p the plastic compaction),
+!! whose modulus (p' + p_a) / lambda_c is small at low p', and reloads and unloads elastically
+!! below p_c. p_c follows p' upward (a packing holds the largest p' it has carried), and falls to
+!! 0 where the packing has lost all its effective stress (the apex, or a suspension): a
+!! liquefied packing has lost its contact network and reconsolidates along the line again, the
+!! large post-liquefaction reconsolidation strains of loose sands (Ishihara & Yoshimine 1992).
+!! p_a is the effective stress at which a packing without contacts starts to carry load.
+!!
 !! Optional cyclic densification (`css_densify`, off with C_1 = 0): the irrecoverable volume
 !! contraction of a sand under strain cycles inside the yield surface, in the form of Martin,
 !! Finn & Seed (1975) as rewritten by Byrne (1991) and implemented in FLAC's Finn model (Itasca,
@@ -49,7 +60,7 @@ module mpm_critical_state_sand
 
   public :: css_params_t, css_return, css_phi_eq, css_strength, css_densify
   public :: css_n_cyclic, css_evd, css_gamma, css_gamma_rev, css_gamma_ext, css_reversals
-  public :: css_t_half
+  public :: css_t_half, css_compaction
 
   !> Cyclic state of one particle (`css_densify`), indices into `state(css_n_cyclic)`:
   integer, parameter :: css_n_cyclic = 6   !< entries
@@ -69,6 +80,8 @@ module mpm_critical_state_sand
     real(wp) :: phi_m = 0.585_wp         !< critical (quasi-static) solid fraction phi_m [-]
     real(wp) :: k_dil = 4.09_wp          !< dilatancy constant K [-]
     real(wp) :: eta_f = 0.0_wp           !< pore fluid viscosity eta_f [Pa s] (0: J = 0)
+    real(wp) :: lambda_c = 0.0_wp        !< compaction index lambda_c [-] (0: no compaction)
+    real(wp) :: p_a = 5.0_wp             !< compaction line's pressure offset p_a [Pa]
     real(wp) :: c1 = 0.0_wp              !< densification constant C_1 [-] (0: off)
     real(wp) :: c2 = 0.0_wp              !< densification constant C_2 [-] (0: 0.4 / C_1)
     real(wp) :: gamma_t = 0.0_wp         !< threshold shear strain amplitude [-]
@@ -184,6 +197,39 @@ contains
       if (dt > 0.0_wp) rate = dgam / dt
     end function rate
   end subroutine css_return
+
+  !> Compaction at low effective stress (module header) of the trial stress `sig` [Pa] (tension
+  !! positive) of a particle at solid fraction `phi`, with `kb` the bulk modulus of its trial
+  !! stress [Pa] and `pc` its compaction pressure p_c [Pa] (updated): nothing for a packing at or
+  !! above phi_m or a trial p' at or below p_c; otherwise the isotropic plastic compaction
+  !! d eps_v^p > 0 that puts p' = p_tr - K d eps_v^p on the compaction line,
+  !!   ln(p_tr - K d eps_v^p + p_a) = ln(p_c + p_a) + d eps_v^p / lambda_c,
+  !! solved by Newton's method from d eps_v^p = (p_tr - p_c) / K (the root lies below it; the
+  !! function is concave and decreasing, so the iterates fall monotonically onto the root), and
+  !! p_c becomes that p'. Exact for any step size.
+  pure subroutine css_compaction(prm, kb, phi, sig, pc)
+    type(css_params_t), intent(in) :: prm  !< parameters
+    real(wp), intent(in) :: kb             !< bulk modulus K of the trial stress [Pa]
+    real(wp), intent(in) :: phi            !< solid fraction [-]
+    real(wp), intent(inout) :: sig(6)      !< trial stress in, compacted stress out [Pa]
+    real(wp), intent(inout) :: pc          !< compaction pressure p_c [Pa]
+    real(wp) :: p_tr, x, h, dh, step, base
+    integer :: it
+    if (prm%lambda_c <= 0.0_wp .or. phi >= prm%phi_m) return
+    p_tr = -(sig(1) + sig(2) + sig(3)) / 3.0_wp
+    if (p_tr <= pc) return
+    base = log(pc + prm%p_a)
+    x = (p_tr - pc) / kb
+    do it = 1, max_iterations
+      h = log(p_tr - kb * x + prm%p_a) - base - x / prm%lambda_c
+      dh = -kb / (p_tr - kb * x + prm%p_a) - 1.0_wp / prm%lambda_c
+      step = h / dh
+      x = max(x - step, 0.0_wp)
+      if (abs(step) <= 1.0e-14_wp * x) exit
+    end do
+    sig(1:3) = sig(1:3) + kb * x
+    pc = p_tr - kb * x
+  end subroutine css_compaction
 
   !> Cyclic densification (Byrne 1991 form of Martin et al. 1975, as FLAC's Finn model applies
   !! it per half cycle): advance the particle's cyclic `state` by the engineering shear strain

@@ -4,7 +4,8 @@
 !! `/cell/<solid>/{volume_fraction, velocity_x, velocity_y, velocity_z, temperature}` (particle
 !! volume per cell volume; mass-weighted particle averages, 0 in empty cells), and checkpoints
 !! `/checkpoint/particles/<solid>/...` with the full state (bitwise restart). The dumps always
-!! hold `hardening` (0 unless the solid is Cam-Clay); a checkpoint holds `hardening` and
+!! hold `hardening` (0 unless the solid is Cam-Clay or the sand with compaction); a checkpoint
+!! holds `hardening` and
 !! `cyclic`, `cyclic_half_time` only for a solid whose model carries them (`particles_store`).
 module mpm_output
   use mpmice_kinds, only: wp, i8, name_len

@@ -135,8 +135,8 @@ contains
           call set_soil_params(self%mats(s), sp)
           self%motions(s) = rigid_motion_t(sp%prescribed_velocity, sp%acceleration_amplitude, &
             sp%acceleration_frequency, sp%acceleration_duration, sp%acceleration_start)
-          call model_state(self%mats(s)%model, self%mats(s)%css%c1, par%mpm%velocity_transfer, &
-            keep_hardening, keep_cyclic, keep_affine)
+          call model_state(self%mats(s)%model, self%mats(s)%css%c1, self%mats(s)%css%lambda_c, &
+            par%mpm%velocity_transfer, keep_hardening, keep_cyclic, keep_affine)
           call particles_select_state(self%parts(s), keep_hardening, keep_cyclic, keep_affine)
           call seed_solid(self%parts(s), sp, grid, self%gravity)
           if (self%mats(s)%model == model_rigid) call move_rigid(self, s, grid, 0.0_wp, 0.0_wp)
@@ -199,6 +199,8 @@ contains
     mat%css%phi_m = sp%critical_solid_fraction
     mat%css%k_dil = sp%dilatancy_constant
     mat%css%eta_f = sp%fluid_viscosity
+    mat%css%lambda_c = sp%compaction_index
+    mat%css%p_a = sp%compaction_pressure
     mat%css%c1 = sp%densification_c1
     mat%css%c2 = sp%densification_c2
     mat%css%gamma_t = sp%densification_threshold

@@ -51,7 +51,8 @@ module particles_store
     real(wp), allocatable :: stress_unrot(:, :) !< (6, np) stress in the rotated frame [Pa]
     real(wp), allocatable :: plastic_strain(:) !< accumulated equivalent plastic strain [-]
     !> hardening variable of the model: Modified Cam-Clay preconsolidation pressure p_c [Pa]
-    !! (0: not yet set); allocated only when `has_hardening`
+    !! (0: not yet set) or the critical-state sand's compaction pressure p_c [Pa]; allocated
+    !! only when `has_hardening`
     real(wp), allocatable :: hardening(:)
     !> (n_cyclic_state, np) cyclic densification state of the critical-state sand
     !! (`css_densify`: eps_vd, gamma_xy, its last reversal and extreme, reversals, time since
