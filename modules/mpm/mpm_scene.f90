@@ -28,13 +28,14 @@ module mpm_scene
   use mpm_shape, only: shape_kind_from_name
   use mpm_nodes, only: mpm_nodes_t, nodes_init, nodes_free, nq, node_rigid_mass
   use mpm_p2g, only: p2g_accumulate, p2g_accumulate_rigid, p2g_complete
-  use mpm_nodal, only: nodal_bc_t, nodal_solve, bc_kind_from_name, face_load_power, &
-    nodal_bc_at_time
+  use mpm_nodal, only: nodal_bc_t, nodal_solve, bc_kind_from_name, face_load_power, bc_fixed, &
+    bc_roller, nodal_bc_at_time
   use mpm_g2p, only: g2p_update
   use mpm_constitutive, only: material_t, material_init, material_at, model_from_name, &
     wave_speed, model_rigid, model_state
   use mpm_rigid, only: rigid_motion_t, rigid_velocity, rigid_displacement, rigid_is_static
-  use particles_migration, only: migration_t, migration_init, migrate_particles
+  use particles_migration, only: migration_t, migration_init, migrate_particles, &
+    keep_inside_walls
   use mpm_output, only: write_particle_dump, write_particle_checkpoint, &
     read_particle_checkpoint, particle_xdmf_set, write_cell_dump, cell_dump_paths
   implicit none
@@ -71,6 +72,8 @@ module mpm_scene
     real(wp) :: flip = 0.99_wp                              !< FLIP fraction
     real(wp) :: min_mass = 0.0_wp                           !< empty-node threshold [kg]
     integer(i8) :: removed = 0_i8                           !< particles that left the domain
+    integer(i8) :: walled = 0_i8                            !< particles put back inside a wall
+                                                            !! (this rank's, `keep_inside_walls`)
     character(len=path_len) :: series_path = ''             !< time-series file
     logical :: restored = .false.                           !< state came from a checkpoint
     logical :: series_started = .false.                     !< series file opened this run
@@ -308,15 +311,22 @@ contains
   end subroutine mpm_stage_g2p
 
   !> Migrate the particles of every solid to their owners; particles that left the domain are
-  !! removed, counted and logged (collective).
+  !! removed, counted and logged (collective). A deformable solid's particles that passed a
+  !! wall face (`solid = 'fixed'` or `'roller'`) are first put back on it (`keep_inside_walls`).
   subroutine mpm_migrate_all(self, time)
     class(mpm_scene_t), intent(inout) :: self  !< scene
     real(wp), intent(in) :: time               !< time after the step [s]
-    integer :: s, removed
+    integer :: s, removed, moved, face
+    logical :: walls(6)
     call timer_start(self%ctx%timers, self%t_migrate)
+    walls = [(self%bc%kind(face) == bc_fixed .or. self%bc%kind(face) == bc_roller, face = 1, 6)]
     associate (dom => self%ctx%dom)
       do s = 1, self%nsolids
         if (self%static(s)) cycle  ! never moves: stays on its rank and in the domain
+        if (self%mats(s)%model /= model_rigid) then
+          call keep_inside_walls(self%parts(s), self%ctx%grid, walls, moved)
+          self%walled = self%walled + int(moved, i8)
+        end if
         call migrate_particles(self%mig, self%parts(s), dom, self%ctx%grid, removed)
         removed = global_sum(dom, removed)
         if (removed > 0) then
@@ -552,6 +562,8 @@ contains
         int_text(int(self%global_np(s))) // ' particles at the end')
     end do
     call log_info('mpm: particles removed (left the domain): ' // int_text(int(self%removed)))
+    call log_info('mpm: particle positions put back inside a wall face: ' // &
+      int_text(int(global_sum(self%ctx%dom, self%walled))))
   end subroutine mpm_summary
 
   !> Release everything.

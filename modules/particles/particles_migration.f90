@@ -18,7 +18,7 @@ module particles_migration
   implicit none
   private
 
-  public :: migration_t, migration_init, migrate_particles
+  public :: migration_t, migration_init, migrate_particles, keep_inside_walls
 
   integer, parameter :: n_common = 34                 !< reals of every packed particle
 
@@ -77,6 +77,45 @@ contains
     if (p%has_cyclic) nf = nf + n_cyclic_state
     if (p%has_affine) nf = nf + n_affine
   end function particle_reals
+
+  !> Put back on the face plane every particle of `p` whose centre passed a closed face of the
+  !! domain (`closed(face)`, faces in the `&boundary` order x-, x+, y-, y+, z-, z+; only active,
+  !! non-periodic dimensions), so that `migrate_particles` does not remove it as having left the
+  !! domain: a solid's wall (`solid = 'fixed'` or `'roller'`) stops its nodes' normal motion, but
+  !! the particle of a GIMP domain reaching past the wall still takes the velocity of the inner
+  !! nodes and can drift through. On the high face the particle goes just inside (1e-9 of a cell),
+  !! so that it stays in the last cell, and its velocity loses the component out of the domain
+  !! (the wall stops the normal motion, as its nodes do). `moved` counts the particles put back.
+  subroutine keep_inside_walls(p, grid, closed, moved)
+    type(particles_t), intent(inout) :: p    !< particles
+    type(grid_t), intent(in) :: grid         !< block geometry
+    logical, intent(in) :: closed(6)         !< the faces the particles may not pass
+    integer, intent(out) :: moved            !< particles put back
+    integer :: ip, d
+    real(wp) :: lo, hi, x
+    logical :: back
+    moved = 0
+    if (.not. any(closed)) return
+    do ip = 1, p%np
+      back = .false.
+      do d = 1, 3
+        if (.not. grid%active(d) .or. grid%periodic(d)) cycle
+        lo = grid%lower(d)
+        hi = grid%upper(d) - 1.0e-9_wp * grid%dx(d)
+        x = p%x(d, ip)
+        if (closed(2 * d - 1) .and. x < lo) then
+          p%x(d, ip) = lo
+          p%v(d, ip) = max(p%v(d, ip), 0.0_wp)
+        end if
+        if (closed(2 * d) .and. x > hi) then
+          p%x(d, ip) = hi
+          p%v(d, ip) = min(p%v(d, ip), 0.0_wp)
+        end if
+        back = back .or. p%x(d, ip) /= x
+      end do
+      if (back) moved = moved + 1
+    end do
+  end subroutine keep_inside_walls
 
   !> Send every particle of `p` to its owner; `removed` = particles of this rank that left the
   !! domain (local count). Collective.
