@@ -144,13 +144,15 @@ contains
             max_value=1.0_wp, min_open=.true.)
         end if
       end if
-      if (.not. err%found .and. p%suspension_cell_bound .and. p%max_porosity >= 1.0_wp) then
-        call set_error(err, g, 'suspension_cell_bound', '.true.', '.false. unless ' // &
-          'max_porosity < 1 (only a solid that loses its grain contacts is suspended)')
-      end if
-      if (.not. err%found .and. p%suspension_settling .and. p%max_porosity >= 1.0_wp) then
-        call set_error(err, g, 'suspension_settling', '.true.', '.false. unless ' // &
-          'max_porosity < 1 (only a solid that loses its grain contacts is suspended)')
+      call check_suspension_option(err, g, 'suspension_cell_bound', p%suspension_cell_bound, &
+        p%max_porosity)
+      call check_suspension_option(err, g, 'suspension_settling', p%suspension_settling, &
+        p%max_porosity)
+      if (.not. err%found .and. p%compaction_index /= 0.0_wp .and. &
+        trim(p%model) /= 'critical_state_sand') then
+        call check_real(err, g, 'compaction_index', p%compaction_index, &
+          '0 (only a critical_state_sand solid compacts at low effective stress)', &
+          min_value=0.0_wp, max_value=0.0_wp)
       end if
       call check_min_porosity(p, g, err)
       if (.not. err%found .and. p%modulus_exponent /= 0.0_wp .and. &
@@ -320,6 +322,19 @@ contains
       call check_velocity_history(p, g, err)
     end associate
   end subroutine check_boundary
+
+  !> An option of the suspended particles (`name`, `.true.` when `on`) of the `&solid` labelled
+  !! `g`: only with a loosest packing (`max_porosity` < 1).
+  subroutine check_suspension_option(err, g, name, on, max_porosity)
+    type(config_error_t), intent(inout) :: err  !< problem record
+    character(len=*), intent(in) :: g           !< group label
+    character(len=*), intent(in) :: name        !< the option's variable
+    logical, intent(in) :: on                   !< its value
+    real(wp), intent(in) :: max_porosity        !< the group's `max_porosity`
+    if (err%found .or. .not. on .or. max_porosity < 1.0_wp) return
+    call set_error(err, g, name, '.true.', '.false. unless max_porosity < 1 (only a solid ' // &
+      'that loses its grain contacts is suspended)')
+  end subroutine check_suspension_option
 
   !> `min_porosity` of one `&solid` (label `g`): 0 (off), or for a contractant Mohr-Coulomb
   !! solid (dilation_angle < 0, which then needs it) 0 < value < porosity.

@@ -194,6 +194,13 @@ BAD_MPMICE_INPUTS = [
     ("suspension_settling_without_loosest_packing", "",
      ["&solid name = 'soil', model = 'mohr_coulomb', suspension_settling = .true. /"],
      ["--set", "&solid(1) suspension_settling = .true.", "max_porosity < 1"]),
+    ("compaction_for_mohr_coulomb", "",
+     ["&solid name = 'soil', model = 'mohr_coulomb', compaction_index = 0.01 /"],
+     ["--set", "&solid(1) compaction_index = 0.01", "only a critical_state_sand solid"]),
+    ("compaction_pressure_zero", "",
+     ["&solid name = 'soil', model = 'critical_state_sand', compaction_index = 0.01, "
+      "compaction_pressure = 0.0 /"],
+     ["--set", "&solid(1) compaction_pressure = 0.0", "> 0 [Pa]"]),
     ("dilation_below_minus_friction", "", ["&solid name = 'soil', model = 'mohr_coulomb', "
                                             "friction_angle = 30, dilation_angle = -40 /"],
      ["--set", "&solid(1) dilation_angle = -40.0", "-friction_angle..friction_angle (30.0)"]),
