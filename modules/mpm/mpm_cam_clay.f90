@@ -25,6 +25,7 @@
 module mpm_cam_clay
   use mpmice_kinds, only: wp
   use mpm_illinois, only: illinois_point, illinois_update
+  use mpm_tensor, only: mean_pressure
   implicit none
   private
 
@@ -59,7 +60,7 @@ contains
     real(wp), intent(out) :: p       !< mean effective stress, compression positive [Pa]
     real(wp), intent(out) :: q       !< deviator stress [Pa]
     real(wp), intent(out) :: s(6)    !< deviatoric stress [Pa]
-    p = -(sig(1) + sig(2) + sig(3)) / 3.0_wp
+    p = mean_pressure(sig)
     s = sig
     s(1:3) = s(1:3) + p
     q = sqrt(1.5_wp * (s(1)**2 + s(2)**2 + s(3)**2 + 2.0_wp * (s(4)**2 + s(5)**2 + s(6)**2)))

@@ -7,7 +7,7 @@
 !! Modified Cam-Clay and the critical-state sand are rate models of the same frame.
 module mpm_constitutive
   use mpmice_kinds, only: wp
-  use mpm_tensor, only: polar_rotation, rotate_to, rotate_from, mat_to_sym, det3
+  use mpm_tensor, only: polar_rotation, rotate_to, rotate_from, mat_to_sym, det3, mean_pressure
   use mpm_elastic, only: elastic_increment, lame_from_young
   use mpm_neo_hookean, only: neo_hookean_stress
   use mpm_mohr_coulomb, only: mc_params_t, mc_params, mc_return
@@ -132,7 +132,7 @@ contains
     lam = mat%lambda
     mu = mat%mu
     if (mat%modulus_exponent == 0.0_wp) return
-    p = -(sig(1) + sig(2) + sig(3)) / 3.0_wp
+    p = mean_pressure(sig)
     fac = (max(p, modulus_floor * mat%modulus_p_ref) / mat%modulus_p_ref)**mat%modulus_exponent
     lam = lam * fac
     mu = mu * fac
@@ -239,7 +239,7 @@ contains
     !> Cam-Clay's preconsolidation or the sand's compaction pressure p_c [Pa]
     real(wp), intent(inout), optional :: hardening
     real(wp), intent(inout), optional :: cyclic(css_n_cyclic)  !< sand's cyclic state
-    real(wp) :: r(3, 3), deps(6), dep, pc, devd, dgamma, lam, mu, psi, p_start, p_end
+    real(wp) :: r(3, 3), deps(6), dep, pc, devd, dgamma, lam, mu, psi, p_start, p_end, phi
     select case (mat%model)
     case (model_neo_hookean)
       stress = neo_hookean_stress(mat%lambda, mat%mu, f)
@@ -268,7 +268,7 @@ contains
         return
       end if
       call current_moduli(mat, stress_unrot, lam, mu)       ! at the start of the step
-      p_start = -(stress_unrot(1) + stress_unrot(2) + stress_unrot(3)) / 3.0_wp
+      p_start = mean_pressure(stress_unrot)
       dgamma = 2.0_wp * deps(4)                                           ! gamma_xy
       if (mat%model == model_critical_state_sand .and. mat%css%elastic_amp .and. &
         mat%css%c1 > 0.0_wp .and. present(cyclic)) then
@@ -286,18 +286,19 @@ contains
           call css_densify(mat%css, dgamma, dt, cyclic, devd)
           stress_unrot(1:3) = stress_unrot(1:3) + (lam + 2.0_wp * mu / 3.0_wp) * devd
         end if
+        phi = mat%solid_fraction0 / det3(f)
         if (mat%css%lambda_c > 0.0_wp .and. present(hardening)) then
           ! p_c at least the p' of the step's start, then the compaction of the trial stress
           hardening = max(hardening, p_start)
-          call css_compaction(mat%css, lam + 2.0_wp * mu / 3.0_wp, &
-            mat%solid_fraction0 / det3(f), stress_unrot, hardening)
+          call css_compaction(mat%css, lam + 2.0_wp * mu / 3.0_wp, phi, stress_unrot, &
+            hardening)
         end if
-        call css_return(mat%css, lam, mu, mat%solid_fraction0 / det3(f), dt, stress_unrot, dep)
+        call css_return(mat%css, lam, mu, phi, dt, stress_unrot, dep)
         plastic_strain = plastic_strain + dep
         if (mat%css%lambda_c > 0.0_wp .and. present(hardening)) then
           ! p_c follows p' up; a packing that flows in shear keeps no memory of its past
           ! consolidation (p_c = p'), nor one that lost all its effective stress (0)
-          p_end = max(-(stress_unrot(1) + stress_unrot(2) + stress_unrot(3)) / 3.0_wp, 0.0_wp)
+          p_end = max(mean_pressure(stress_unrot), 0.0_wp)
           hardening = merge(p_end, max(hardening, p_end), dep > 0.0_wp)
           if (p_end <= 0.0_wp) hardening = 0.0_wp
         end if

@@ -55,6 +55,7 @@
 module mpm_critical_state_sand
   use mpmice_kinds, only: wp
   use mpm_illinois, only: illinois_point, illinois_update
+  use mpm_tensor, only: mean_pressure
   implicit none
   private
 
@@ -138,7 +139,7 @@ contains
     real(wp) :: p_tr, s(6), tau_tr, kb, lo, hi, r_lo, r_hi, gam, r, p, tau
     integer :: it, side
     deps_p = 0.0_wp
-    p_tr = -(sig(1) + sig(2) + sig(3)) / 3.0_wp
+    p_tr = mean_pressure(sig)
     s = sig
     s(1:3) = s(1:3) + p_tr
     tau_tr = sqrt(0.5_wp * (s(1)**2 + s(2)**2 + s(3)**2) + s(4)**2 + s(5)**2 + s(6)**2)
@@ -216,7 +217,7 @@ contains
     real(wp) :: p_tr, x, h, dh, step, base
     integer :: it
     if (prm%lambda_c <= 0.0_wp .or. phi >= prm%phi_m) return
-    p_tr = -(sig(1) + sig(2) + sig(3)) / 3.0_wp
+    p_tr = mean_pressure(sig)
     if (p_tr <= pc) return
     base = log(pc + prm%p_a)
     x = (p_tr - pc) / kb

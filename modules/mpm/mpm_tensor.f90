@@ -7,6 +7,7 @@ module mpm_tensor
   private
 
   public :: sym_to_mat, mat_to_sym, det3, polar_rotation, sym_eigen, rotate_to, rotate_from, mul3
+  public :: mean_pressure
 
 contains
 
@@ -44,6 +45,13 @@ contains
       - a(1, 2) * (a(2, 1) * a(3, 3) - a(2, 3) * a(3, 1)) &
       + a(1, 3) * (a(2, 1) * a(3, 2) - a(2, 2) * a(3, 1))
   end function det3
+
+  !> Mean effective stress p' = -tr(sig) / 3 [Pa] (compression positive) of a stress `sig` in
+  !! Voigt order (xx, yy, zz, xy, yz, xz), tension positive.
+  pure real(wp) function mean_pressure(sig) result(p)
+    real(wp), intent(in) :: sig(6)  !< stress [Pa]
+    p = -(sig(1) + sig(2) + sig(3)) / 3.0_wp
+  end function mean_pressure
 
   !> Rotation R of the polar decomposition F = V R = R U (eq. 12), det F > 0. Closed form when F
   !! only mixes x and y (1D/2D); otherwise Higham's scaled Newton iteration R <- (R + R^-T)/2.
