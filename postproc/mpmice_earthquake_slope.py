@@ -45,7 +45,7 @@ import numpy as np
 from postproc import measures
 from postproc.figures import pyplot, save_figure
 from postproc.measures import by_id, masses  # noqa: F401  (also used by the test)
-from postproc.mpmice_io import cell_centres, parse_run_dir
+from postproc.mpmice_io import cell_centres, parse_compare_runs, parse_run_dir
 
 NAME = "quake"
 STILL_LEVEL = 3.5            # m
@@ -87,12 +87,12 @@ def shaking_parts(shaking: tuple) -> tuple[float, float, float, float]:
     return a, f, duration, (shaking[3] if len(shaking) > 3 else 0.0)
 
 
-def base_shaking(run_dir: str) -> tuple[float, float, float, float]:
+def base_shaking(run_dir: str, name: str = NAME) -> tuple[float, float, float, float]:
     """The base's shaking (amplitude a [m/s^2] along x, frequency [Hz], duration [s], start
-    [s]) as the run's echo ``<run_dir>/quake.used.nml`` gives it; the shipped scene's 1 g,
-    2 Hz, 1 s from 0 s when the echo is missing."""
+    [s]) as the run's echo ``<run_dir>/<name>.used.nml`` gives it (the rigid solid named
+    'base'); the shipped slope's 1 g, 2 Hz, 1 s from 0 s when the echo is missing."""
     from postproc.namelist import parse_namelist_groups
-    path = os.path.join(run_dir, f"{NAME}.used.nml")
+    path = os.path.join(run_dir, f"{name}.used.nml")
     if not os.path.exists(path):
         return AMPLITUDE, FREQUENCY, DURATION, 0.0
     with open(path, encoding="utf-8") as handle:
@@ -484,24 +484,13 @@ def cycles_figure(runs: dict[str, list[dict]], out: str) -> str:
 
 def compare_main(argv) -> int:
     """``--compare LABEL=DIR [LABEL=DIR ...] --out DIR``: the r_u / displacement figure."""
-    import argparse
-    from postproc.mpmice_io import read_run_dumps
-    parser = argparse.ArgumentParser(description="r_u and displacement of several runs")
-    parser.add_argument("--compare", nargs="+", required=True, metavar="LABEL=DIR")
-    parser.add_argument("--out", default=".")
-    args = parser.parse_args(argv)
-    runs = {}
-    for item in args.compare:
-        label, _, path = item.partition("=")
-        try:
-            runs[label] = analyse(read_run_dumps(path, NAME), base_shaking(path))
-        except RuntimeError as error:
-            raise SystemExit(str(error)) from None
-        print(f"== {label}: {path}")
-        print_table(runs[label])
-        print_cycle_table(cycle_table(runs[label], runs[label][0]["shaking"]))
-        print_cycle_diagnostics(runs[label], cycle_diagnostics(runs[label], runs[label][0]["shaking"]))
-    os.makedirs(args.out, exist_ok=True)
+    args, runs = parse_compare_runs("r_u and displacement of several runs", NAME,
+                                    lambda dumps, path: analyse(dumps, base_shaking(path)), argv)
+    for label, rows in runs.items():
+        print(f"== {label}")
+        print_table(rows)
+        print_cycle_table(cycle_table(rows, rows[0]["shaking"]))
+        print_cycle_diagnostics(rows, cycle_diagnostics(rows, rows[0]["shaking"]))
     print(f"plot: {compare(runs, args.out)}")
     print(f"plot: {cycles_figure(runs, args.out)}")
     return 0

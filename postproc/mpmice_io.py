@@ -157,6 +157,26 @@ def parse_run_dir(description: str, name: str, argv=None,
     return args, dumps
 
 
+def parse_compare_runs(description: str, name: str, analyse, argv=None):
+    """Command line of a script that compares runs: ``--compare LABEL=DIR [LABEL=DIR ...]``
+    and ``--out DIR`` (default '.', created). Returns the parsed arguments and {label:
+    ``analyse(dumps, DIR)``} with the dumps ``<name>_<step>.h5`` of each DIR, in the order
+    given; exits with the reader's message when a DIR has none."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--compare", nargs="+", required=True, metavar="LABEL=DIR")
+    parser.add_argument("--out", default=".")
+    args = parser.parse_args(argv)
+    runs = {}
+    for item in args.compare:
+        label, _, path = item.partition("=")
+        try:
+            runs[label] = analyse(read_run_dumps(path, name), path)
+        except (RuntimeError, OSError) as error:
+            raise SystemExit(str(error)) from None
+    os.makedirs(args.out, exist_ok=True)
+    return args, runs
+
+
 def _grid_geometry(dump: dict):
     attrs = dump["attrs"] if "attrs" in dump else dump
     ncells = np.asarray(attrs["ncells"], dtype=int).reshape(3)
