@@ -5,7 +5,8 @@ docs/earthquake_liquefaction.md "Level ground: the build-up cycle by cycle").
 Usage:  python -m postproc.mpmice_level_ground --dir output/mpmice_level_ground_loose_1d
         python -m postproc.mpmice_level_ground --compare loose=DIR1 dense=DIR2 [--out DIR]
 
-The layer's particles are grouped by their initial height above the base's top (BANDS). Per band
+The layer's particles are grouped by their initial height above the base's top (BANDS, cut
+below the layer's top cell, which is left out). Per band
 and dump: the loss of vertical effective stress 1 - sigma'_v / sigma'_v0 (the band's mean
 -sigma_yy against its mean at the start), the pore-pressure ratio r_u = (mean excess pore
 pressure of the band's cells, the cell pressure minus that of the first dump, hydrostatic) /
@@ -34,17 +35,22 @@ from postproc.mpmice_io import cell_centres, parse_compare_runs, parse_run_dir
 
 NAME = "level"
 SOLID, BASE = "sand", "base"
-#: bands of the layer by initial height above the base's top [m] (the layer is 2 m thick; its
-#: top cell, 1.9-2.0 m, is left out: see SURFACE)
+#: bands of the layer by initial height above the base's top [m], cut at the layer's top cell,
+#: which is left out (`layer_bands`: under the open boundary it takes a suction of 1-2 kPa during
+#: the shaking, docs/earthquake_liquefaction.md); the shipped layer is 2 m thick
 BANDS = ((0.0, 0.3), (0.3, 0.7), (0.7, 1.1), (1.1, 1.5), (1.5, 1.9))
-#: height above the base [m] from which the cells are left out: the layer's top cell, under the
-#: open boundary, takes a suction of 1-2 kPa during the shaking (docs/earthquake_liquefaction.md)
-SURFACE = 1.9
 
 
-def band_labels() -> list[str]:
-    """'a-b m' for each of BANDS."""
-    return [f"{a:g}-{b:g} m" for a, b in BANDS]
+def layer_bands(top: float, dy: float) -> list[tuple[float, float]]:
+    """BANDS below the layer's top cell (heights up to ``top - dy``, ``top`` the layer's initial
+    height above the base), the last one cut there; bands above it are dropped."""
+    surface = top - dy
+    return [(a, min(b, surface)) for a, b in BANDS if a < surface - 1e-9]
+
+
+def band_labels(bands) -> list[str]:
+    """'a-b m' for each band."""
+    return [f"{a:g}-{b:g} m" for a, b in bands]
 
 
 def base_top(dump: dict) -> float:
@@ -55,26 +61,29 @@ def base_top(dump: dict) -> float:
 
 
 def analyse(dumps: list[dict], shaking: tuple) -> list[dict]:
-    """Per dump: ``time``, and per band (lists in the order of BANDS) ``lost`` (1 - sigma'_v /
+    """Per dump: ``time``, and per band (lists in the order of ``bands``) ``lost`` (1 - sigma'_v /
     sigma'_v0), ``ru`` (excess cell pressure / sigma'_v0) and ``csr`` (|tau_xy| / sigma'_v0);
-    ``cell_ru`` and ``cell_height``: the largest r_u of a row of cells below SURFACE (its excess
-    pressure over the mean sigma'_v0 of the particles that start in it) and that row's centre
-    height above the base [m]; ``shaking`` is kept with every row."""
+    ``cell_ru`` and ``cell_height``: the largest r_u of a row of cells below the layer's top cell
+    (its excess pressure over the mean sigma'_v0 of the particles that start in it) and that
+    row's centre height above the base [m]; ``shaking`` and ``bands`` (:func:`layer_bands`) are
+    kept with every row."""
     first = by_id(dumps[0]["particles"][SOLID])
     height = first["y"] - base_top(dumps[0])
     sv0 = -first["stress_yy"]
-    members = [(height >= a) & (height < b) for a, b in BANDS]
+    dy = float(dumps[0]["attrs"]["dx"][1])
+    bands = layer_bands(float(np.max(height)) + 0.25 * dy, dy)
+    members = [(height >= a) & (height < b) for a, b in bands]
     yc = cell_centres(dumps[0])[1] - base_top(dumps[0])
-    rows_of = [(yc >= a) & (yc < b) for a, b in BANDS]
-    dy = dumps[0]["attrs"]["dx"][1]
-    layer = np.nonzero((yc > 0.0) & (yc < SURFACE))[0]
+    rows_of = [(yc >= a) & (yc < b) for a, b in bands]
+    layer = np.nonzero((yc > 0.0) & (yc < bands[-1][1]))[0]
     row_sv0 = np.array([np.mean(sv0[np.abs(height - yc[j]) < 0.5 * dy]) for j in layer])
     p0 = dumps[0]["cell"]["pressure"].mean(axis=(0, 2))
     rows = []
     for dump in dumps:
         parts = by_id(dump["particles"][SOLID])
         p = dump["cell"]["pressure"].mean(axis=(0, 2)) - p0
-        row = {"time": dump["time"], "shaking": shaking, "lost": [], "ru": [], "csr": []}
+        row = {"time": dump["time"], "shaking": shaking, "bands": bands, "lost": [], "ru": [],
+               "csr": []}
         for k, cells in zip(members, rows_of):
             ref = float(np.mean(sv0[k]))
             row["lost"].append(1.0 - float(np.mean(-parts["stress_yy"][k])) / ref)
@@ -89,10 +98,11 @@ def analyse(dumps: list[dict], shaking: tuple) -> list[dict]:
 
 def cycle_table(rows: list[dict]) -> list[dict]:
     """Per shaking cycle n: r_u and the loss of sigma'_v at its end, the largest loss and CSR
-    within it (lists in the order of BANDS)."""
+    within it (lists in the order of the bands)."""
     table = []
     for n, inside, end in shaking_cycles(rows, rows[0]["shaking"]):
-        table.append({"cycle": n, "time": end["time"], "ru": end["ru"], "lost": end["lost"],
+        table.append({"cycle": n, "time": end["time"], "bands": end["bands"], "ru": end["ru"],
+                      "lost": end["lost"],
                       "max_lost": list(np.max([r["lost"] for r in inside], axis=0)),
                       "cell_ru": end["cell_ru"], "cell_height": end["cell_height"],
                       "csr": list(np.max([r["csr"] for r in inside], axis=0))})
@@ -101,7 +111,8 @@ def cycle_table(rows: list[dict]) -> list[dict]:
 
 def print_cycle_table(table: list[dict]) -> None:
     """The table of :func:`cycle_table`, one line per cycle."""
-    print("bands by initial height above the base: " + " / ".join(band_labels()))
+    print("bands by initial height above the base: " + " / ".join(band_labels(table[0]["bands"]))
+          if table else "no complete shaking cycle in the dumps")
     print("cycle  t [s]  r_u at the end | loss of sigma'_v at the end (largest) | largest CSR"
           " | largest r_u of a cell row at the end, its height [m]")
     for c in table:
@@ -116,8 +127,9 @@ def write_csv(runs: dict[str, list[dict]], path: str) -> str:
     """Per run and dump: time, r_u and the loss of sigma'_v per band."""
     with open(path, "w", newline="", encoding="utf-8") as handle:
         out = csv.writer(handle)
-        out.writerow(["run", "time_s"] + [f"ru_{b}" for b in band_labels()]
-                     + [f"lost_{b}" for b in band_labels()])
+        labels = band_labels(next(iter(runs.values()))[0]["bands"])
+        out.writerow(["run", "time_s"] + [f"ru_{b}" for b in labels]
+                     + [f"lost_{b}" for b in labels])
         for label, rows in runs.items():
             for r in rows:
                 out.writerow([label, f"{r['time']:.4f}"] + [f"{v:.4f}" for v in r["ru"]]
@@ -129,7 +141,8 @@ def figure(runs: dict[str, list[dict]], out: str) -> str:
     """The base acceleration a(t)/g, the largest r_u of a cell row and r_u of each band against
     time, every run; returns the path of level_ground_ru.png."""
     plt = pyplot()
-    fig, axes = plt.subplots(len(BANDS) + 2, 1, figsize=(8.0, 12.0), sharex=True)
+    labels = band_labels(next(iter(runs.values()))[0]["bands"])
+    fig, axes = plt.subplots(len(labels) + 2, 1, figsize=(8.0, 12.0), sharex=True)
     bands = list(reversed(axes[2:]))          # the deepest band at the bottom
     for n, (label, rows) in enumerate(runs.items()):
         t = np.array([r["time"] for r in rows])
@@ -145,7 +158,7 @@ def figure(runs: dict[str, list[dict]], out: str) -> str:
     axes[0].legend(fontsize=8, loc="upper right")
     axes[1].set_ylabel("r_u, largest\nof a cell row", fontsize=8)
     for b, ax in enumerate(bands):
-        ax.set_ylabel(f"r_u, {band_labels()[b]}", fontsize=8)
+        ax.set_ylabel(f"r_u, {labels[b]}", fontsize=8)
     for ax in axes[1:]:
         ax.axhline(1.0, color="k", lw=0.8)
         ax.axhline(0.0, color="0.6", lw=0.6)
