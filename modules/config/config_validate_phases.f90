@@ -148,19 +148,13 @@ contains
         p%max_porosity)
       call check_suspension_option(err, g, 'suspension_settling', p%suspension_settling, &
         p%max_porosity)
-      if (.not. err%found .and. p%compaction_index /= 0.0_wp .and. &
-        trim(p%model) /= 'critical_state_sand') then
-        call check_real(err, g, 'compaction_index', p%compaction_index, &
-          '0 (only a critical_state_sand solid compacts at low effective stress)', &
-          min_value=0.0_wp, max_value=0.0_wp)
-      end if
+      call check_zero_unless(err, g, 'compaction_index', p%compaction_index, &
+        trim(p%model) == 'critical_state_sand', &
+        'only a critical_state_sand solid compacts at low effective stress')
       call check_min_porosity(p, g, err)
-      if (.not. err%found .and. p%modulus_exponent /= 0.0_wp .and. &
-        trim(p%model) /= 'mohr_coulomb' .and. trim(p%model) /= 'critical_state_sand') then
-        call check_real(err, g, 'modulus_exponent', p%modulus_exponent, &
-          '0 (only a mohr_coulomb solid or a critical_state_sand solid has a ' // &
-          'pressure-dependent modulus)', min_value=0.0_wp, max_value=0.0_wp)
-      end if
+      call check_zero_unless(err, g, 'modulus_exponent', p%modulus_exponent, &
+        trim(p%model) == 'mohr_coulomb' .or. trim(p%model) == 'critical_state_sand', &
+        'only a mohr_coulomb solid or a critical_state_sand solid has a pressure-dependent modulus')
       if (.not. err%found .and. any(p%traction /= 0.0_wp .and. &
         p%traction_upper <= p%traction_lower)) then
         call set_error(err, g, 'traction_upper', reals_repr(p%traction_upper), &
@@ -335,6 +329,19 @@ contains
     call set_error(err, g, name, '.true.', '.false. unless max_porosity < 1 (only a solid ' // &
       'that loses its grain contacts is suspended)')
   end subroutine check_suspension_option
+
+  !> A model's own variable `name` of the `&solid` labelled `g`: 0 unless the group's model uses
+  !! it (`applies`); `why` says which model does.
+  subroutine check_zero_unless(err, g, name, value, applies, why)
+    type(config_error_t), intent(inout) :: err  !< problem record
+    character(len=*), intent(in) :: g           !< group label
+    character(len=*), intent(in) :: name        !< the variable
+    real(wp), intent(in) :: value               !< its value
+    logical, intent(in) :: applies              !< the group's model uses it
+    character(len=*), intent(in) :: why         !< the model that uses it, for the message
+    if (err%found .or. applies .or. value == 0.0_wp) return
+    call check_real(err, g, name, value, '0 (' // why // ')', min_value=0.0_wp, max_value=0.0_wp)
+  end subroutine check_zero_unless
 
   !> `min_porosity` of one `&solid` (label `g`): 0 (off), or for a contractant Mohr-Coulomb
   !! solid (dilation_angle < 0, which then needs it) 0 < value < porosity.
