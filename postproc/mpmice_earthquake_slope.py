@@ -487,7 +487,7 @@ def compare_main(argv) -> int:
     args, runs = parse_compare_runs("r_u and displacement of several runs", NAME,
                                     lambda dumps, path: analyse(dumps, base_shaking(path)), argv)
     for label, rows in runs.items():
-        print(f"== {label}")
+        print(f"== {label}: {args.paths[label]}")
         print_table(rows)
         print_cycle_table(cycle_table(rows, rows[0]["shaking"]))
         print_cycle_diagnostics(rows, cycle_diagnostics(rows, rows[0]["shaking"]))

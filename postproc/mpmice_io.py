@@ -159,16 +159,18 @@ def parse_run_dir(description: str, name: str, argv=None,
 
 def parse_compare_runs(description: str, name: str, analyse, argv=None):
     """Command line of a script that compares runs: ``--compare LABEL=DIR [LABEL=DIR ...]``
-    and ``--out DIR`` (default '.', created). Returns the parsed arguments and {label:
-    ``analyse(dumps, DIR)``} with the dumps ``<name>_<step>.h5`` of each DIR, in the order
-    given; exits with the reader's message when a DIR has none."""
+    and ``--out DIR`` (default '.', created). Returns the parsed arguments (with ``paths``:
+    {label: DIR}) and {label: ``analyse(dumps, DIR)``} with the dumps ``<name>_<step>.h5`` of
+    each DIR, in the order given; exits with the reader's message when a DIR has none."""
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--compare", nargs="+", required=True, metavar="LABEL=DIR")
     parser.add_argument("--out", default=".")
     args = parser.parse_args(argv)
     runs = {}
+    args.paths = {}
     for item in args.compare:
         label, _, path = item.partition("=")
+        args.paths[label] = path
         try:
             runs[label] = analyse(read_run_dumps(path, name), path)
         except (RuntimeError, OSError) as error:

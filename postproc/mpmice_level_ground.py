@@ -180,7 +180,7 @@ def compare_main(argv) -> int:
                                     lambda dumps, path: analyse(dumps, base_shaking(path, NAME)),
                                     argv)
     for label, rows in runs.items():
-        print(f"== {label}")
+        print(f"== {label}: {args.paths[label]}")
         print_cycle_table(cycle_table(rows))
     print(f"plot: {figure(runs, args.out)}")
     print(f"csv: {write_csv(runs, os.path.join(args.out, 'level_ground_ru.csv'))}")
