@@ -335,7 +335,7 @@ contains
     case default
       return
     end select
-    if ((sig(1) + sig(2) + sig(3)) / 3.0_wp < apex) return
+    if (-mean_pressure(sig) < apex) return   ! the mean stress, tension positive
     sig(1:3) = apex
     sig(4:6) = 0.0_wp
   end subroutine apex_limit

@@ -92,23 +92,23 @@ contains
     logical, intent(in) :: closed(6)         !< the faces the particles may not pass
     integer, intent(out) :: moved            !< particles put back
     integer :: ip, d
-    real(wp) :: lo, hi, x
+    real(wp) :: lo(3), hi(3), x
     logical :: back
     moved = 0
     if (.not. any(closed)) return
+    lo = grid%lower
+    hi = grid%upper - 1.0e-9_wp * grid%dx
     do ip = 1, p%np
       back = .false.
       do d = 1, 3
         if (.not. grid%active(d) .or. grid%periodic(d)) cycle
-        lo = grid%lower(d)
-        hi = grid%upper(d) - 1.0e-9_wp * grid%dx(d)
         x = p%x(d, ip)
-        if (closed(2 * d - 1) .and. x < lo) then
-          p%x(d, ip) = lo
+        if (closed(2 * d - 1) .and. x < lo(d)) then
+          p%x(d, ip) = lo(d)
           p%v(d, ip) = max(p%v(d, ip), 0.0_wp)
         end if
-        if (closed(2 * d) .and. x > hi) then
-          p%x(d, ip) = hi
+        if (closed(2 * d) .and. x > hi(d)) then
+          p%x(d, ip) = hi(d)
           p%v(d, ip) = min(p%v(d, ip), 0.0_wp)
         end if
         back = back .or. p%x(d, ip) /= x
