@@ -54,10 +54,9 @@ def band_labels(bands) -> list[str]:
 
 
 def base_top(dump: dict) -> float:
-    """Height of the base's top [m]: the highest base particle plus half its spacing (2 per
-    cell)."""
-    y = dump["particles"][BASE]["y"]
-    return float(np.max(y) + 0.25 * dump["attrs"]["dx"][1])
+    """Height of the base's top [m]: midway between its highest particle and the layer's lowest
+    (the two seeded with the same spacing, whatever the particles per cell)."""
+    return 0.5 * float(np.max(dump["particles"][BASE]["y"]) + np.min(dump["particles"][SOLID]["y"]))
 
 
 def analyse(dumps: list[dict], shaking: tuple) -> list[dict]:
@@ -68,12 +67,14 @@ def analyse(dumps: list[dict], shaking: tuple) -> list[dict]:
     row's centre height above the base [m]; ``shaking`` and ``bands`` (:func:`layer_bands`) are
     kept with every row."""
     first = by_id(dumps[0]["particles"][SOLID])
-    height = first["y"] - base_top(dumps[0])
+    bottom = base_top(dumps[0])
+    height = first["y"] - bottom
     sv0 = -first["stress_yy"]
     dy = float(dumps[0]["attrs"]["dx"][1])
-    bands = layer_bands(float(np.max(height)) + 0.25 * dy, dy)
+    # the layer's top: its highest particle plus half the spacing (the lowest one's height)
+    bands = layer_bands(float(np.max(height) + np.min(height)), dy)
     members = [(height >= a) & (height < b) for a, b in bands]
-    yc = cell_centres(dumps[0])[1] - base_top(dumps[0])
+    yc = cell_centres(dumps[0])[1] - bottom
     rows_of = [(yc >= a) & (yc < b) for a, b in bands]
     layer = np.nonzero((yc > 0.0) & (yc < bands[-1][1]))[0]
     row_sv0 = np.array([np.mean(sv0[np.abs(height - yc[j]) < 0.5 * dy]) for j in layer])
