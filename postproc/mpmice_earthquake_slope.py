@@ -198,17 +198,19 @@ def cell_excess_pressure(dump: dict, level: float = STILL_LEVEL,
     return dump["cell"][field][:, :, 0] - hydrostatic_pressure(y, level)[None, :]
 
 
-def pore_pressure_roughness(dump: dict, min_fraction: float = 0.3,
-                            field: str = "pressure") -> tuple[float, float]:
+def pore_pressure_roughness(dump: dict, min_fraction: float = 0.3, field: str = "pressure",
+                            level: float = STILL_LEVEL, solid: str = SEDIMENT,
+                            base: str = BASE) -> tuple[float, float]:
     """(99th percentile, largest) of |a sediment cell's excess pore pressure minus the mean of
     its two x neighbours| [Pa] (periodic in x): the cell-to-cell noise of the pore pressure in a
     layer that is uniform along x (docs/mpmice.md, known problems). Sediment cells: sediment
     volume fraction above `min_fraction`, no base, both x neighbours sediment cells too; (0, 0)
-    when there are none. `field`: as :func:`cell_excess_pressure`."""
-    ex = cell_excess_pressure(dump, field=field)
-    sed = dump["cell"][f"{SEDIMENT}/volume_fraction"][:, :, 0]
-    base = dump["cell"][f"{BASE}/volume_fraction"][:, :, 0]
-    cells = (sed > min_fraction) & (base < 1e-3)
+    when there are none. `field`, `level`: as :func:`cell_excess_pressure`; `solid`, `base`: the
+    sediment's and the base's names."""
+    ex = cell_excess_pressure(dump, level, field)
+    sed = dump["cell"][f"{solid}/volume_fraction"][:, :, 0]
+    rigid = dump["cell"][f"{base}/volume_fraction"][:, :, 0]
+    cells = (sed > min_fraction) & (rigid < 1e-3)
     inner = cells & np.roll(cells, 1, axis=0) & np.roll(cells, -1, axis=0)
     if not np.any(inner):
         return 0.0, 0.0
