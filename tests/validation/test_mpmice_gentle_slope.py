@@ -9,7 +9,7 @@ loses 0.23 / 0.62 / 0.76 of its vertical effective stress at the ends of cycles 
 0.51 / 0.60), and the loose flanks' surface moves away from the crest, the left one by 1.1 / 4.7
 / 8.6 cm, the right one by 0.0 / 0.3 / 1.6 cm; the dense layer under the crest loses 0.01 / 0.06
 / 0.08 and the dense flanks move less than 0.5 mm.
-Both runs side by side, about 80 s on the idle machine."""
+Both runs side by side, about 90 s."""
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
