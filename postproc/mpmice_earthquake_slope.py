@@ -128,6 +128,16 @@ def shaking_cycles(rows: list[dict], shaking: tuple[float, float, float]):
         yield n, inside, rows[int(np.argmin(np.abs(t - t1)))]
 
 
+def mark_cycle_ends(axes, shaking: tuple, until: float | None = None) -> None:
+    """Grey vertical lines on every axis at the ends of the shaking's cycles, start + n / f, up
+    to `until` [s] (default: the shaking's end)."""
+    _, f, duration, start = shaking_parts(shaking)
+    end = start + duration if until is None else until
+    for ax in axes:
+        for c in np.arange(start + 1.0 / f, end + 1e-9, 1.0 / f):
+            ax.axvline(c, color="0.85", lw=0.6, zorder=0)
+
+
 def cycle_table(rows: list[dict], shaking: tuple[float, float, float]) -> list[dict]:
     """Per shaking cycle n (t in (start + (n-1)/f, start + n/f]): r_u at each monitor at the
     cycle's end (the dump nearest start + n/f) and its largest value within the cycle."""
@@ -473,10 +483,7 @@ def cycles_figure(runs: dict[str, list[dict]], out: str) -> str:
         ax.axhline(1.0, color="k", lw=0.8)
         ax.axhline(0.0, color="0.6", lw=0.6)
         ax.set_ylabel(f"r_u, {key}", fontsize=8)
-    for ax in axes:
-        _, f, _, start = shaking_parts(next(iter(runs.values()))[0]["shaking"])
-        for c in np.arange(start + 1.0 / f, t_end + 1e-9, 1.0 / f):
-            ax.axvline(c, color="0.85", lw=0.6, zorder=0)
+    mark_cycle_ends(axes, next(iter(runs.values()))[0]["shaking"], t_end)
     axes[-1].set_xlabel("t [s] (grey lines: the end of each shaking cycle)")
     fig.tight_layout()
     path = os.path.join(out, "earthquake_slope_ru_cycles.png")

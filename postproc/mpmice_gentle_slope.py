@@ -39,9 +39,10 @@ import numpy as np
 from postproc.figures import pyplot, save_figure
 from postproc.measures import by_id
 from postproc.mpmice_earthquake_slope import (G, base_acceleration, base_shaking, domain_length,
-                                              pore_pressure_roughness, shaking_cycles,
-                                              shaking_parts, shear_ratio, unwrapped)
-from postproc.mpmice_io import cell_centres, parse_compare_runs, parse_run_dir
+                                              mark_cycle_ends, pore_pressure_roughness,
+                                              shaking_cycles, shaking_parts, shear_ratio,
+                                              unwrapped)
+from postproc.mpmice_io import cell_centres, run_or_compare
 
 NAME = "gentle"
 SOLID, BASE = "sand", "base"
@@ -264,10 +265,7 @@ def figure(runs: dict[str, list[dict]], out: str) -> str:
         ax.axhline(0.0, color="0.6", lw=0.6)
     axes[-1].set_ylabel("flank surface\nu_x - u_base [cm]", fontsize=8)
     axes[-1].legend(fontsize=7, loc="lower left")
-    _, f, duration, start = shaking_parts(next(iter(runs.values()))[0]["shaking"])
-    for ax in axes:
-        for c in np.arange(start + 1.0 / f, start + duration + 1e-9, 1.0 / f):
-            ax.axvline(c, color="0.85", lw=0.6, zorder=0)
+    mark_cycle_ends(axes, next(iter(runs.values()))[0]["shaking"])
     axes[-1].set_xlabel("t [s] (grey: the end of each shaking cycle)")
     fig.tight_layout()
     path = os.path.join(out, "gentle_slope.png")
@@ -283,28 +281,12 @@ def print_geometry(rows: list[dict]) -> None:
           f"{g['left']:.2f} / {g['right']:.2f} m")
 
 
-def compare_main(argv) -> int:
-    """``--compare LABEL=DIR [LABEL=DIR ...] [--out DIR]``: each run's table, the figure and
-    the CSV."""
-    args, runs = parse_compare_runs("r_u and spreading of several gentle-bank runs", NAME,
-                                    lambda dumps, path: analyse(dumps, base_shaking(path, NAME)),
-                                    argv)
-    for label, rows in runs.items():
-        print(f"== {label}: {args.paths[label]}")
-        print_summary(rows)
-    print(f"plot: {figure(runs, args.out)}")
-    print(f"csv: {write_csv(runs, os.path.join(args.out, 'gentle_slope.csv'))}")
-    return 0
-
-
 def main(argv=None) -> int:
     import sys
-    argv = sys.argv[1:] if argv is None else argv
-    if "--compare" in argv:
-        return compare_main(argv)
-    args, dumps = parse_run_dir(__doc__.splitlines()[0], NAME, argv)
-    print_summary(analyse(dumps, base_shaking(args.dir, NAME)))
-    return 0
+    return run_or_compare(sys.argv[1:] if argv is None else argv, __doc__.splitlines()[0], NAME,
+                          lambda dumps, path: analyse(dumps, base_shaking(path, NAME)),
+                          print_summary, figure,
+                          lambda runs, out: write_csv(runs, os.path.join(out, "gentle_slope.csv")))
 
 
 if __name__ == "__main__":

@@ -141,7 +141,7 @@ def parse_run_dir(description: str, name: str, argv=None,
     directory, required), ``--out DIR`` (where the plots go, created when missing; None: DIR)
     and the script's own on/off options ``flags`` {"--name": help}. Returns the parsed arguments
     and every dump ``<name>_<step>.h5`` of DIR; exits with status 1 and "no dumps
-    <name>_<step>.h5 in DIR" when there is none."""
+    <name>_<step>.h5 in DIR" when there is none (the reader's message when DIR is missing)."""
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--dir", required=True, help="output directory of a run")
     parser.add_argument("--out", default=None)
@@ -150,7 +150,7 @@ def parse_run_dir(description: str, name: str, argv=None,
     args = parser.parse_args(argv)
     try:
         dumps = read_run_dumps(args.dir, name)
-    except RuntimeError as error:
+    except (RuntimeError, OSError) as error:
         raise SystemExit(str(error)) from None
     if args.out:
         os.makedirs(args.out, exist_ok=True)
@@ -177,6 +177,24 @@ def parse_compare_runs(description: str, name: str, analyse, argv=None):
             raise SystemExit(str(error)) from None
     os.makedirs(args.out, exist_ok=True)
     return args, runs
+
+
+def run_or_compare(argv, description: str, name: str, analyse, report, figure, write_csv) -> int:
+    """The command line of a scene's report: ``--dir DIR`` prints ``report(analyse(dumps,
+    DIR))`` for one run; ``--compare LABEL=DIR [LABEL=DIR ...] [--out DIR]``
+    (:func:`parse_compare_runs`) prints it for each run under its folder, then draws
+    ``figure(runs, out)`` and writes ``write_csv(runs, out)``, each returning its path."""
+    if "--compare" in argv:
+        args, runs = parse_compare_runs(description, name, analyse, argv)
+        for label, rows in runs.items():
+            print(f"== {label}: {args.paths[label]}")
+            report(rows)
+        print(f"plot: {figure(runs, args.out)}")
+        print(f"csv: {write_csv(runs, args.out)}")
+        return 0
+    args, dumps = parse_run_dir(description, name, argv)
+    report(analyse(dumps, args.dir))
+    return 0
 
 
 def _grid_geometry(dump: dict):

@@ -29,9 +29,9 @@ import numpy as np
 
 from postproc.figures import pyplot, save_figure
 from postproc.measures import by_id
-from postproc.mpmice_earthquake_slope import (G, base_acceleration, base_shaking, shaking_cycles,
-                                              shaking_parts)
-from postproc.mpmice_io import cell_centres, parse_compare_runs, parse_run_dir
+from postproc.mpmice_earthquake_slope import (G, base_acceleration, base_shaking,
+                                              mark_cycle_ends, shaking_cycles)
+from postproc.mpmice_io import cell_centres, run_or_compare
 
 NAME = "level"
 SOLID, BASE = "sand", "base"
@@ -163,10 +163,7 @@ def figure(runs: dict[str, list[dict]], out: str) -> str:
     for ax in axes[1:]:
         ax.axhline(1.0, color="k", lw=0.8)
         ax.axhline(0.0, color="0.6", lw=0.6)
-    _, f, duration, start = shaking_parts(next(iter(runs.values()))[0]["shaking"])
-    for ax in axes:
-        for c in np.arange(start + 1.0 / f, start + duration + 1e-9, 1.0 / f):
-            ax.axvline(c, color="0.85", lw=0.6, zorder=0)
+    mark_cycle_ends(axes, next(iter(runs.values()))[0]["shaking"])
     axes[-1].set_xlabel("t [s] (grey: the end of each cycle; bands by height above the base)")
     fig.tight_layout()
     path = os.path.join(out, "level_ground_ru.png")
@@ -174,28 +171,13 @@ def figure(runs: dict[str, list[dict]], out: str) -> str:
     return path
 
 
-def compare_main(argv) -> int:
-    """``--compare LABEL=DIR [LABEL=DIR ...] [--out DIR]``: each run's table, the figure and
-    the CSV."""
-    args, runs = parse_compare_runs("r_u by depth of several level-ground runs", NAME,
-                                    lambda dumps, path: analyse(dumps, base_shaking(path, NAME)),
-                                    argv)
-    for label, rows in runs.items():
-        print(f"== {label}: {args.paths[label]}")
-        print_cycle_table(cycle_table(rows))
-    print(f"plot: {figure(runs, args.out)}")
-    print(f"csv: {write_csv(runs, os.path.join(args.out, 'level_ground_ru.csv'))}")
-    return 0
-
-
 def main(argv=None) -> int:
     import sys
-    argv = sys.argv[1:] if argv is None else argv
-    if "--compare" in argv:
-        return compare_main(argv)
-    args, dumps = parse_run_dir(__doc__.splitlines()[0], NAME, argv)
-    print_cycle_table(cycle_table(analyse(dumps, base_shaking(args.dir, NAME))))
-    return 0
+    return run_or_compare(sys.argv[1:] if argv is None else argv, __doc__.splitlines()[0], NAME,
+                          lambda dumps, path: analyse(dumps, base_shaking(path, NAME)),
+                          lambda rows: print_cycle_table(cycle_table(rows)), figure,
+                          lambda runs, out: write_csv(runs,
+                                                      os.path.join(out, "level_ground_ru.csv")))
 
 
 if __name__ == "__main__":

@@ -121,6 +121,21 @@ def run_into(folder: str, namelist: str, *sets: str, **options) -> subprocess.Co
     return run_mpmice(args, **options)
 
 
+def run_side_by_side(base: str, namelists: dict[str, str], *sets: str, report,
+                     **options) -> dict:
+    """:func:`run_into` of each ``namelists`` {label: path} into ``base``/label with the same
+    ``sets``, two runs at a time; returns {label: ``report(folder)``} in the order given."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    def one(label):
+        folder = os.path.join(base, label)
+        run_into(folder, namelists[label], *sets, cwd=base, **options)
+        return label, report(folder)
+
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        return dict(pool.map(one, namelists))
+
+
 #: The warning that the event library inside Open MPI's launcher sometimes prints while a job's
 #: processes exit (a race in its shutdown, open-mpi/ompi issues 2004 and 5520): not the
 #: program's output.

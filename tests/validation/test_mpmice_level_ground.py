@@ -10,15 +10,13 @@ dense layer's deepest band 0.02 / 0.04 / 0.05 / 0.06 / 0.07; above 1.1 m neither
 (its cyclic shear strain stays below the densification's threshold). The undrained excess pore
 pressure of the cells follows the skeleton's loss of vertical effective stress (within 0.02).
 Both runs side by side, 17 s on the idle machine."""
-from concurrent.futures import ThreadPoolExecutor
-
 import numpy as np
 import pytest
 
 from postproc import mpmice_level_ground as level
 from postproc.mpmice_earthquake_slope import base_shaking
 from postproc.mpmice_io import read_run_dumps
-from postproc.run_case import ROOT, run_into
+from postproc.run_case import ROOT, run_side_by_side
 
 pytestmark = pytest.mark.slow   # two scene runs
 
@@ -31,18 +29,14 @@ UPPER = 3                      # the band 1.1-1.5 m
 def tables(mpmice_exe, tmp_path_factory):
     """Per packing the cycle table of :func:`postproc.mpmice_level_ground.cycle_table`, both
     runs to the end of cycle CYCLES with a dump at each cycle's end."""
-    base = tmp_path_factory.mktemp("level_ground")
-
-    def run(packing):
-        out = str(base / packing)
-        run_into(out, f"{ROOT}/namelists/mpmice_level_ground_{packing}_1d.nml",
-                 f"&run end_time = {0.5 * CYCLES}, output_interval = 0.5 /", cwd=str(base),
-                 timeout=600, exe=str(mpmice_exe))
+    def report(out):
         rows = level.analyse(read_run_dumps(out, level.NAME), base_shaking(out, level.NAME))
-        return packing, level.cycle_table(rows)
+        return level.cycle_table(rows)
 
-    with ThreadPoolExecutor(max_workers=2) as pool:
-        return dict(pool.map(run, ("loose", "dense")))
+    scenes = {p: f"{ROOT}/namelists/mpmice_level_ground_{p}_1d.nml" for p in ("loose", "dense")}
+    return run_side_by_side(str(tmp_path_factory.mktemp("level_ground")), scenes,
+                            f"&run end_time = {0.5 * CYCLES}, output_interval = 0.5 /",
+                            report=report, timeout=600, exe=str(mpmice_exe))
 
 
 def test_loose_layer_builds_up_cycle_by_cycle_to_liquefaction(tables):
