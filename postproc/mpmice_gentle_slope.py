@@ -23,11 +23,13 @@ pressure minus the mean of its two x neighbours|, postproc.mpmice_earthquake_slo
 gives them per shaking cycle (the base's shaking read from the run's echo gentle.used.nml) and at
 the last dump (after the shaking the spreading either stops or goes on: flow); a second table
 per monitor and cycle the cyclic stress ratio (half the range of the monitor's mean tau_xy over
-the cycle / its sigma'_v0), the mobilised friction tau/p' at the cycle's end (of its particles'
-mean stress) and the volumetric strain's spread; the last line the noise's p99 averaged over the
-dumps of the shaking after its first 0.2 s and its largest value there. --compare prints
-each run's table, draws the base acceleration, r_u at each monitor and the flanks' displacement
-against time (gentle_slope.png) and writes the per-dump values (gentle_slope.csv).
+the cycle / its sigma'_v0), and at the cycle's end the mobilised friction tau/p' (of its
+particles' mean stress), the mean p' over the mean initial p'_0, the share of its particles at
+p' = 0 (below 0.01 p'_0) and the volumetric strain's spread; the last line the noise's p99
+averaged over the dumps of the shaking after its first 0.2 s and its largest value there.
+--compare prints each run's table, draws the base acceleration, r_u at each monitor and the
+flanks' displacement against time (gentle_slope.png) and writes the per-dump values
+(gentle_slope.csv).
 """
 from __future__ import annotations
 
@@ -96,6 +98,11 @@ def surface_members(parts: dict, geometry: dict, x0: float) -> np.ndarray:
                           & (parts["y"] > top - SURFACE_DEPTH))
 
 
+def mean_stress(parts: dict) -> np.ndarray:
+    """p' = -tr(sigma') / 3 of every particle [Pa]."""
+    return -(parts["stress_xx"] + parts["stress_yy"] + parts["stress_zz"]) / 3.0
+
+
 def mobilised_friction(parts: dict, index: np.ndarray) -> float:
     """tau/p' of the mean effective stress of particles `index` (the particles' own ratios
     diverge where p' -> 0)."""
@@ -118,9 +125,11 @@ def analyse(dumps: list[dict], shaking: tuple) -> list[dict]:
     ``left``, ``right`` (the flanks' surface displacement along x relative to the base [m]),
     ``settlement`` (the crest's, positive down [m]), ``tau_xy`` and ``sigma_v0`` ({monitor: the
     mean shear stress and the mean initial vertical effective stress [Pa]}), ``mobilised``
-    ({monitor: :func:`mobilised_friction`}), ``spread`` ({monitor: the standard deviation
-    of its particles' volumetric strain V/V0 - 1}), ``plastic_max``, ``noise_p99``,
-    ``noise_max`` [Pa]; ``shaking`` and ``geometry`` with every row."""
+    ({monitor: :func:`mobilised_friction`}), ``p_ratio`` ({monitor: mean p' / mean p'_0}),
+    ``at_apex`` ({monitor: the share of its particles at p' < 0.01 mean p'_0}), ``spread``
+    ({monitor: the standard deviation of its particles' volumetric strain V/V0 - 1}),
+    ``plastic_max``, ``noise_p99``, ``noise_max`` [Pa]; ``shaking`` and ``geometry`` with every
+    row."""
     first, base0 = by_id(dumps[0]["particles"][SOLID]), by_id(dumps[0]["particles"][BASE])
     length = domain_length(dumps[0])
     spacing = float(np.min(np.diff(np.unique(np.round(first["x"], 9)))))
@@ -129,6 +138,7 @@ def analyse(dumps: list[dict], shaking: tuple) -> list[dict]:
     members = {k: np.flatnonzero((unwrapped(first["x"] - px, length)) ** 2 + (first["y"] - py) ** 2
                                  < MONITOR_RADIUS**2) for k, (px, py) in points.items()}
     sv0 = -first["stress_yy"]
+    p_0 = mean_stress(first)
     flanks = {side: surface_members(first, geometry, geometry[side]) for side in ("left", "right")}
     crest = surface_members(first, geometry, geometry["crest"])
     p0 = dumps[0]["cell"]["pressure"][:, :, 0]
@@ -141,6 +151,7 @@ def analyse(dumps: list[dict], shaking: tuple) -> list[dict]:
         i, j = cell_of(dump, parts["x"], parts["y"], length)
         pex = dump["cell"]["pressure"][i, j, 0] - p0[i, j]
         noise = pore_pressure_roughness(dump, level=level, solid=SOLID, base=BASE)
+        p_now = mean_stress(parts)
         rows.append({
             "time": float(dump["time"]), "shaking": shaking, "geometry": geometry,
             "ru": {k: float(np.mean(pex[m]) / np.mean(sv0[m])) for k, m in members.items()},
@@ -152,6 +163,9 @@ def analyse(dumps: list[dict], shaking: tuple) -> list[dict]:
             "tau_xy": {k: float(np.mean(parts["stress_xy"][m])) for k, m in members.items()},
             "sigma_v0": {k: float(np.mean(sv0[m])) for k, m in members.items()},
             "mobilised": {k: mobilised_friction(parts, m) for k, m in members.items()},
+            "p_ratio": {k: float(np.mean(p_now[m]) / np.mean(p_0[m])) for k, m in members.items()},
+            "at_apex": {k: float(np.mean(p_now[m] < 0.01 * np.mean(p_0[m])))
+                        for k, m in members.items()},
             "spread": {k: float(np.std(parts["volume"][m] / first["volume"][m] - 1.0))
                        for k, m in members.items()},
             "plastic_max": float(np.max(parts["plastic_strain"])),
@@ -194,11 +208,13 @@ def print_cycle_table(table: list[dict]) -> None:
         print(f"{label} {c['time']:6.2f}  {ru} | {100 * c['left']:6.2f} {100 * c['right']:6.2f} | "
               f"{100 * c['settlement']:5.2f} | {c['plastic_max']:5.3f} | "
               f"{c['noise_mean'] / 1e3:5.2f} {c['noise_max'] / 1e3:6.2f}")
-    print("cycle  per monitor: CSR in the cycle, tau/p' and the spread (standard deviation) of"
-          " the volumetric strain V/V0 - 1 at its end")
+    print("cycle  per monitor: CSR in the cycle; at its end tau/p', p'/p'_0, the share of the"
+          " particles at p' = 0 and the spread (standard deviation) of the volumetric strain"
+          " V/V0 - 1")
     for c in table:
         label = f"{c['cycle']:5d}" if c["cycle"] else "  end"
         print(f"{label}  " + " | ".join(f"{c['csr'][k]:5.3f} {c['mobilised'][k]:5.3f} "
+                                        f"{c['p_ratio'][k]:4.2f} {c['at_apex'][k]:4.2f} "
                                         f"{c['spread'][k]:7.1e}" for k in MONITORS))
 
 
