@@ -6,7 +6,8 @@ Usage:  python -m postproc.mpmice_gentle_slope --dir output/mpmice_gentle_slope_
         python -m postproc.mpmice_gentle_slope --compare loose=DIR1 dense=DIR2 [--out DIR]
 
 The bank is found from the first dump's particles (any bank of one crest on a level layer, periodic
-in x): the base's top, the level layer's top (the lowest column of sediment), the crest's top and
+in x, wherever it lies, across x = 0 too): the base's top, the level layer's top (the lowest
+column of sediment), the crest's top and
 centre (the columns at the highest level) and the flanks' mid-points (the columns, left and right
 of the crest, whose top is nearest the middle of the two levels). Monitors are the particles that
 start within MONITOR_RADIUS of points at mid-height of the layer under the crest, under each flank
@@ -55,11 +56,12 @@ MONITORS = ("layer, crest", "layer, left flank", "layer, right flank", "layer, t
             "bank, crest")
 
 
-def bank_geometry(parts: dict, base_particles: dict, spacing: float) -> dict:
+def bank_geometry(parts: dict, base_particles: dict, spacing: float, length: float) -> dict:
     """The bank's levels and points from its particles at the start (``spacing``: the particles'
-    x spacing): ``base_top``, ``layer_top``, ``crest_top`` [m], ``crest`` (x of the crest's
-    centre), ``left``, ``right`` (x of the flanks' mid-points) and ``columns`` (each particle
-    column's x and top [m])."""
+    x spacing; ``length``: the periodic domain's length, the bank may lie across x = 0):
+    ``base_top``, ``layer_top``, ``crest_top`` [m], ``crest`` (x of the crest's centre),
+    ``left``, ``right`` (x of the flanks' mid-points) and ``columns`` (each particle column's x
+    and top [m]); x in [0, length)."""
     base_top = 0.5 * float(np.max(base_particles["y"]) + np.min(parts["y"]))
     half = 0.5 * (float(np.min(parts["y"])) - float(np.max(base_particles["y"])))
     columns = np.round(parts["x"] / spacing).astype(int)
@@ -67,14 +69,18 @@ def bank_geometry(parts: dict, base_particles: dict, spacing: float) -> dict:
     xs = np.array([np.mean(parts["x"][columns == k]) for k in keys])
     tops = np.array([np.max(parts["y"][columns == k]) for k in keys]) + half
     layer_top, crest_top = float(np.min(tops)), float(np.max(tops))
+    # x from a column of the level layer on: the bank is one piece there, whatever its place
+    toe = float(xs[int(np.argmin(tops))])
+    xr = (xs - toe) % length
     at_crest = tops > crest_top - 1e-6
-    crest = float(np.mean(xs[at_crest]))
+    crest = float(np.mean(xr[at_crest]))
     middle = 0.5 * (layer_top + crest_top)
-    left = xs < crest
-    x_left = float(xs[left][np.argmin(np.abs(tops[left] - middle))])
-    x_right = float(xs[~left][np.argmin(np.abs(tops[~left] - middle))])
+    left = xr < crest
+    x_left = float(xr[left][np.argmin(np.abs(tops[left] - middle))])
+    x_right = float(xr[~left][np.argmin(np.abs(tops[~left] - middle))])
     return {"base_top": base_top, "layer_top": layer_top, "crest_top": crest_top,
-            "crest": crest, "left": x_left, "right": x_right, "columns": (xs, tops)}
+            "crest": (toe + crest) % length, "left": (toe + x_left) % length,
+            "right": (toe + x_right) % length, "columns": (xs, tops)}
 
 
 def monitor_points(geometry: dict, length: float) -> dict[str, tuple[float, float]]:
@@ -87,14 +93,12 @@ def monitor_points(geometry: dict, length: float) -> dict[str, tuple[float, floa
             "bank, crest": (g["crest"], 0.5 * (g["layer_top"] + g["crest_top"]))}
 
 
-def surface_members(parts: dict, geometry: dict, x0: float) -> np.ndarray:
+def surface_members(parts: dict, geometry: dict, x0: float, length: float) -> np.ndarray:
     """Indices of the particles that start in the top SURFACE_DEPTH of the columns within
-    FLANK_HALF_WIDTH of ``x0``."""
+    FLANK_HALF_WIDTH of ``x0`` (periodic in x over ``length``)."""
     xs, tops = geometry["columns"]
-    near = np.abs(xs - x0) <= FLANK_HALF_WIDTH
-    x_lo, x_hi = float(np.min(xs[near])), float(np.max(xs[near]))
-    top = float(np.min(tops[near]))
-    return np.flatnonzero((parts["x"] >= x_lo - 1e-9) & (parts["x"] <= x_hi + 1e-9)
+    top = float(np.min(tops[np.abs(unwrapped(xs - x0, length)) <= FLANK_HALF_WIDTH]))
+    return np.flatnonzero((np.abs(unwrapped(parts["x"] - x0, length)) <= FLANK_HALF_WIDTH)
                           & (parts["y"] > top - SURFACE_DEPTH))
 
 
@@ -133,14 +137,15 @@ def analyse(dumps: list[dict], shaking: tuple) -> list[dict]:
     first, base0 = by_id(dumps[0]["particles"][SOLID]), by_id(dumps[0]["particles"][BASE])
     length = domain_length(dumps[0])
     spacing = float(np.min(np.diff(np.unique(np.round(first["x"], 9)))))
-    geometry = bank_geometry(first, base0, spacing)
+    geometry = bank_geometry(first, base0, spacing, length)
     points = monitor_points(geometry, length)
     members = {k: np.flatnonzero((unwrapped(first["x"] - px, length)) ** 2 + (first["y"] - py) ** 2
                                  < MONITOR_RADIUS**2) for k, (px, py) in points.items()}
     sv0 = -first["stress_yy"]
     p_0 = mean_stress(first)
-    flanks = {side: surface_members(first, geometry, geometry[side]) for side in ("left", "right")}
-    crest = surface_members(first, geometry, geometry["crest"])
+    flanks = {side: surface_members(first, geometry, geometry[side], length)
+              for side in ("left", "right")}
+    crest = surface_members(first, geometry, geometry["crest"], length)
     p0 = dumps[0]["cell"]["pressure"][:, :, 0]
     level = float(cell_centres(dumps[0])[1][-1] + 0.5 * dumps[0]["attrs"]["dx"][1])
     rows = []
