@@ -138,6 +138,24 @@ def mark_cycle_ends(axes, shaking: tuple, until: float | None = None) -> None:
             ax.axvline(c, color="0.85", lw=0.6, zorder=0)
 
 
+def draw_base_acceleration(ax, runs: dict[str, list[dict]], samples: int = 2000) -> None:
+    """Each run's base acceleration a(t)/g on `ax` (colour C<n> in the runs' order, from 0 to
+    its last dump, `samples` points), with its axis label and legend."""
+    for n, (label, rows) in enumerate(runs.items()):
+        tt = np.linspace(0.0, rows[-1]["time"], samples)
+        ax.plot(tt, base_acceleration(tt, rows[0]["shaking"]) / G, "-", color=f"C{n}", lw=1,
+                label=label)
+    ax.set_ylabel("base a / g")
+    ax.legend(fontsize=8, loc="upper right")
+
+
+def ru_axis(ax, label: str) -> None:
+    """An r_u panel: its label, and lines at r_u = 1 (liquefied) and 0."""
+    ax.set_ylabel(label, fontsize=8)
+    ax.axhline(1.0, color="k", lw=0.8)
+    ax.axhline(0.0, color="0.6", lw=0.6)
+
+
 def cycle_table(rows: list[dict], shaking: tuple[float, float, float]) -> list[dict]:
     """Per shaking cycle n (t in (start + (n-1)/f, start + n/f]): r_u at each monitor at the
     cycle's end (the dump nearest start + n/f) and its largest value within the cycle."""
@@ -182,19 +200,29 @@ def hydrostatic_pressure(y: np.ndarray, level: float = STILL_LEVEL) -> np.ndarra
     return P_ATM + RHO_W * G * np.maximum(level - y, 0.0)
 
 
+def particle_cells(dump: dict, x: np.ndarray, y: np.ndarray,
+                   length: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(i, j) of the cells holding the points (x, y) [m] of the dump's first z layer, clipped
+    to the grid; with `length` [m] x is taken periodic over it."""
+    xc, yc, _ = cell_centres(dump)
+    dx, dy = xc[1] - xc[0], yc[1] - yc[0]
+    sx = x - (xc[0] - 0.5 * dx)
+    if length is not None:
+        sx = sx % length
+    i = np.clip(np.floor(sx / dx).astype(int), 0, len(xc) - 1)
+    j = np.clip(np.floor((y - (yc[0] - 0.5 * dy)) / dy).astype(int), 0, len(yc) - 1)
+    return i, j
+
+
 def excess_pore_pressure(dump: dict, parts: dict, field: str | None = None) -> np.ndarray:
     """Pore pressure minus the hydrostatic value at the centre of the particle's cell [Pa]: the
     particle's `pore_pressure` (its cell's pressure), or with `field` (e.g. `pressure_average`,
     the running mean of `&ice pressure_average_time`) that cell field at the particle's cell."""
-    x, y, _ = cell_centres(dump)
-    dy = y[1] - y[0]
-    j = np.clip(np.floor((parts["y"] - (y[0] - 0.5 * dy)) / dy).astype(int), 0, len(y) - 1)
-    hydro = hydrostatic_pressure(y[j])
+    i, j = particle_cells(dump, parts["x"], parts["y"])
+    hydro = hydrostatic_pressure(cell_centres(dump)[1][j])
     if not np.any(parts["pore_pressure"]):        # the initial dump: not computed yet
         return np.zeros_like(hydro)
     if field is not None:
-        dx = x[1] - x[0]
-        i = np.clip(np.floor((parts["x"] - (x[0] - 0.5 * dx)) / dx).astype(int), 0, len(x) - 1)
         return dump["cell"][field][i, j, 0] - hydro
     return parts["pore_pressure"] - hydro
 
@@ -469,20 +497,14 @@ def cycles_figure(runs: dict[str, list[dict]], out: str) -> str:
     keys = list(RU_MONITORS)[1:] + list(RU_MONITORS)[:1]
     fig, axes = plt.subplots(len(keys) + 1, 1, figsize=(8.0, 10.0), sharex=True)
     t_end = max(r["time"] for rows in runs.values() for r in rows)
+    draw_base_acceleration(axes[0], runs, 1000)
     for n, (label, rows) in enumerate(runs.items()):
-        tt = np.linspace(0.0, rows[-1]["time"], 1000)   # each run's own span
-        axes[0].plot(tt, base_acceleration(tt, rows[0]["shaking"]) / G, "-", color=f"C{n}",
-                     lw=1, label=label)
         t = np.array([r["time"] for r in rows])
         for ax, key in zip(axes[1:], keys):
             ax.plot(t, [r["ru"][key] for r in rows], "-", color=f"C{n}", marker="o", ms=2.5,
                     label=label)
-    axes[0].set_ylabel("base a / g")
-    axes[0].legend(fontsize=8, loc="upper right")
     for ax, key in zip(axes[1:], keys):
-        ax.axhline(1.0, color="k", lw=0.8)
-        ax.axhline(0.0, color="0.6", lw=0.6)
-        ax.set_ylabel(f"r_u, {key}", fontsize=8)
+        ru_axis(ax, f"r_u, {key}")
     mark_cycle_ends(axes, next(iter(runs.values()))[0]["shaking"], t_end)
     axes[-1].set_xlabel("t [s] (grey lines: the end of each shaking cycle)")
     fig.tight_layout()

@@ -41,8 +41,9 @@ import numpy as np
 
 from postproc.figures import pyplot, save_figure
 from postproc.measures import by_id
-from postproc.mpmice_earthquake_slope import (G, base_acceleration, base_shaking, domain_length,
-                                              mark_cycle_ends, pore_pressure_roughness,
+from postproc.mpmice_earthquake_slope import (base_shaking, domain_length,
+                                              draw_base_acceleration, mark_cycle_ends,
+                                              particle_cells, pore_pressure_roughness, ru_axis,
                                               shaking_cycles, shaking_parts, shear_ratio,
                                               unwrapped)
 from postproc.mpmice_io import cell_centres, run_or_compare
@@ -115,15 +116,6 @@ def mobilised_friction(parts: dict, index: np.ndarray) -> float:
     return float(shear_ratio(mean, np.array([0]))[0])
 
 
-def cell_of(dump: dict, x: np.ndarray, y: np.ndarray, length: float) -> tuple:
-    """(i, j) of the cells holding the points (x, y) (x periodic)."""
-    xc, yc, _ = cell_centres(dump)
-    dx, dy = xc[1] - xc[0], yc[1] - yc[0]
-    i = np.clip(np.floor(((x - xc[0] + 0.5 * dx) % length) / dx).astype(int), 0, len(xc) - 1)
-    j = np.clip(np.floor((y - yc[0] + 0.5 * dy) / dy).astype(int), 0, len(yc) - 1)
-    return i, j
-
-
 def analyse(dumps: list[dict], shaking: tuple) -> list[dict]:
     """One row per dump (the module header): ``time``, ``ru`` and ``lost`` ({monitor: value}),
     ``left``, ``right`` (the flanks' surface displacement along x relative to the base [m]),
@@ -153,7 +145,7 @@ def analyse(dumps: list[dict], shaking: tuple) -> list[dict]:
         parts, base = by_id(dump["particles"][SOLID]), by_id(dump["particles"][BASE])
         base_dx = float(np.mean(unwrapped(base["x"] - base0["x"], length)))
         ux = unwrapped(parts["x"] - first["x"], length) - base_dx
-        i, j = cell_of(dump, parts["x"], parts["y"], length)
+        i, j = particle_cells(dump, parts["x"], parts["y"], length)
         pex = dump["cell"]["pressure"][i, j, 0] - p0[i, j]
         noise = pore_pressure_roughness(dump, level=level, solid=SOLID, base=BASE)
         p_now = mean_stress(parts)
@@ -266,11 +258,9 @@ def figure(runs: dict[str, list[dict]], out: str) -> str:
     time, every run; returns the path of gentle_slope.png."""
     plt = pyplot()
     fig, axes = plt.subplots(len(MONITORS) + 2, 1, figsize=(8.0, 13.0), sharex=True)
+    draw_base_acceleration(axes[0], runs)
     for n, (label, rows) in enumerate(runs.items()):
         t = np.array([r["time"] for r in rows])
-        tt = np.linspace(0.0, t[-1], 2000)
-        axes[0].plot(tt, base_acceleration(tt, rows[0]["shaking"]) / G, "-", color=f"C{n}",
-                     lw=1, label=label)
         for ax, k in zip(axes[1:-1], MONITORS):
             ax.plot(t, [r["ru"][k] for r in rows], "-", color=f"C{n}", marker="o", ms=2,
                     label=label)
@@ -278,12 +268,8 @@ def figure(runs: dict[str, list[dict]], out: str) -> str:
                       label=f"{label}, left flank")
         axes[-1].plot(t, [100 * r["right"] for r in rows], "--", color=f"C{n}",
                       label=f"{label}, right flank")
-    axes[0].set_ylabel("base a / g")
-    axes[0].legend(fontsize=8, loc="upper right")
     for ax, k in zip(axes[1:-1], MONITORS):
-        ax.set_ylabel(f"r_u, {k}", fontsize=8)
-        ax.axhline(1.0, color="k", lw=0.8)
-        ax.axhline(0.0, color="0.6", lw=0.6)
+        ru_axis(ax, f"r_u, {k}")
     axes[-1].set_ylabel("flank surface\nu_x - u_base [cm]", fontsize=8)
     axes[-1].legend(fontsize=7, loc="lower left")
     mark_cycle_ends(axes, next(iter(runs.values()))[0]["shaking"])

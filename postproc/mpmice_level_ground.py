@@ -29,8 +29,8 @@ import numpy as np
 
 from postproc.figures import pyplot, save_figure
 from postproc.measures import by_id
-from postproc.mpmice_earthquake_slope import (G, base_acceleration, base_shaking,
-                                              mark_cycle_ends, shaking_cycles)
+from postproc.mpmice_earthquake_slope import (base_shaking, draw_base_acceleration,
+                                              mark_cycle_ends, ru_axis, shaking_cycles)
 from postproc.mpmice_io import cell_centres, run_or_compare
 
 NAME = "level"
@@ -145,24 +145,17 @@ def figure(runs: dict[str, list[dict]], out: str) -> str:
     labels = band_labels(next(iter(runs.values()))[0]["bands"])
     fig, axes = plt.subplots(len(labels) + 2, 1, figsize=(8.0, 12.0), sharex=True)
     bands = list(reversed(axes[2:]))          # the deepest band at the bottom
+    draw_base_acceleration(axes[0], runs)
     for n, (label, rows) in enumerate(runs.items()):
         t = np.array([r["time"] for r in rows])
-        tt = np.linspace(0.0, t[-1], 2000)
-        axes[0].plot(tt, base_acceleration(tt, rows[0]["shaking"]) / G, "-", color=f"C{n}",
-                     lw=1, label=label)
         axes[1].plot(t, [r["cell_ru"] for r in rows], "-", color=f"C{n}", marker="o", ms=2,
                      label=label)
         for b, ax in enumerate(bands):
             ax.plot(t, [r["ru"][b] for r in rows], "-", color=f"C{n}", marker="o", ms=2,
                     label=label)
-    axes[0].set_ylabel("base a / g")
-    axes[0].legend(fontsize=8, loc="upper right")
-    axes[1].set_ylabel("r_u, largest\nof a cell row", fontsize=8)
+    ru_axis(axes[1], "r_u, largest\nof a cell row")
     for b, ax in enumerate(bands):
-        ax.set_ylabel(f"r_u, {labels[b]}", fontsize=8)
-    for ax in axes[1:]:
-        ax.axhline(1.0, color="k", lw=0.8)
-        ax.axhline(0.0, color="0.6", lw=0.6)
+        ru_axis(ax, f"r_u, {labels[b]}")
     mark_cycle_ends(axes, next(iter(runs.values()))[0]["shaking"])
     axes[-1].set_xlabel("t [s] (grey: the end of each cycle; bands by height above the base)")
     fig.tight_layout()
