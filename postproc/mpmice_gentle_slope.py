@@ -22,7 +22,8 @@ the spread (standard deviation) of each monitor's volumetric strain V/V0 - 1 and
 the pore pressure's cell-to-cell noise (99th percentile and largest |a sediment cell's excess
 pressure minus the mean of its two x neighbours|, postproc.mpmice_earthquake_slope). The table
 gives them per shaking cycle (the base's shaking read from the run's echo gentle.used.nml) and at
-the last dump (after the shaking the spreading either stops or goes on: flow); a second table
+the last dump (after the shaking the spreading either stops or goes on: flow; the flanks'
+displacement every 0.5 s after the shaking shows which); a second table
 per monitor and cycle the cyclic stress ratio (half the range of the monitor's mean tau_xy over
 the cycle / its sigma'_v0), and at the cycle's end the mobilised friction tau/p' (of its
 particles' mean stress), the mean p' over the mean initial p'_0, the share of its particles at
@@ -226,10 +227,38 @@ def noise_summary(rows: list[dict]) -> tuple[float, float]:
             float(np.max([r["noise_max"] for r in inside])))
 
 
+def after_shaking(rows: list[dict], step: float = 0.5) -> list[tuple[float, float, float]]:
+    """(time, left, right flank displacement [m]) at the shaking's end and every ``step`` [s]
+    after it (the dump nearest each time), to the last dump: a bank that flows moves on at a
+    steady rate, one that only spread stops."""
+    _, _, duration, start = shaking_parts(rows[0]["shaking"])
+    end, last = start + duration, rows[-1]["time"]
+    marks = np.arange(end, last + 1e-9, step)
+    times = np.array([r["time"] for r in rows])
+    picked = [rows[int(np.argmin(np.abs(times - m)))] for m in marks]
+    return [(r["time"], r["left"], r["right"]) for r in picked]
+
+
+def print_after_shaking(rows: list[dict]) -> None:
+    """The flanks' displacement after the shaking (:func:`after_shaking`), with the movement of
+    each interval."""
+    marks = after_shaking(rows)
+    if len(marks) < 2:
+        return
+    print("after the shaking: t [s], left / right flank displacement [cm] (moved since the line"
+          " before)")
+    for n, (t, left, right) in enumerate(marks):
+        moved = "" if n == 0 else (f" ({100 * (left - marks[n - 1][1]):+6.2f} / "
+                                   f"{100 * (right - marks[n - 1][2]):+6.2f})")
+        print(f"  {t:5.2f}  {100 * left:7.2f} / {100 * right:7.2f}{moved}")
+
+
 def print_summary(rows: list[dict]) -> None:
-    """The bank's geometry, the cycle table and the noise over the shaking."""
+    """The bank's geometry, the cycle table, the flanks after the shaking and the noise over
+    the shaking."""
     print_geometry(rows)
     print_cycle_table(cycle_table(rows))
+    print_after_shaking(rows)
     p99, largest = noise_summary(rows)
     print(f"pore-pressure noise over the shaking (after its first 0.2 s): p99 {p99 / 1e3:.2f} kPa "
           f"(mean over the dumps), largest {largest / 1e3:.2f} kPa")

@@ -151,6 +151,10 @@ contains
       call check_zero_unless(err, g, 'compaction_index', p%compaction_index, &
         trim(p%model) == 'critical_state_sand', &
         'only a critical_state_sand solid compacts at low effective stress')
+      if (.not. err%found .and. p%tension_gap .and. trim(p%model) /= 'critical_state_sand') then
+        call set_error(err, g, 'tension_gap', '.true.', '.false. unless model = ' // &
+          "'critical_state_sand' (only its no-tension rule keeps a gap)")
+      end if
       call check_min_porosity(p, g, err)
       call check_zero_unless(err, g, 'modulus_exponent', p%modulus_exponent, &
         trim(p%model) == 'mohr_coulomb' .or. trim(p%model) == 'critical_state_sand', &

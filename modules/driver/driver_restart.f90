@@ -10,8 +10,8 @@
 !!   and outer-iteration tolerances, output selection). The grid, the scene, the materials,
 !!   the boundaries and the initial conditions are those of the stored state;
 !! * a solid needs per-particle state that the checkpoint lacks (`model_state`: Cam-Clay's
-!!   `hardening`, the densifying sand's `cyclic` and `cyclic_half_time`; a deformable solid's
-!!   `affine` with `&mpm velocity_transfer = 'apic'`).
+!!   `hardening`, the densifying sand's `cyclic` and `cyclic_half_time`, the sand's `gap` with
+!!   `tension_gap`; a deformable solid's `affine` with `&mpm velocity_transfer = 'apic'`).
 !!
 !! A restart continues its own run in the checkpoint's folder: unless a `--set` gives another
 !! `&run output_dir`, the output folder is the folder that holds the checkpoint (as named on the
@@ -127,12 +127,13 @@ contains
     integer, intent(inout) :: stat                         !< 1 on refusal
     character(len=:), allocatable, intent(inout) :: errmsg !< error line
     character(len=:), allocatable :: g, missing
-    logical :: hardening, cyclic, affine
+    logical :: hardening, cyclic, gap, affine
     integer :: k
     do k = 1, stored%nsolids
       associate (sp => stored%solids(k))
         call model_state(model_from_name(sp%model), sp%densification_c1, &
-          sp%compaction_index, stored%mpm%velocity_transfer, hardening, cyclic, affine)
+          sp%compaction_index, sp%tension_gap, stored%mpm%velocity_transfer, hardening, &
+          cyclic, gap, affine)
         g = 'checkpoint/particles/' // trim(sp%name) // '/'
         missing = ''
         if (cyclic) then
@@ -140,6 +141,7 @@ contains
           if (.not. any(datasets == g // 'cyclic')) missing = g // 'cyclic'
         end if
         if (hardening .and. .not. any(datasets == g // 'hardening')) missing = g // 'hardening'
+        if (gap .and. .not. any(datasets == g // 'gap')) missing = g // 'gap'
         if (affine .and. .not. any(datasets == g // 'affine')) missing = g // 'affine'
         if (len(missing) > 0) then
           stat = 1

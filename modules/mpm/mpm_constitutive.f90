@@ -13,7 +13,7 @@ module mpm_constitutive
   use mpm_mohr_coulomb, only: mc_params_t, mc_params, mc_return
   use mpm_cam_clay, only: mcc_params_t, mcc_update, mcc_moduli, mcc_invariants
   use mpm_critical_state_sand, only: css_params_t, css_return, css_densify, css_n_cyclic, &
-    css_gamma, css_gamma_ext, css_compaction
+    css_gamma, css_gamma_ext, css_compaction, css_tension_gap
   implicit none
   private
 
@@ -79,20 +79,24 @@ contains
   !! model `cam_clay`, or `critical_state_sand` with `&solid compaction_index > 0`), the
   !! critical-state sand's cyclic densification state (`cyclic`, model `critical_state_sand`
   !! with `&solid densification_c1 > 0`; `constitutive_update` reads and writes nothing else),
-  !! and the APIC affine velocity of a deformable solid (`affine`, `&mpm velocity_transfer =
+  !! its volumetric gap (`gap`, model `critical_state_sand` with `&solid tension_gap`), and the
+  !! APIC affine velocity of a deformable solid (`affine`, `&mpm velocity_transfer =
   !! 'apic'`; `mpm_p2g`, `mpm_g2p`).
-  pure subroutine model_state(model, densification_c1, compaction_index, velocity_transfer, &
-    hardening, cyclic, affine)
+  pure subroutine model_state(model, densification_c1, compaction_index, tension_gap, &
+    velocity_transfer, hardening, cyclic, gap, affine)
     integer, intent(in) :: model                       !< model id (`model_from_name`)
     real(wp), intent(in) :: densification_c1           !< `&solid densification_c1` [-]
     real(wp), intent(in) :: compaction_index           !< `&solid compaction_index` [-]
+    logical, intent(in) :: tension_gap                 !< `&solid tension_gap`
     character(len=*), intent(in) :: velocity_transfer  !< `&mpm velocity_transfer`
     logical, intent(out) :: hardening                  !< carries p_c
     logical, intent(out) :: cyclic                     !< carries the cyclic state
+    logical, intent(out) :: gap                        !< carries the volumetric gap
     logical, intent(out) :: affine                     !< carries C_p
     hardening = model == model_cam_clay .or. &
       (model == model_critical_state_sand .and. compaction_index > 0.0_wp)
     cyclic = model == model_critical_state_sand .and. densification_c1 > 0.0_wp
+    gap = model == model_critical_state_sand .and. tension_gap
     affine = trim(velocity_transfer) == 'apic' .and. model /= model_rigid
   end subroutine model_state
 
@@ -220,6 +224,10 @@ contains
   !! pressure p_c (`css_compaction`, applied to the trial stress before the return): raised to
   !! the p' of the step's start before it and to the returned p' after it, 0 once the particle
   !! has lost all its effective stress or is suspended; without it, no compaction.
+  !! For the critical-state sand with `mat%css%tension_gap`, `gap` is the particle's volumetric
+  !! gap (`css_tension_gap`), applied to the trial stress after the densification and before
+  !! the compaction and the return; 0 in a suspension (the packing's own porosity rules there);
+  !! not applied before `plastic_start`.
   !! With `mat%elastic_only` (`material_at` before `&solid plastic_start`) the stress is the
   !! model's elastic trial stress: linear (lambda, mu) for Mohr-Coulomb and the sand, the
   !! pressure-dependent law of Cam-Clay (p_c set but not hardened), limited to the yield
@@ -228,7 +236,7 @@ contains
   !! (`current_moduli`, `&solid modulus_exponent`) for the trial stress, the densification's
   !! K d eps_vd, tau_xy / G and the return.
   pure subroutine constitutive_update(mat, f, l, dt, stress_unrot, stress, plastic_strain, &
-    hardening, cyclic)
+    hardening, cyclic, gap)
     type(material_t), intent(in) :: mat              !< material
     real(wp), intent(in) :: f(3, 3)                  !< deformation gradient F^{n+1}
     real(wp), intent(in) :: l(3, 3)                  !< velocity gradient [1/s]
@@ -239,6 +247,7 @@ contains
     !> Cam-Clay's preconsolidation or the sand's compaction pressure p_c [Pa]
     real(wp), intent(inout), optional :: hardening
     real(wp), intent(inout), optional :: cyclic(css_n_cyclic)  !< sand's cyclic state
+    real(wp), intent(inout), optional :: gap         !< sand's volumetric gap [-]
     real(wp) :: r(3, 3), deps(6), dep, pc, devd, dgamma, lam, mu, psi, p_start, p_end, phi
     select case (mat%model)
     case (model_neo_hookean)
@@ -253,6 +262,7 @@ contains
         stress_unrot = 0.0_wp
         stress = 0.0_wp
         if (mat%model == model_critical_state_sand .and. present(hardening)) hardening = 0.0_wp
+        if (present(gap)) gap = 0.0_wp
         return
       end if
       r = polar_rotation(f)                                  ! eq. 12
@@ -285,6 +295,9 @@ contains
         if (mat%css%c1 > 0.0_wp .and. present(cyclic)) then
           call css_densify(mat%css, dgamma, dt, cyclic, devd)
           stress_unrot(1:3) = stress_unrot(1:3) + (lam + 2.0_wp * mu / 3.0_wp) * devd
+        end if
+        if (mat%css%tension_gap .and. present(gap)) then
+          call css_tension_gap(lam + 2.0_wp * mu / 3.0_wp, stress_unrot, gap)
         end if
         phi = mat%solid_fraction0 / det3(f)
         if (mat%css%lambda_c > 0.0_wp .and. present(hardening)) then

@@ -25,6 +25,15 @@
 !! phi_eq in tan(psi) taken at J(gamma_dot, p_tr). No tension: a trial p <= 0 returns to zero
 !! stress (the apex).
 !!
+!! Optional memory of the apex (`css_tension_gap`, `tension_gap`): without it the expansion of a
+!! particle past p' = 0 is forgotten, so that a particle whose volume oscillates about the
+!! contact point gains p' = K d eps_v on every recompression (a zero-mean volume noise is
+!! rectified into effective stress). With it the expansion past the apex is kept as a gap
+!!   g = max(g_old - p_tr / K, 0)      (p_tr the trial p' before the gap is applied),
+!! and the next trial stress is shifted by K g before the return: the grains separated at zero
+!! effective stress carry load again only once the skeleton has closed the gap, as a packing
+!! below its contact density does.
+!!
 !! Optional compaction at low effective stress (`css_compaction`, off with lambda_c = 0): a
 !! packing looser than the critical one (phi < phi_m) compacts plastically once p' reaches its
 !! compaction pressure p_c, along the line
@@ -61,7 +70,7 @@ module mpm_critical_state_sand
 
   public :: css_params_t, css_return, css_phi_eq, css_strength, css_densify
   public :: css_n_cyclic, css_evd, css_gamma, css_gamma_rev, css_gamma_ext, css_reversals
-  public :: css_t_half, css_compaction
+  public :: css_t_half, css_compaction, css_tension_gap
 
   !> Cyclic state of one particle (`css_densify`), indices into `state(css_n_cyclic)`:
   integer, parameter :: css_n_cyclic = 6   !< entries
@@ -91,6 +100,7 @@ module mpm_critical_state_sand
     real(wp) :: t_min = 0.0_wp           !< shortest half cycle counted [s]
     real(wp) :: t_start = 0.0_wp         !< densification counted from this time [s] (the
                                          !! caller passes C_1 = 0 before it)
+    logical :: tension_gap = .false.     !< keep the expansion past the apex (`css_tension_gap`)
   end type css_params_t
 
   integer, parameter :: max_iterations = 200  !< cap of the scalar solve
@@ -231,6 +241,18 @@ contains
     sig(1:3) = sig(1:3) + kb * x
     pc = p_tr - kb * x
   end subroutine css_compaction
+
+  !> The apex's memory (module header): shift the trial stress `sig` [Pa] (tension positive) of
+  !! a particle whose skeleton has bulk modulus `kb` [Pa] by its volumetric gap `gap` [-], so
+  !! that p' = p_tr - K g, and keep as the new gap the expansion that this leaves past p' = 0,
+  !! g = max(-p' / K, 0) (`css_return` then returns such a trial stress to the apex, zero).
+  pure subroutine css_tension_gap(kb, sig, gap)
+    real(wp), intent(in) :: kb         !< bulk modulus K of the trial stress [Pa]
+    real(wp), intent(inout) :: sig(6)  !< trial stress in, shifted out [Pa]
+    real(wp), intent(inout) :: gap     !< volumetric gap g [-]
+    sig(1:3) = sig(1:3) + kb * gap
+    gap = max(-mean_pressure(sig) / kb, 0.0_wp)
+  end subroutine css_tension_gap
 
   !> Cyclic densification (Byrne 1991 form of Martin et al. 1975, as FLAC's Finn model applies
   !! it per half cycle): advance the particle's cyclic `state` by the engineering shear strain

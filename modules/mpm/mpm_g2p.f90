@@ -125,22 +125,44 @@ contains
       p%f(4:6, ip) = fnew(:, 2)
       p%f(7:9, ip) = fnew(:, 3)
       p%volume(ip) = det3(fnew) * p%volume0(ip)                           ! eq. 75
-      ! the model-specific state only where the store carries it (`particles_store`)
-      if (p%has_hardening .and. p%has_cyclic) then
-        call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
-          p%plastic_strain(ip), p%hardening(ip), p%cyclic(:, ip))
-      else if (p%has_hardening) then
-        call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
-          p%plastic_strain(ip), hardening=p%hardening(ip))
-      else if (p%has_cyclic) then
-        call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
-          p%plastic_strain(ip), cyclic=p%cyclic(:, ip))
-      else
-        call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
-          p%plastic_strain(ip))
-      end if
+      call particle_stress_update(mat, fnew, l, dt, p, ip)
     end do
   end subroutine g2p_particles
+
+  !> The constitutive update of particle `ip` of `p` over the step (`constitutive_update`: F^{n+1}
+  !! `f`, velocity gradient `l`, step `dt`), with the model-specific state only where the store
+  !! carries it (`particles_store`).
+  subroutine particle_stress_update(mat, f, l, dt, p, ip)
+    type(material_t), intent(in) :: mat    !< the solid's material over the step
+    real(wp), intent(in) :: f(3, 3)        !< deformation gradient F^{n+1}
+    real(wp), intent(in) :: l(3, 3)        !< velocity gradient [1/s]
+    real(wp), intent(in) :: dt             !< step [s]
+    type(particles_t), intent(inout) :: p  !< particles
+    integer, intent(in) :: ip              !< particle
+    if (p%has_gap) then
+      call with_state(p%gap(ip))
+    else
+      call with_state()
+    end if
+  contains
+    !> The update with the optional `gap` passed on (absent when the store has none).
+    subroutine with_state(gap)
+      real(wp), intent(inout), optional :: gap  !< the sand's volumetric gap [-]
+      if (p%has_hardening .and. p%has_cyclic) then
+        call constitutive_update(mat, f, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
+          p%plastic_strain(ip), p%hardening(ip), p%cyclic(:, ip), gap)
+      else if (p%has_hardening) then
+        call constitutive_update(mat, f, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
+          p%plastic_strain(ip), hardening=p%hardening(ip), gap=gap)
+      else if (p%has_cyclic) then
+        call constitutive_update(mat, f, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
+          p%plastic_strain(ip), cyclic=p%cyclic(:, ip), gap=gap)
+      else
+        call constitutive_update(mat, f, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
+          p%plastic_strain(ip), gap=gap)
+      end if
+    end subroutine with_state
+  end subroutine particle_stress_update
 
   !> APIC's affine velocity C_p = B_p D_p^-1 of a particle at `xp` from the nodes' v^L, B_p =
   !! sum S_ip v^L_i (x_i - x_p)^T, D_p = sum S_ip (x_i - x_p)(x_i - x_p)^T (diagonal: the

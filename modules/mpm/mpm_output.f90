@@ -5,8 +5,8 @@
 !! volume per cell volume; mass-weighted particle averages, 0 in empty cells), and checkpoints
 !! `/checkpoint/particles/<solid>/...` with the full state (bitwise restart). The dumps always
 !! hold `hardening` (0 unless the solid is Cam-Clay or the sand with compaction); a checkpoint
-!! holds `hardening` and
-!! `cyclic`, `cyclic_half_time` only for a solid whose model carries them (`particles_store`).
+!! holds `hardening`, `cyclic`, `cyclic_half_time`, `gap` and `affine` only for a solid whose
+!! model carries them (`particles_store`).
 module mpm_output
   use mpmice_kinds, only: wp, i8, name_len
   use io_hdf5, only: h5_file_t, h5_write_particles, h5_read_particles, h5_write_cell_field, &
@@ -150,6 +150,11 @@ contains
       call require(file, g // 'cyclic_half_time', write)
       call transfer(file, g // 'cyclic', p%cyclic(1:cyclic_main, 1:n), write)
       call transfer(file, g // 'cyclic_half_time', p%cyclic(n_cyclic_state, 1:n), write)
+    end if
+    if (p%has_gap) then
+      ! the sand's volumetric gap (`&solid tension_gap`)
+      call require(file, g // 'gap', write)
+      call transfer(file, g // 'gap', p%gap(1:n), write)
     end if
     if (p%has_affine) then
       ! the APIC affine velocity C_p (`&mpm velocity_transfer = 'apic'`)

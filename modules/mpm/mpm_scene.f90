@@ -99,7 +99,7 @@ contains
     type(scene_context_t), intent(in) :: ctx     !< decomposition, grid and timers of the run
     integer :: s, face, n
     real(wp) :: mmin
-    logical :: keep_hardening, keep_cyclic, keep_affine
+    logical :: keep_hardening, keep_cyclic, keep_gap, keep_affine
     type(mpm_params_t) :: default_mpm  ! the documented defaults of &mpm
     self%ctx = ctx
     associate (dom => ctx%dom, grid => ctx%grid, timers => ctx%timers)
@@ -139,8 +139,10 @@ contains
           self%motions(s) = rigid_motion_t(sp%prescribed_velocity, sp%acceleration_amplitude, &
             sp%acceleration_frequency, sp%acceleration_duration, sp%acceleration_start)
           call model_state(self%mats(s)%model, self%mats(s)%css%c1, self%mats(s)%css%lambda_c, &
-            par%mpm%velocity_transfer, keep_hardening, keep_cyclic, keep_affine)
-          call particles_select_state(self%parts(s), keep_hardening, keep_cyclic, keep_affine)
+            self%mats(s)%css%tension_gap, par%mpm%velocity_transfer, keep_hardening, &
+            keep_cyclic, keep_gap, keep_affine)
+          call particles_select_state(self%parts(s), keep_hardening, keep_cyclic, keep_gap, &
+            keep_affine)
           call seed_solid(self%parts(s), sp, grid, self%gravity)
           if (self%mats(s)%model == model_rigid) call move_rigid(self, s, grid, 0.0_wp, 0.0_wp)
           self%static(s) = par%mpm%cache_static_rigid .and. &
@@ -211,6 +213,7 @@ contains
     mat%css%elastic_amp = sp%densification_elastic
     mat%css%t_min = sp%densification_min_half_cycle
     mat%css%t_start = sp%densification_start
+    mat%css%tension_gap = sp%tension_gap
     mat%plastic_start = sp%plastic_start
     mat%modulus_exponent = sp%modulus_exponent
     mat%modulus_p_ref = sp%modulus_reference_pressure

@@ -6,7 +6,7 @@
 !! cell index per dimension and the rank of every block (MPI_Cart_rank). Particles travel packed
 !! as `particle_reals(p)` reals (the 64-bit id bit-copied; the model-specific state only when the
 !! store carries it: `n_common` + 1 for Cam-Clay's p_c, + `n_cyclic_state` for the sand's cyclic
-!! state) through one MPI_Alltoall of counts and one MPI_Alltoallv; received particles are
+!! state, + 1 for its gap, + `n_affine` for APIC) through one MPI_Alltoall of counts and one MPI_Alltoallv; received particles are
 !! appended in source-rank order. The send buffers grow amortised and are kept between calls.
 module particles_migration
   use mpmice_kinds, only: wp, i8
@@ -75,6 +75,7 @@ contains
     nf = n_common
     if (p%has_hardening) nf = nf + 1
     if (p%has_cyclic) nf = nf + n_cyclic_state
+    if (p%has_gap) nf = nf + 1
     if (p%has_affine) nf = nf + n_affine
   end function particle_reals
 
@@ -251,6 +252,10 @@ contains
       buf(k + 1:k + n_cyclic_state) = p%cyclic(:, ip)
       k = k + n_cyclic_state
     end if
+    if (p%has_gap) then
+      buf(k + 1) = p%gap(ip)
+      k = k + 1
+    end if
     if (p%has_affine) buf(k + 1:k + n_affine) = p%affine(:, ip)
   end subroutine pack_particle
 
@@ -280,6 +285,10 @@ contains
     if (p%has_cyclic) then
       p%cyclic(:, ip) = buf(k + 1:k + n_cyclic_state)
       k = k + n_cyclic_state
+    end if
+    if (p%has_gap) then
+      p%gap(ip) = buf(k + 1)
+      k = k + 1
     end if
     if (p%has_affine) p%affine(:, ip) = buf(k + 1:k + n_affine)
   end subroutine unpack_particle

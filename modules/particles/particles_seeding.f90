@@ -66,6 +66,7 @@ contains
             p%plastic_strain(n) = 0.0_wp
             if (p%has_hardening) p%hardening(n) = 0.0_wp
             if (p%has_cyclic) p%cyclic(:, n) = 0.0_wp
+            if (p%has_gap) p%gap(n) = 0.0_wp
             if (p%has_affine) p%affine(:, n) = 0.0_wp
             p%temperature(n) = s%temperature
             p%pore_pressure(n) = 0.0_wp

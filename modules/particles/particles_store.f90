@@ -12,8 +12,9 @@
 !! The model-specific state exists only in a store whose solid's model uses it
 !! (`mpm_constitutive%model_state`, set by `particles_select_state` before the first
 !! allocation): `hardening` (Cam-Clay) when `has_hardening`, `cyclic` (critical-state sand with
-!! densification) when `has_cyclic`, `affine` (the APIC velocity transfer, `&mpm
-!! velocity_transfer = 'apic'`) when `has_affine`; otherwise those arrays stay unallocated, and
+!! densification) when `has_cyclic`, `gap` (critical-state sand with `&solid tension_gap`) when
+!! `has_gap`, `affine` (the APIC velocity transfer, `&mpm velocity_transfer = 'apic'`) when
+!! `has_affine`; otherwise those arrays stay unallocated, and
 !! are neither migrated nor checkpointed.
 module particles_store
   use mpmice_kinds, only: wp, i8
@@ -40,6 +41,7 @@ module particles_store
     real(wp) :: half_width(3) = 0.0_wp         !< GIMP particle half-width l_p per dimension [m]
     logical :: has_hardening = .false.         !< `hardening` allocated (Cam-Clay)
     logical :: has_cyclic = .false.            !< `cyclic` allocated (sand with densification)
+    logical :: has_gap = .false.               !< `gap` allocated (sand with `tension_gap`)
     logical :: has_affine = .false.            !< `affine` allocated (APIC velocity transfer)
     real(wp), allocatable :: x(:, :)           !< (3, np) position [m]
     real(wp), allocatable :: v(:, :)           !< (3, np) velocity [m/s]
@@ -58,6 +60,10 @@ module particles_store
     !! (`css_densify`: eps_vd, gamma_xy, its last reversal and extreme, reversals, time since
     !! the last reversal); 0 at seeding; allocated only when `has_cyclic`
     real(wp), allocatable :: cyclic(:, :)
+    !> volumetric gap of the critical-state sand (`css_tension_gap`): the expansion a particle
+    !! at zero effective stress has opened, closed stress-free before it carries load again
+    !! [-]; 0 at seeding; allocated only when `has_gap`
+    real(wp), allocatable :: gap(:)
     !> (n_affine, np) affine velocity C_p [1/s] of the APIC transfer (column-major 3x3: the
     !! particle's velocity at x is v_p + C_p (x - x_p)); 0 at seeding; allocated only when
     !! `has_affine`
@@ -70,13 +76,15 @@ module particles_store
 contains
 
   !> Choose the model-specific state of an empty store (before its first allocation).
-  subroutine particles_select_state(p, hardening, cyclic, affine)
+  subroutine particles_select_state(p, hardening, cyclic, gap, affine)
     type(particles_t), intent(inout) :: p  !< store, not yet allocated
     logical, intent(in) :: hardening       !< keep the Cam-Clay p_c
     logical, intent(in) :: cyclic          !< keep the sand's cyclic state
+    logical, intent(in) :: gap             !< keep the sand's volumetric gap
     logical, intent(in) :: affine          !< keep the APIC affine velocity
     p%has_hardening = hardening
     p%has_cyclic = cyclic
+    p%has_gap = gap
     p%has_affine = affine
   end subroutine particles_select_state
 
@@ -101,6 +109,7 @@ contains
       q%pore_pressure(cap), q%id(cap))
     if (p%has_hardening) allocate(q%hardening(cap))
     if (p%has_cyclic) allocate(q%cyclic(n_cyclic_state, cap))
+    if (p%has_gap) allocate(q%gap(cap))
     if (p%has_affine) allocate(q%affine(n_affine, cap))
     if (n > 0) then
       q%x(:, 1:n) = p%x(:, 1:n)
@@ -114,6 +123,7 @@ contains
       q%plastic_strain(1:n) = p%plastic_strain(1:n)
       if (p%has_hardening) q%hardening(1:n) = p%hardening(1:n)
       if (p%has_cyclic) q%cyclic(:, 1:n) = p%cyclic(:, 1:n)
+      if (p%has_gap) q%gap(1:n) = p%gap(1:n)
       if (p%has_affine) q%affine(:, 1:n) = p%affine(:, 1:n)
       q%temperature(1:n) = p%temperature(1:n)
       q%pore_pressure(1:n) = p%pore_pressure(1:n)
@@ -130,6 +140,7 @@ contains
     call move_alloc(q%plastic_strain, p%plastic_strain)
     if (p%has_hardening) call move_alloc(q%hardening, p%hardening)
     if (p%has_cyclic) call move_alloc(q%cyclic, p%cyclic)
+    if (p%has_gap) call move_alloc(q%gap, p%gap)
     if (p%has_affine) call move_alloc(q%affine, p%affine)
     call move_alloc(q%temperature, p%temperature)
     call move_alloc(q%pore_pressure, p%pore_pressure)
@@ -159,6 +170,7 @@ contains
       p%plastic_strain(j) = p%plastic_strain(i)
       if (p%has_hardening) p%hardening(j) = p%hardening(i)
       if (p%has_cyclic) p%cyclic(:, j) = p%cyclic(:, i)
+      if (p%has_gap) p%gap(j) = p%gap(i)
       if (p%has_affine) p%affine(:, j) = p%affine(:, i)
       p%temperature(j) = p%temperature(i)
       p%pore_pressure(j) = p%pore_pressure(i)
@@ -174,6 +186,7 @@ contains
       p%stress_unrot, p%plastic_strain, p%temperature, p%pore_pressure, p%id)
     if (allocated(p%hardening)) deallocate(p%hardening)
     if (allocated(p%cyclic)) deallocate(p%cyclic)
+    if (allocated(p%gap)) deallocate(p%gap)
     if (allocated(p%affine)) deallocate(p%affine)
     p%np = 0
     p%capacity = 0

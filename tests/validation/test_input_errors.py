@@ -197,6 +197,9 @@ BAD_MPMICE_INPUTS = [
     ("compaction_for_mohr_coulomb", "",
      ["&solid name = 'soil', model = 'mohr_coulomb', compaction_index = 0.01 /"],
      ["--set", "&solid(1) compaction_index = 0.01", "only a critical_state_sand solid"]),
+    ("tension_gap_for_mohr_coulomb", "",
+     ["&solid name = 'soil', model = 'mohr_coulomb', tension_gap = .true. /"],
+     ["--set", "&solid(1) tension_gap = .true.", "unless model = 'critical_state_sand'"]),
     ("compaction_pressure_zero", "",
      ["&solid name = 'soil', model = 'critical_state_sand', compaction_index = 0.01, "
       "compaction_pressure = 0.0 /"],

@@ -2,7 +2,7 @@
 (docs/io.md "Checkpoints", docs/mpm.md `particles_store`): namelists/mpm_slide_2d.nml (scene
 mpm, 20 steps) with its block as
 
-* linear elastic: the checkpoint holds neither `hardening` nor `cyclic`/`cyclic_half_time`,
+* linear elastic: the checkpoint holds none of `hardening`, `cyclic`/`cyclic_half_time`, `gap`,
   the dump still holds `hardening` (zeros, the dump layout is the same for every model);
 * Cam-Clay: the checkpoint holds `hardening` (p_c > 0 after the first update), no `cyclic`;
   the same checkpoint without `hardening` is refused on restart: exit status 1, one input-error
@@ -27,7 +27,7 @@ from postproc.run_case import run_mpmice
 NAMELIST = str(mpmice_terzaghi.ROOT) + "/namelists/mpm_slide_2d.nml"
 CLAY = ("&solid name = 'block', model = 'cam_clay', porosity = 0.4, "
         "preconsolidation_pressure = 2.0e3 /")
-STATE = ("hardening", "cyclic", "cyclic_half_time")
+STATE = ("hardening", "cyclic", "cyclic_half_time", "gap")
 
 
 @pytest.fixture
