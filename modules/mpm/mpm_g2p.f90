@@ -52,7 +52,7 @@ contains
     real(wp), intent(in) :: flip                 !< FLIP fraction 0..1
     integer :: ip, i, j, k, a, b, c, first(3), nn(3)
     real(wp) :: w(max_stencil, 3), dw(max_stencil, 3), s, g(3), wjk, gjk(3)
-    real(wp) :: ap(3), vlp(3), l(3, 3), f(3, 3), fnew(3, 3), vl(3)
+    real(wp) :: ap(3), vlp(3), l(3, 3), f(3, 3), fnew(3, 3), vl(3), gap
     ! the sums in scalars (kept in registers; as arrays they went through memory every node)
     real(wp) :: ax, ay, az, px, py, pz, l11, l21, l31, l12, l22, l32, l13, l23, l33
     do ip = 1, p%np
@@ -125,44 +125,26 @@ contains
       p%f(4:6, ip) = fnew(:, 2)
       p%f(7:9, ip) = fnew(:, 3)
       p%volume(ip) = det3(fnew) * p%volume0(ip)                           ! eq. 75
-      call particle_stress_update(mat, fnew, l, dt, p, ip)
-    end do
-  end subroutine g2p_particles
-
-  !> The constitutive update of particle `ip` of `p` over the step (`constitutive_update`: F^{n+1}
-  !! `f`, velocity gradient `l`, step `dt`), with the model-specific state only where the store
-  !! carries it (`particles_store`).
-  subroutine particle_stress_update(mat, f, l, dt, p, ip)
-    type(material_t), intent(in) :: mat    !< the solid's material over the step
-    real(wp), intent(in) :: f(3, 3)        !< deformation gradient F^{n+1}
-    real(wp), intent(in) :: l(3, 3)        !< velocity gradient [1/s]
-    real(wp), intent(in) :: dt             !< step [s]
-    type(particles_t), intent(inout) :: p  !< particles
-    integer, intent(in) :: ip              !< particle
-    if (p%has_gap) then
-      call with_state(p%gap(ip))
-    else
-      call with_state()
-    end if
-  contains
-    !> The update with the optional `gap` passed on (absent when the store has none).
-    subroutine with_state(gap)
-      real(wp), intent(inout), optional :: gap  !< the sand's volumetric gap [-]
+      ! the model-specific state only where the store carries it (`particles_store`); the gap
+      ! through a scalar, which `constitutive_update` uses only with `tension_gap`
+      gap = 0.0_wp
+      if (p%has_gap) gap = p%gap(ip)
       if (p%has_hardening .and. p%has_cyclic) then
-        call constitutive_update(mat, f, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
+        call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
           p%plastic_strain(ip), p%hardening(ip), p%cyclic(:, ip), gap)
       else if (p%has_hardening) then
-        call constitutive_update(mat, f, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
+        call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
           p%plastic_strain(ip), hardening=p%hardening(ip), gap=gap)
       else if (p%has_cyclic) then
-        call constitutive_update(mat, f, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
+        call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
           p%plastic_strain(ip), cyclic=p%cyclic(:, ip), gap=gap)
       else
-        call constitutive_update(mat, f, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
+        call constitutive_update(mat, fnew, l, dt, p%stress_unrot(:, ip), p%stress(:, ip), &
           p%plastic_strain(ip), gap=gap)
       end if
-    end subroutine with_state
-  end subroutine particle_stress_update
+      if (p%has_gap) p%gap(ip) = gap
+    end do
+  end subroutine g2p_particles
 
   !> APIC's affine velocity C_p = B_p D_p^-1 of a particle at `xp` from the nodes' v^L, B_p =
   !! sum S_ip v^L_i (x_i - x_p)^T, D_p = sum S_ip (x_i - x_p)(x_i - x_p)^T (diagonal: the
