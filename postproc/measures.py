@@ -34,6 +34,11 @@ def by_id(parts: dict) -> dict:
     return {k: np.asarray(v)[order] for k, v in parts.items()}
 
 
+def mean_stress(parts: dict) -> np.ndarray:
+    """p' = -tr(sigma') / 3 of every particle of a solid's arrays [Pa] (tension positive)."""
+    return -(parts["stress_xx"] + parts["stress_yy"] + parts["stress_zz"]) / 3.0
+
+
 def masses(dump: dict) -> dict[str, float]:
     """Mass [kg] of every fluid (sum of its bulk density times the cell volume) and every solid
     (sum of its particle masses) of a dump."""

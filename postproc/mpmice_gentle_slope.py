@@ -41,7 +41,7 @@ import os
 import numpy as np
 
 from postproc.figures import pyplot, save_figure
-from postproc.measures import by_id
+from postproc.measures import by_id, mean_stress
 from postproc.mpmice_earthquake_slope import (base_shaking, domain_length,
                                               draw_base_acceleration, mark_cycle_ends,
                                               particle_cells, pore_pressure_roughness, ru_axis,
@@ -102,11 +102,6 @@ def surface_members(parts: dict, geometry: dict, x0: float, length: float) -> np
     top = float(np.min(tops[np.abs(unwrapped(xs - x0, length)) <= FLANK_HALF_WIDTH]))
     return np.flatnonzero((np.abs(unwrapped(parts["x"] - x0, length)) <= FLANK_HALF_WIDTH)
                           & (parts["y"] > top - SURFACE_DEPTH))
-
-
-def mean_stress(parts: dict) -> np.ndarray:
-    """p' = -tr(sigma') / 3 of every particle [Pa]."""
-    return -(parts["stress_xx"] + parts["stress_yy"] + parts["stress_zz"]) / 3.0
 
 
 def mobilised_friction(parts: dict, index: np.ndarray) -> float:

@@ -36,6 +36,7 @@ import os
 import numpy as np
 
 from postproc import mpmice_rondon as rondon
+from postproc.measures import by_id, mean_stress
 from postproc.mpmice_io import read_run_dumps
 
 BEYOND = rondon.L0 + 0.02     # m: particles ahead of it are counted as run-out material
@@ -54,13 +55,12 @@ def state(dump: dict) -> dict:
     flag of the beads of one dump."""
     group = rondon.solid_group(dump)
     parts = dump["particles"][rondon.SOLID]
-    order = np.argsort(parts["id"])
-    p = {k: np.asarray(v)[order] for k, v in parts.items()}
+    p = by_id(parts)
     phi = p["mass"] / (float(group["density"]) * p["volume"])
     n_max = float(group.get("max_porosity", 1.0))
     return {"id": p["id"], "x": p["x"], "y": p["y"], "mass": p["mass"], "volume": p["volume"],
             "phi": phi, "suspended": (1.0 - phi) >= n_max - 1e-6,
-            "p": -(p["stress_xx"] + p["stress_yy"] + p["stress_zz"]) / 3.0, "parts": p}
+            "p": mean_stress(p), "parts": p}
 
 
 def overlap(dump: dict) -> float:

@@ -25,18 +25,13 @@ import argparse
 
 import numpy as np
 
-from postproc.measures import by_id
+from postproc.measures import by_id, mean_stress
 from postproc.mpmice_earthquake_slope import BASE, CREST_Y0, domain_length, unwrapped
 from postproc.mpmice_io import list_dumps, read_dump
 
 SEDIMENT = "sediment"
 LOW_PRESSURE = 10.0   # Pa
 P0_BINS = [0.0, 500.0, 2000.0, 5000.0, 10000.0, np.inf]   # Pa: bins of the initial p'
-
-
-def mean_stress(parts: dict) -> np.ndarray:
-    """p' = -tr(sigma)/3 of each particle [Pa]."""
-    return -(parts["stress_xx"] + parts["stress_yy"] + parts["stress_zz"]) / 3.0
 
 
 def state(parts: dict, volume0: np.ndarray, phi0: float, mu1: float, k_dil: float,
