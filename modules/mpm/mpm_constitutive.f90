@@ -248,7 +248,7 @@ contains
     real(wp), intent(inout), optional :: hardening
     real(wp), intent(inout), optional :: cyclic(css_n_cyclic)  !< sand's cyclic state
     real(wp), intent(inout), optional :: gap         !< sand's volumetric gap [-]
-    real(wp) :: r(3, 3), deps(6), dep, pc, devd, dgamma, lam, mu, psi, p_start, p_end, phi
+    real(wp) :: r(3, 3), deps(6), dep, pc, devd, dgamma, lam, mu, psi, p_start, p_end, phi, kb
     select case (mat%model)
     case (model_neo_hookean)
       stress = neo_hookean_stress(mat%lambda, mat%mu, f)
@@ -292,19 +292,17 @@ contains
       ! stands, within the yield surface's apex: no densification, no return
       if (mat%elastic_only) call apex_limit(mat, stress_unrot)
       if (mat%model == model_critical_state_sand .and. .not. mat%elastic_only) then
+        kb = lam + 2.0_wp * mu / 3.0_wp                     ! the skeleton's bulk modulus
         if (mat%css%c1 > 0.0_wp .and. present(cyclic)) then
           call css_densify(mat%css, dgamma, dt, cyclic, devd)
-          stress_unrot(1:3) = stress_unrot(1:3) + (lam + 2.0_wp * mu / 3.0_wp) * devd
+          stress_unrot(1:3) = stress_unrot(1:3) + kb * devd
         end if
-        if (mat%css%tension_gap .and. present(gap)) then
-          call css_tension_gap(lam + 2.0_wp * mu / 3.0_wp, stress_unrot, gap)
-        end if
+        if (mat%css%tension_gap .and. present(gap)) call css_tension_gap(kb, stress_unrot, gap)
         phi = mat%solid_fraction0 / det3(f)
         if (mat%css%lambda_c > 0.0_wp .and. present(hardening)) then
           ! p_c at least the p' of the step's start, then the compaction of the trial stress
           hardening = max(hardening, p_start)
-          call css_compaction(mat%css, lam + 2.0_wp * mu / 3.0_wp, phi, stress_unrot, &
-            hardening)
+          call css_compaction(mat%css, kb, phi, stress_unrot, hardening)
         end if
         call css_return(mat%css, lam, mu, phi, dt, stress_unrot, dep)
         plastic_strain = plastic_strain + dep

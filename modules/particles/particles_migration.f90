@@ -6,8 +6,8 @@
 !! cell index per dimension and the rank of every block (MPI_Cart_rank). Particles travel packed
 !! as `particle_reals(p)` reals (the 64-bit id bit-copied; the model-specific state only when the
 !! store carries it: `n_common` + 1 for Cam-Clay's p_c, + `n_cyclic_state` for the sand's cyclic
-!! state, + 1 for its gap, + `n_affine` for APIC) through one MPI_Alltoall of counts and one MPI_Alltoallv; received particles are
-!! appended in source-rank order. The send buffers grow amortised and are kept between calls.
+!! state, + 1 for its gap, + `n_affine` for APIC) through one MPI_Alltoall of counts and one
+!! MPI_Alltoallv; received particles are appended in source-rank order. The send buffers grow amortised and are kept between calls.
 module particles_migration
   use mpmice_kinds, only: wp, i8
   use grid_layout, only: grid_t
