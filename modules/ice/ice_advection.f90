@@ -240,8 +240,9 @@ contains
 
   !> Upwind face values of `q` on the faces (i1..i2, j, k) of direction o (unit offset): the
   !! upwind cell's value (face - o where u > 0, else the face's own cell) plus `dist` times its
-  !! MC-limited slope (`order` > 1). Branch-free over the row; the arguments contiguous and the
-  !! upwind side given by the velocity (a real, not a logical array), so that the loops vectorise.
+  !! MC-limited slope (`order` > 1). The four cells face - 2o .. face + o of the row's faces are
+  !! handed on as four contiguous rows (`limited_face_row`), so that the loop loads them with unit
+  !! stride (indexed through o inside the loop, the upwind choice became a gather).
   pure subroutine row_face_values(q, lbc, i1, i2, j, k, o, order, u, dist, dx, qf)
     integer, intent(in) :: lbc(3)                       !< lower bounds of q
     real(wp), intent(in), contiguous :: q(lbc(1):, lbc(2):, lbc(3):) !< cell field
@@ -253,23 +254,42 @@ contains
     real(wp), intent(in) :: dx                         !< cell size along the normal [m]
     real(wp), intent(inout), contiguous :: qf(lbc(1):)  !< face values (i1..i2 written)
     integer :: i
-    real(wp) :: qm, q0, qp
-    logical :: pos
+    if (i2 < i1) return
     if (order > 1) then
-      do i = i1, i2
-        pos = u(i) > 0.0_wp
-        qm = merge(q(i - 2 * o(1), j - 2 * o(2), k - 2 * o(3)), q(i - o(1), j - o(2), k - o(3)), &
-          pos)
-        q0 = merge(q(i - o(1), j - o(2), k - o(3)), q(i, j, k), pos)
-        qp = merge(q(i, j, k), q(i + o(1), j + o(2), k + o(3)), pos)
-        qf(i) = q0 + dist(i) * limited_slope(qm, q0, qp, dx)
-      end do
+      call limited_face_row(i2 - i1 + 1, &
+        q(i1 - 2 * o(1):i2 - 2 * o(1), j - 2 * o(2), k - 2 * o(3)), &
+        q(i1 - o(1):i2 - o(1), j - o(2), k - o(3)), q(i1:i2, j, k), &
+        q(i1 + o(1):i2 + o(1), j + o(2), k + o(3)), u(i1:i2), dist(i1:i2), dx, qf(i1:i2))
     else
       do i = i1, i2
         qf(i) = merge(q(i - o(1), j - o(2), k - o(3)), q(i, j, k), u(i) > 0.0_wp)
       end do
     end if
   end subroutine row_face_values
+
+  !> `row_face_values` of order 2 on n faces whose cells face - 2o, face - o, face, face + o are
+  !! the rows q2, q1, q0, qp.
+  pure subroutine limited_face_row(n, q2, q1, q0, qp, u, dist, dx, qf)
+    integer, intent(in) :: n          !< faces
+    real(wp), intent(in) :: q2(n)     !< cells face - 2o
+    real(wp), intent(in) :: q1(n)     !< cells face - o
+    real(wp), intent(in) :: q0(n)     !< the faces' own cells
+    real(wp), intent(in) :: qp(n)     !< cells face + o
+    real(wp), intent(in) :: u(n)      !< face velocities [m/s]
+    real(wp), intent(in) :: dist(n)   !< centroid offset [m]
+    real(wp), intent(in) :: dx        !< cell size along the normal [m]
+    real(wp), intent(out) :: qf(n)    !< face values
+    integer :: i
+    real(wp) :: lo, mid, hi
+    logical :: pos
+    do i = 1, n
+      pos = u(i) > 0.0_wp
+      lo = merge(q2(i), q1(i), pos)
+      mid = merge(q1(i), q0(i), pos)
+      hi = merge(q0(i), qp(i), pos)
+      qf(i) = mid + dist(i) * limited_slope(lo, mid, hi, dx)
+    end do
+  end subroutine limited_face_row
 
   !> Conservative update of one row of faces: the flux leaves the low cell (face - o) and enters
   !! the high cell (the face's own), face by face in order.
